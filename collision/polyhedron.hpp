@@ -1,0 +1,22 @@
+// A rigid triangle mesh in its own local frame, and primitive builders.
+#pragma once
+#include "collision/types.hpp"
+#include <vector>
+
+namespace asimov::collision {
+
+struct Polyhedron {
+  std::vector<Vec3> vertices;       // local coordinates [mm]
+  std::vector<Triangle> triangles;  // outward orientation (right-hand rule)
+};
+
+// Axis-aligned box of full side lengths `size`, centred at the origin.
+Polyhedron make_box(const Vec3& size);
+// Cylinder about local Z, centred at the origin, `segments` sides (>= 3).
+Polyhedron make_cylinder(double radius, double height, int segments = 24);
+// The mesh with every vertex mapped by `pose` (used to place primitives inside a body).
+Polyhedron transformed(const Polyhedron& mesh, const Pose& pose);
+// Concatenation of two meshes (vertex indices of `b` are shifted).
+Polyhedron merged(const Polyhedron& a, const Polyhedron& b);
+
+}  // namespace asimov::collision

@@ -1,0 +1,28 @@
+// Result of one collision query: status, bodies, contact point and per-step counts.
+#pragma once
+#include "collision/types.hpp"
+
+namespace asimov::collision {
+
+struct StepCounts {
+  std::uint64_t pairs_enabled = 0;      // pairs entering step 2
+  std::uint64_t pairs_after_minimax = 0;// pairs whose world minimax boxes overlap
+  std::uint64_t pairs_after_voxels = 0; // pairs with a non-empty voxel-pair buffer
+  std::uint64_t voxel_pairs = 0;        // entries pushed into voxel-pair buffers
+  std::uint64_t face_pairs = 0;         // unique face pairs given to the exact test
+};
+
+struct Contact {
+  std::uint32_t body_a = 0, body_b = 0;  // BodyId, body_a < body_b
+  std::uint32_t face_a = 0, face_b = 0;  // triangle indices in each body's mesh
+  Vec3 point = Vec3::Zero();             // world point on both surfaces [mm] (reporting only)
+};
+
+struct QueryResult {
+  bool collided = false;
+  Contact contact;
+  StepCounts counts;
+  void clear() { *this = QueryResult{}; }
+};
+
+}  // namespace asimov::collision

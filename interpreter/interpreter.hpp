@@ -1,0 +1,68 @@
+// The public face of the VAL II interpreter: load .v2 sources, check them, run a program
+// against a motion::Simulator. Errors never escape as exceptions from these calls.
+#pragma once
+#include "motion/simulator.hpp"
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace asimov::val {
+
+// One problem found in a source (load/check time) or raised while running.
+struct Diagnostic {
+  std::string message;      // "*Syntax error*", "*Undefined value*", ...
+  std::string detail;       // short detail after the message, may be empty
+  std::string file;         // source file as given
+  int line = 0;             // 1-based file line, 0 if unknown
+  int column = 0;           // 1-based column, 0 if unknown
+  std::string program;      // program name when known
+  int step = 0;             // step within the program (file line - .PROGRAM line)
+  std::string source_line;  // the offending source line, for the report
+  bool warning = false;
+};
+
+// Formats a diagnostic in the VAL style of dialect §10 (message, location, source, caret).
+std::string format_diagnostic(const Diagnostic& d);
+
+enum class RunStatus { completed, error, collision };
+
+struct RunResult {
+  RunStatus status = RunStatus::completed;
+  std::string program;            // the program executing when the run ended
+  int line = 0;                   // its file line (0 when completed normally)
+  int step = 0;
+  Diagnostic error;               // status == error (also filled for collision: "*Collision*")
+  motion::CollisionReport collision;  // status == collision
+};
+
+struct Limits {
+  std::uint64_t max_statements = 100'000'000;  // executed statements per run
+  int max_call_depth = 1000;
+};
+
+class Interpreter {
+ public:
+  Interpreter(motion::Simulator& sim, std::ostream& out);
+  ~Interpreter();
+
+  // Parses and checks `text` as file `file_name`. All problems are returned together; if any
+  // is an error (not a warning), nothing is added to memory.
+  std::vector<Diagnostic> load_source(const std::string& text, const std::string& file_name);
+  // Reads the file then load_source; a missing file is a "*File not found*" diagnostic.
+  std::vector<Diagnostic> load_file(const std::string& path);
+
+  std::vector<std::string> program_names() const;  // in load order
+  bool has_program(const std::string& name) const;
+
+  // Runs `name` from its start; waits for the last motion to end.
+  RunResult run(const std::string& name);
+
+  Limits& limits();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace asimov::val

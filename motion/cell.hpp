@@ -1,0 +1,37 @@
+// The work cell as plain data: robot, BASE/TOOL, tool body, static objects, collision settings.
+// Loaded from YAML by app/; the built-in default cell is an embedded YAML document there.
+#pragma once
+#include "motion/location.hpp"
+#include "robots/robot.hpp"
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace asimov::motion {
+
+struct CellObject {
+  std::string name;
+  collision::Polyhedron mesh;  // local frame
+  Location pose = Location::Identity();  // object frame in the robot (world) frame
+};
+
+struct CollisionSettings {
+  int halvings = 9;            // M for every body unless a body says otherwise
+  double step_mm = 1.0;        // no body point moves more than this between checked poses
+  double clearance_mm = 0.0;   // contact when distance <= clearance
+  std::vector<std::pair<std::string, std::string>> ignore;  // user-disabled pairs (body names)
+  bool enabled = true;
+};
+
+struct Cell {
+  robots::Robot robot;
+  Location base = Location::Identity();  // robot base in the world (the cell's frame)
+  Location tool = Location::Identity();  // initial TOOL transformation
+  std::optional<collision::Polyhedron> tool_shape;  // in the flange frame; body name "tool"
+  std::vector<CellObject> objects;
+  CollisionSettings collision;
+  robots::JointVector start_joints;      // display [deg]; READY unless the cell says otherwise
+};
+
+}  // namespace asimov::motion

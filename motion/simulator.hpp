@@ -1,0 +1,91 @@
+// The simulated arm in its cell: current state, motion planning (IK, profiles), sampling of
+// checked poses and the collision check at each of them. The interpreter drives it.
+//
+// Forward processing (dialect §5): start_*() validates and plans a motion and returns at once;
+// the motion is carried out (clock advances, poses are checked) by finish_motion(), which the
+// interpreter calls before the next motion, at BREAK and at program end.
+#pragma once
+#include "collision/query.hpp"
+#include "motion/cell.hpp"
+#include "robots/configuration.hpp"
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace asimov::motion {
+
+enum class MotionStatus { ok, error, collision };
+
+struct MotionError {
+  std::string message;  // VAL text: "*Location out of reach*", "*Joint limit exceeded*", ...
+  std::string detail;   // short detail, e.g. "J3 = 231.000 > 225.000"
+};
+
+struct CollisionReport {
+  std::string body_a, body_b;
+  collision::Vec3 point = collision::Vec3::Zero();  // world [mm]
+  double time_s = 0;                                // simulated time of the first colliding pose
+  robots::JointVector joints;                       // display [deg] at the first colliding pose
+  int tag = 0;                                      // step tag of the motion instruction
+};
+
+struct TraceSample {
+  double time_s = 0;
+  robots::JointVector joints;   // display [deg]
+  Location tool;                // world pose of the tool point (BASE . FK . TOOL)
+};
+
+struct MotionResult {
+  MotionStatus status = MotionStatus::ok;
+  MotionError error;            // when status == error
+  CollisionReport collision;    // when status == collision
+};
+
+struct SpeedSettings {
+  double monitor = 100;  // monitor speed [%]
+  double program = 100;  // program speed for this motion [%]
+};
+
+class Simulator {
+ public:
+  explicit Simulator(Cell cell);
+  ~Simulator();
+  Simulator(Simulator&&) noexcept;
+
+  const Cell& cell() const;
+  const robots::Robot& robot() const;
+
+  // State. HERE = BASE . FK(joints) . TOOL.
+  const robots::JointVector& joints() const;
+  Location here() const;
+  Location dest() const;           // target of the current or last motion
+  Location base() const;
+  Location tool() const;
+  void set_base(const Location& base);
+  void set_tool(const Location& tool);
+  robots::Configuration configuration() const;  // derived from the current joints
+  robots::ConfigurationRequest& request();      // pending configuration words
+  double time_s() const;                        // simulated clock
+  std::uint64_t poses_checked() const;
+
+  // Motions. `tag` identifies the instruction (the interpreter passes its step) and comes
+  // back in collision reports. Targets are validated before anything moves.
+  MotionResult start_joint_move(const robots::JointVector& target_display, SpeedSettings speed, int tag);
+  MotionResult start_move(const Location& target, bool straight, SpeedSettings speed, int tag);
+  MotionResult finish_motion();  // carries out the pending motion, if any
+  bool motion_pending() const;
+
+  // Every checked pose is appended here when tracing is on.
+  void set_trace(bool on);
+  const std::vector<TraceSample>& trace() const;
+
+  // Collision counts summed over all checked poses (per step of the engine).
+  const collision::StepCounts& collision_counts() const;
+  bool collision_engine_used() const;  // false when the cell has no enabled pair
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace asimov::motion
