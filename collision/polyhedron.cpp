@@ -1,0 +1,56 @@
+#include "collision/polyhedron.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace asimov::collision {
+
+Polyhedron make_box(const Vec3& size) {
+  const Vec3 h = size / 2;
+  Polyhedron p;
+  for (int i = 0; i < 8; ++i)
+    p.vertices.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+  // Two triangles per face, outward normals.
+  p.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return p;
+}
+
+Polyhedron make_cylinder(double radius, double height, int segments) {
+  Polyhedron p;
+  const double h = height / 2;
+  for (int i = 0; i < segments; ++i) {
+    const double a = 2 * std::numbers::pi * i / segments;
+    p.vertices.emplace_back(radius * std::cos(a), radius * std::sin(a), -h);
+    p.vertices.emplace_back(radius * std::cos(a), radius * std::sin(a), h);
+  }
+  const auto bottom_centre = static_cast<std::uint32_t>(p.vertices.size());
+  p.vertices.emplace_back(0, 0, -h);
+  p.vertices.emplace_back(0, 0, h);
+  const std::uint32_t top_centre = bottom_centre + 1;
+  for (int i = 0; i < segments; ++i) {
+    const auto b0 = static_cast<std::uint32_t>(2 * i), t0 = b0 + 1;
+    const auto b1 = static_cast<std::uint32_t>(2 * ((i + 1) % segments)), t1 = b1 + 1;
+    p.triangles.push_back({b0, b1, t1});
+    p.triangles.push_back({b0, t1, t0});
+    p.triangles.push_back({bottom_centre, b1, b0});
+    p.triangles.push_back({top_centre, t0, t1});
+  }
+  return p;
+}
+
+Polyhedron transformed(const Polyhedron& mesh, const Pose& pose) {
+  Polyhedron p = mesh;
+  for (auto& v : p.vertices) v = pose * v;
+  return p;
+}
+
+Polyhedron merged(const Polyhedron& a, const Polyhedron& b) {
+  Polyhedron p = a;
+  const auto shift = static_cast<std::uint32_t>(a.vertices.size());
+  p.vertices.insert(p.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (const auto& t : b.triangles) p.triangles.push_back({t[0] + shift, t[1] + shift, t[2] + shift});
+  return p;
+}
+
+}  // namespace asimov::collision
