@@ -1,0 +1,214 @@
+#include "app/cell_loader.hpp"
+
+#include "robots/puma560.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace asimov::app {
+namespace {
+
+const char* const kDefaultCell = R"(# Built-in default cell: the PUMA 560 with a table and a box in reach.
+# World frame = robot frame: origin at the shoulder (J1/J2 axes), Z up; the floor is ~672 mm below.
+robot: puma560
+base: [0, 0, 0, 0, 0, 0]
+tool: [0, 0, 200, 0, 0, 0]            # tool point 200 mm out along the flange Z axis
+tool_shape: {box: [50, 80, 140], at: [0, 0, 130, 0, 0, 0]}   # a simple gripper, flange frame
+objects:
+  - {name: table, box: [700, 1200, 40], at: [750, 0, -420, 0, 0, 0]}   # top face at z = -400
+  - {name: box, box: [160, 160, 200], at: [600, 250, -300, 0, 0, 0]}   # standing on the table
+collision: {halvings: 9, step_mm: 1.0, clearance_mm: 0}
+)";
+
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& what) const {
+    const auto mark = node.Mark();
+    throw CellError(what, source_, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1);
+  }
+
+  double number(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsScalar()) fail(node, fmt::format("{} must be a number", what));
+    double v = 0;
+    try {
+      v = node.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(node, fmt::format("{} must be a number, got '{}'", what, node.Scalar()));
+    }
+    if (!std::isfinite(v)) fail(node, fmt::format("{} must be finite", what));
+    return v;
+  }
+
+  double positive(const YAML::Node& node, const std::string& what) const {
+    const double v = number(node, what);
+    if (!(v > 0)) fail(node, fmt::format("{} must be > 0, got {}", what, v));
+    return v;
+  }
+
+  std::vector<double> numbers(const YAML::Node& node, std::size_t count, const std::string& what) const {
+    if (!node.IsSequence() || node.size() != count)
+      fail(node, fmt::format("{} must be a list of {} numbers", what, count));
+    std::vector<double> v;
+    for (const auto& item : node) v.push_back(number(item, what));
+    return v;
+  }
+
+  motion::Location pose(const YAML::Node& node, const std::string& what) const {
+    if (!node) return motion::Location::Identity();
+    const auto v = numbers(node, 6, what + " ([x, y, z, o, a, t])");
+    return motion::trans(v[0], v[1], v[2], v[3], v[4], v[5]);
+  }
+
+  // A shape entry: {box: [sx, sy, sz]} or {cylinder: {radius: r, height: h[, segments: n]}}.
+  collision::Polyhedron shape(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsMap()) fail(node, what + " must be a map");
+    if (const auto box = node["box"]) {
+      const auto s = numbers(box, 3, what + ".box");
+      for (double x : s)
+        if (!(x > 0)) fail(box, what + ".box sides must be > 0");
+      return collision::make_box({s[0], s[1], s[2]});
+    }
+    if (const auto cyl = node["cylinder"]) {
+      if (!cyl.IsMap()) fail(cyl, what + ".cylinder must be {radius: r, height: h}");
+      const double r = positive(cyl["radius"] ? cyl["radius"] : cyl, what + ".cylinder.radius");
+      const double h = positive(cyl["height"] ? cyl["height"] : cyl, what + ".cylinder.height");
+      int segments = 24;
+      if (const auto s = cyl["segments"]) {
+        segments = static_cast<int>(number(s, what + ".cylinder.segments"));
+        if (segments < 3 || segments > 4096) fail(s, what + ".cylinder.segments must be 3..4096");
+      }
+      return collision::make_cylinder(r, h, segments);
+    }
+    fail(node, what + " needs a shape: box or cylinder");
+  }
+
+  void expect_keys(const YAML::Node& node, std::initializer_list<const char*> keys, const std::string& what) const {
+    const std::set<std::string> known(keys.begin(), keys.end());
+    for (const auto& kv : node) {
+      const auto key = kv.first.as<std::string>();
+      if (!known.count(key)) {
+        std::string list;
+        for (const auto* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+        fail(kv.first, fmt::format("unknown key '{}' in {} (known: {})", key, what, list));
+      }
+    }
+  }
+
+  motion::Cell cell(const YAML::Node& root) const {
+    if (!root.IsMap()) fail(root, "a cell file is a YAML map (see docs/cell-format.md)");
+    expect_keys(root, {"robot", "base", "tool", "tool_shape", "objects", "collision", "start"}, "the cell");
+    motion::Cell cell;
+    const std::string robot = root["robot"] ? root["robot"].as<std::string>() : "puma560";
+    if (robot != "puma560") fail(root["robot"], fmt::format("unknown robot '{}' (available: puma560)", robot));
+    cell.robot = robots::puma560();
+    cell.base = pose(root["base"], "base");
+    cell.tool = pose(root["tool"], "tool");
+    const int n = cell.robot.joint_count();
+    cell.start_joints = robots::JointVector(n);
+    cell.start_joints << 0, -90, 90, 0, 0, 0;  // READY
+    if (const auto start = root["start"]) {
+      const auto v = numbers(start, static_cast<std::size_t>(n), "start (joint values in degrees)");
+      for (int i = 0; i < n; ++i) cell.start_joints[i] = v[static_cast<std::size_t>(i)];
+      const int bad = robots::first_limit_violation(cell.robot, cell.start_joints);
+      if (bad >= 0)
+        fail(start, fmt::format("start: J{} = {} is outside [{}, {}]", bad + 1, cell.start_joints[bad],
+                                cell.robot.lower[bad], cell.robot.upper[bad]));
+    }
+    if (const auto ts = root["tool_shape"]) {
+      expect_keys(ts, {"box", "cylinder", "at"}, "tool_shape");
+      cell.tool_shape = collision::transformed(shape(ts, "tool_shape"), pose(ts["at"], "tool_shape.at"));
+    }
+    std::set<std::string> names;
+    for (const auto& b : cell.robot.bodies) names.insert(b.name);
+    names.insert("tool");
+    if (const auto objects = root["objects"]) {
+      if (!objects.IsSequence()) fail(objects, "objects must be a list");
+      for (const auto& o : objects) {
+        expect_keys(o, {"name", "box", "cylinder", "at"}, "an object");
+        if (!o["name"]) fail(o, "every object needs a name");
+        motion::CellObject obj;
+        obj.name = o["name"].as<std::string>();
+        if (!names.insert(obj.name).second) fail(o["name"], fmt::format("duplicate body name '{}'", obj.name));
+        obj.mesh = shape(o, "object '" + obj.name + "'");
+        obj.pose = pose(o["at"], "object '" + obj.name + "' at");
+        cell.objects.push_back(std::move(obj));
+      }
+    }
+    if (const auto c = root["collision"]) {
+      expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled"}, "collision");
+      auto& s = cell.collision;
+      if (c["halvings"]) {
+        const double m = number(c["halvings"], "collision.halvings");
+        if (m < 0 || m > 20 || m != std::floor(m)) fail(c["halvings"], "collision.halvings must be an integer 0..20");
+        s.halvings = static_cast<int>(m);
+      }
+      if (c["step_mm"]) s.step_mm = positive(c["step_mm"], "collision.step_mm");
+      if (c["clearance_mm"]) {
+        s.clearance_mm = number(c["clearance_mm"], "collision.clearance_mm");
+        if (s.clearance_mm < 0) fail(c["clearance_mm"], "collision.clearance_mm must be >= 0");
+      }
+      if (c["enabled"]) s.enabled = c["enabled"].as<bool>();
+      if (const auto ig = c["ignore"]) {
+        if (!ig.IsSequence()) fail(ig, "collision.ignore must be a list of [body, body] pairs");
+        for (const auto& pair : ig) {
+          if (!pair.IsSequence() || pair.size() != 2) fail(pair, "collision.ignore entries are [body, body]");
+          const auto a = pair[0].as<std::string>(), b = pair[1].as<std::string>();
+          for (const auto& [node, name] : {std::pair{pair[0], a}, std::pair{pair[1], b}})
+            if (!names.count(name)) fail(node, fmt::format("collision.ignore: unknown body '{}'", name));
+          s.ignore.emplace_back(a, b);
+        }
+      }
+    }
+    return cell;
+  }
+
+ private:
+  std::string source_;
+};
+
+}  // namespace
+
+std::string CellError::format() const {
+  if (line > 0) return fmt::format("{}:{}:{}: {}", file, line, column, what());
+  return fmt::format("{}: {}", file, what());
+}
+
+motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name) {
+  Reader reader(source_name);
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::ParserException& e) {
+    throw CellError(e.msg, source_name, e.mark.line + 1, e.mark.column + 1);
+  }
+  try {
+    return reader.cell(root);
+  } catch (const YAML::Exception& e) {  // e.g. a map where a string was expected
+    throw CellError(e.msg, source_name, e.mark.is_null() ? 0 : e.mark.line + 1,
+                    e.mark.is_null() ? 0 : e.mark.column + 1);
+  }
+}
+
+motion::Cell load_cell_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CellError("cannot read cell file", path, 0, 0);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_cell_text(text.str(), path);
+}
+
+const std::string& default_cell_yaml() {
+  static const std::string text = kDefaultCell;
+  return text;
+}
+
+motion::Cell default_cell() { return load_cell_text(default_cell_yaml(), "<default cell>"); }
+
+}  // namespace asimov::app

@@ -1,0 +1,24 @@
+// Cell files (YAML, docs/cell-format.md) to motion::Cell. The built-in default cell is an
+// embedded YAML document parsed by the same code, so it cannot drift from the format.
+#pragma once
+#include "motion/cell.hpp"
+#include <stdexcept>
+#include <string>
+
+namespace asimov::app {
+
+// A problem in a cell file; line and column are 1-based, 0 when unknown.
+struct CellError : std::runtime_error {
+  CellError(const std::string& what, std::string file, int line, int column)
+      : std::runtime_error(what), file(std::move(file)), line(line), column(column) {}
+  std::string file;
+  int line, column;
+  std::string format() const;  // "file:line:column: message"
+};
+
+motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name);
+motion::Cell load_cell_file(const std::string& path);
+motion::Cell default_cell();
+const std::string& default_cell_yaml();
+
+}  // namespace asimov::app

@@ -1,0 +1,126 @@
+// `asimov run` and `asimov check`: load a .v2 file into the interpreter, check it, run it.
+#include "app/cell_loader.hpp"
+#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <ostream>
+
+namespace asimov::app {
+namespace {
+
+// Prints every diagnostic; returns true when one of them is an error (not a warning).
+bool print_diagnostics(const std::vector<val::Diagnostic>& diags, std::ostream& err) {
+  bool any_error = false;
+  for (const auto& d : diags) {
+    err << (d.warning ? "Warning: " : "") << val::format_diagnostic(d);
+    any_error = any_error || !d.warning;
+  }
+  return any_error;
+}
+
+const val::Diagnostic* first_error(const std::vector<val::Diagnostic>& diags) {
+  for (const auto& d : diags)
+    if (!d.warning) return &d;
+  return nullptr;
+}
+
+bool file_readable(const std::string& path, std::ostream& err) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    err << fmt::format("*File not found*  {}\n", path);
+    return false;
+  }
+  return true;
+}
+
+int write_report(const std::string& path, const nlohmann::json& doc, std::ostream& err) {
+  std::string why;
+  if (path.empty() || write_json_file(path, doc, why)) return kExitCompleted;
+  err << "*Cannot write file*  " << why << '\n';
+  return kExitUsage;
+}
+
+}  // namespace
+
+int check_command(const std::string& file, std::ostream& out, std::ostream& err) {
+  if (!file_readable(file, err)) return kExitUsage;
+  motion::Simulator sim(default_cell());
+  val::Interpreter interp(sim, out);
+  const auto diags = interp.load_file(file);
+  if (print_diagnostics(diags, err)) return kExitProgramError;
+  err << fmt::format("{}: {} program(s), no errors\n", file, interp.program_names().size());
+  return kExitCompleted;
+}
+
+int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
+  if (!file_readable(opt.file, err)) return kExitUsage;
+  motion::Cell cell;
+  try {
+    cell = opt.cell.empty() ? default_cell() : load_cell_file(opt.cell);
+  } catch (const CellError& e) {
+    err << "*Cell error*  " << e.format() << '\n';
+    return kExitUsage;
+  }
+
+  motion::Simulator sim(std::move(cell));
+  sim.set_trace(!opt.trace.empty());
+  val::Interpreter interp(sim, out);
+  const auto diags = interp.load_file(opt.file);
+  if (print_diagnostics(diags, err)) {
+    const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), err);
+    return rc != kExitCompleted ? rc : kExitProgramError;
+  }
+
+  std::string main = opt.main;
+  if (main.empty()) {
+    const auto names = interp.program_names();
+    if (names.empty()) {
+      err << fmt::format("*Undefined program or variable name*  {} holds no program\n", opt.file);
+      return kExitUsage;
+    }
+    main = names.front();
+  }
+  // Names are case-insensitive and stored in lower case (dialect §1).
+  std::transform(main.begin(), main.end(), main.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (!interp.has_program(main)) {
+    err << fmt::format("*Undefined program or variable name*  {}\n", main);
+    return kExitUsage;
+  }
+
+  RunSummary summary;
+  summary.file = opt.file;
+  summary.result = interp.run(main);
+  out.flush();
+  summary.sim_time_s = sim.time_s();
+  summary.poses_checked = sim.poses_checked();
+  summary.counts = sim.collision_counts();
+  summary.engine_used = sim.collision_engine_used();
+
+  int rc = kExitCompleted;
+  switch (summary.result.status) {
+    case val::RunStatus::completed:
+      err << fmt::format("Program completed: {}\n", main);
+      break;
+    case val::RunStatus::error:
+      err << val::format_diagnostic(summary.result.error);
+      rc = kExitProgramError;
+      break;
+    case val::RunStatus::collision:
+      err << val::format_diagnostic(summary.result.error) << collision_lines(summary.result.collision);
+      rc = kExitCollision;
+      break;
+  }
+  if (int w = write_report(opt.report, run_report(summary), err); w != kExitCompleted) return w;
+  if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.trace()), err);
+      w != kExitCompleted)
+    return w;
+  return rc;
+}
+
+}  // namespace asimov::app

@@ -1,0 +1,45 @@
+// asimov: runs VAL II programs in simulation and halts them the instant the arm touches
+// something. Subcommands: run, check (README.md has the contract).
+#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+int main(int argc, char** argv) {
+  using namespace asimov::app;
+  CLI::App cli{"asimov: VAL II programs in simulation, halted on contact"};
+  cli.require_subcommand(1);
+
+  RunOptions run;
+  auto* run_cmd = cli.add_subcommand("run", "load FILE.v2 and run a program in the cell");
+  run_cmd->add_option("file", run.file, "the .v2 file")->required();
+  run_cmd->add_option("--main", run.main, "program to run (default: the first in the file)");
+  run_cmd->add_option("--cell", run.cell, "cell file (YAML); default: the built-in cell");
+  run_cmd->add_option("--report", run.report, "write a JSON report of the run");
+  run_cmd->add_option("--trace", run.trace, "write every checked pose as JSON");
+
+  std::string check_file;
+  auto* check_cmd = cli.add_subcommand("check", "load and check FILE.v2; nothing runs");
+  check_cmd->add_option("file", check_file, "the .v2 file")->required();
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::ParseError& e) {
+    cli.exit(e);
+    return kExitUsage;  // our contract: every usage error exits 1
+  }
+
+  try {
+    if (*run_cmd) return run_command(run, std::cout, std::cerr);
+    if (*check_cmd) return check_command(check_file, std::cout, std::cerr);
+  } catch (const std::exception& e) {
+    // The layers report problems as values; anything reaching here is a defect, still no crash.
+    std::cerr << "*Internal error*  " << e.what() << '\n';
+    return kExitUsage;
+  }
+  return kExitUsage;
+}

@@ -1,0 +1,117 @@
+#include "app/report.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace asimov::app {
+namespace {
+
+nlohmann::json vec(const collision::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json joints(const robots::JointVector& q) {
+  auto out = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < q.size(); ++i) out.push_back(q[i]);
+  return out;
+}
+
+nlohmann::json error_object(const val::Diagnostic& d) {
+  return {{"message", d.message}, {"detail", d.detail}, {"file", d.file},
+          {"line", d.line},       {"column", d.column}, {"program", d.program},
+          {"step", d.step}};
+}
+
+const char* status_name(val::RunStatus s) {
+  switch (s) {
+    case val::RunStatus::completed: return "completed";
+    case val::RunStatus::collision: return "collision";
+    case val::RunStatus::error: return "error";
+  }
+  return "error";
+}
+
+}  // namespace
+
+nlohmann::json load_error_report(const std::string& file, const val::Diagnostic& first_error) {
+  return {{"status", "error"},     {"file", file},       {"program", first_error.program},
+          {"line", first_error.line}, {"step", first_error.step}, {"sim_time_s", 0.0},
+          {"poses_checked", 0},    {"error", error_object(first_error)}};
+}
+
+nlohmann::json run_report(const RunSummary& s) {
+  const auto& r = s.result;
+  nlohmann::json doc = {{"status", status_name(r.status)},
+                        {"file", s.file},
+                        {"program", r.program},
+                        {"line", r.line},
+                        {"step", r.step},
+                        {"sim_time_s", s.sim_time_s},
+                        {"poses_checked", s.poses_checked}};
+  if (r.status == val::RunStatus::collision) {
+    const auto& c = r.collision;
+    doc["collision"] = {{"bodies", {c.body_a, c.body_b}},
+                        {"point_mm", vec(c.point)},
+                        {"joints_deg", joints(c.joints)},
+                        {"time_s", c.time_s}};
+  }
+  if (r.status == val::RunStatus::error) doc["error"] = error_object(r.error);
+  doc["collision_engine"] = {{"used", s.engine_used},
+                             {"pair_checks", s.counts.pairs_enabled},
+                             {"pairs_after_minimax", s.counts.pairs_after_minimax},
+                             {"pairs_after_voxels", s.counts.pairs_after_voxels},
+                             {"voxel_pairs", s.counts.voxel_pairs},
+                             {"face_pairs", s.counts.face_pairs}};
+  return doc;
+}
+
+nlohmann::json trace_document(const std::string& program, const robots::Robot& robot,
+                              const std::vector<motion::TraceSample>& samples) {
+  auto rows = nlohmann::json::array();
+  for (const auto& s : samples) {
+    const auto x = motion::decompose(s.tool);
+    rows.push_back({{"t", s.time_s},
+                    {"joints_deg", joints(s.joints)},
+                    {"tool_xyzoat", {x[0], x[1], x[2], x[3], x[4], x[5]}}});
+  }
+  return {{"program", program},
+          {"robot", robot.name},
+          {"units", {{"t", "s"}, {"joints_deg", "deg"}, {"tool_xyzoat", "mm, deg (VAL O/A/T)"}}},
+          {"samples", std::move(rows)}};
+}
+
+bool write_json_file(const std::string& path, const nlohmann::json& doc, std::string& why) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) {
+      why = fmt::format("cannot write {}", tmp);
+      return false;
+    }
+    out << doc.dump(2) << '\n';
+    out.flush();
+    if (!out) {
+      why = fmt::format("error while writing {}", tmp);
+      std::remove(tmp.c_str());
+      return false;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    why = fmt::format("cannot rename {} to {}: {}", tmp, path, ec.message());
+    std::remove(tmp.c_str());
+    return false;
+  }
+  return true;
+}
+
+std::string collision_lines(const motion::CollisionReport& c) {
+  std::string out = fmt::format("at t = {:.6f} s, point ({:.3f}, {:.3f}, {:.3f}) mm\njoints", c.time_s,
+                                c.point.x(), c.point.y(), c.point.z());
+  for (Eigen::Index i = 0; i < c.joints.size(); ++i) out += fmt::format(" {:.3f}", c.joints[i]);
+  return out + '\n';
+}
+
+}  // namespace asimov::app

@@ -1,0 +1,31 @@
+// The --report and --trace JSON documents of `asimov run` (schema in README.md).
+#pragma once
+#include "interpreter/interpreter.hpp"
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace asimov::app {
+
+struct RunSummary {
+  std::string file;                 // the .v2 file run
+  val::RunResult result;
+  double sim_time_s = 0;
+  std::uint64_t poses_checked = 0;
+  collision::StepCounts counts;     // summed over every checked pose
+  bool engine_used = false;         // false when the cell has no enabled pair
+};
+
+// Report for a run that could not start (load errors): status "error".
+nlohmann::json load_error_report(const std::string& file, const val::Diagnostic& first_error);
+nlohmann::json run_report(const RunSummary& summary);
+nlohmann::json trace_document(const std::string& program, const robots::Robot& robot,
+                              const std::vector<motion::TraceSample>& samples);
+
+// Writes `doc` to `path` through a temporary file and a rename, so a reader never sees half a
+// file. Returns false (and fills `why`) when the file cannot be written.
+bool write_json_file(const std::string& path, const nlohmann::json& doc, std::string& why);
+
+// The human-readable lines that follow "*Collision*" (dialect §10).
+std::string collision_lines(const motion::CollisionReport& c);
+
+}  // namespace asimov::app
