@@ -1,5 +1,6 @@
 // VAL configuration words for a PUMA-type arm.
 #pragma once
+#include "robots/robot.hpp"
 
 namespace asimov::robots {
 
@@ -15,5 +16,12 @@ struct ConfigurationRequest {
   int righty = -1, above = -1, noflip = -1;  // -1 unset, 0 false, 1 true
   bool single = true;                        // SINGLE (J6 in (-180,180]) / MULTIPLE
 };
+
+// Configuration actually reached by a PUMA-type arm at `display` joints (kinematics.md §6):
+// RIGHTY iff V >= 0, ABOVE iff sigma_s * wrap(theta2 - atan2(pz, V)) >= 0, NOFLIP iff J5 >= 0.
+Configuration configuration_of(const Robot& robot, const JointVector& display);
+
+// `current` overridden by the set fields of `request`.
+Configuration requested_configuration(const Configuration& current, const ConfigurationRequest& request);
 
 }  // namespace asimov::robots

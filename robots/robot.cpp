@@ -1,3 +1,5 @@
+// Serial-arm basics: the display <-> DH mapping (the only place that converts), standard-DH
+// forward kinematics, link frames and the limit check.
 #include "robots/robot.hpp"
 
 #include <cmath>
@@ -6,6 +8,9 @@
 namespace asimov::robots {
 namespace {
 constexpr double kDeg = std::numbers::pi / 180;
+// Rounding slack of the limit check [deg]: IK results computed exactly on a limit pass.
+constexpr double kLimitSlack = 1e-9;
+}  // namespace
 
 Pose dh_transform(const DhLink& l, double theta) {
   const double ct = std::cos(theta), st = std::sin(theta);
@@ -17,7 +22,12 @@ Pose dh_transform(const DhLink& l, double theta) {
       0, 0, 0, 1;
   return t;
 }
-}  // namespace
+
+double wrap_deg(double deg) {
+  double w = std::remainder(deg, 360.0);  // [-180, 180]
+  if (w <= -180) w += 360;
+  return w;
+}
 
 JointVector display_to_dh(const Robot& robot, const JointVector& display) {
   JointVector q(display.size());
@@ -45,16 +55,20 @@ void link_frames(const Robot& robot, const JointVector& display, std::vector<Pos
     frames[k + 1] = frames[k] * dh_transform(robot.dh[k], q[static_cast<Eigen::Index>(k)]);
 }
 
-Pose flange_pose(const Robot& robot, const JointVector& display) {
-  const JointVector q = display_to_dh(robot, display);
+Pose flange_pose_dh(const Robot& robot, const JointVector& q) {
   Pose t = Pose::Identity();
-  for (std::size_t k = 0; k < robot.dh.size(); ++k) t = t * dh_transform(robot.dh[k], q[static_cast<Eigen::Index>(k)]);
+  for (std::size_t k = 0; k < robot.dh.size(); ++k)
+    t = t * dh_transform(robot.dh[k], q[static_cast<Eigen::Index>(k)]);
   return t;
+}
+
+Pose flange_pose(const Robot& robot, const JointVector& display) {
+  return flange_pose_dh(robot, display_to_dh(robot, display));
 }
 
 int first_limit_violation(const Robot& robot, const JointVector& display) {
   for (Eigen::Index i = 0; i < display.size(); ++i)
-    if (display[i] < robot.lower[i] || display[i] > robot.upper[i]) return static_cast<int>(i);
+    if (display[i] < robot.lower[i] - kLimitSlack || display[i] > robot.upper[i] + kLimitSlack) return static_cast<int>(i);
   return -1;
 }
 

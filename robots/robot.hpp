@@ -58,4 +58,12 @@ Pose flange_pose(const Robot& robot, const JointVector& display);
 // Index of the first joint outside its limits, or -1.
 int first_limit_violation(const Robot& robot, const JointVector& display);
 
+// One standard DH link transform A = Rz(theta) Tz(d) Tx(a) Rx(alpha), theta in radians.
+Pose dh_transform(const DhLink& link, double theta);
+// Flange pose from DH angles [rad] (no display mapping; used by IK checks).
+Pose flange_pose_dh(const Robot& robot, const JointVector& dh);
+
+// Angle helpers [deg]: wrap into (-180, 180].
+double wrap_deg(double deg);
+
 }  // namespace asimov::robots
