@@ -1,0 +1,182 @@
+// Closed-form PUMA IK (kinematics.md §4-§6): the 8 listed solutions, random round trips,
+// configuration selection, singular cases, reach and limit errors.
+#include "robots/configuration.hpp"
+#include "robots/ik_puma.hpp"
+#include "robots/puma560.hpp"
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+using namespace asimov::robots;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180;
+
+JointVector jv(std::initializer_list<double> v) {
+  JointVector j(static_cast<Eigen::Index>(v.size()));
+  Eigen::Index i = 0;
+  for (double x : v) j[i++] = x;
+  return j;
+}
+
+double angle_diff_deg(double a, double b) { return std::abs(wrap_deg(a - b)); }
+
+bool same_dh(const JointVector& q_rad, const JointVector& deg, double tol) {
+  for (int i = 0; i < 6; ++i)
+    if (angle_diff_deg(q_rad[i] / kDeg, deg[i]) > tol) return false;
+  return true;
+}
+}  // namespace
+
+TEST_CASE("the 8 IK solutions of the test pose", "[ik]") {
+  const Robot r = puma560();
+  const Pose t = flange_pose_dh(r, jv({20, 30, -100, 40, 50, 60}) * kDeg);
+  CHECK((t.translation() - asimov::collision::Vec3(790.5313, 128.0500, 344.5085)).norm() < 1e-4);
+  IkCandidates c;
+  REQUIRE(puma_ik_all(r, t, 0.0, c) == IkStatus::ok);
+  struct Row {
+    bool righty, above;
+    JointVector q;
+  };
+  const Row rows[] = {{true, true, jv({20.0000, 30.0000, -100.0000, 40.0000, 50.0000, 60.0000})},
+                      {true, false, jv({20.0000, 17.3013, -74.6167, 48.7810, 40.8910, 47.5484})},
+                      {false, true, jv({178.4017, 150.0000, -74.6167, -152.9531, 42.8714, 87.8869})},
+                      {false, false, jv({178.4017, 162.6987, -100.0000, -144.2807, 31.9995, 77.0260})}};
+  for (const auto& row : rows) {
+    const JointVector other = jv({row.q[0], row.q[1], row.q[2], row.q[3] + 180, -row.q[4], row.q[5] + 180});
+    int found_main = 0, found_other = 0;
+    for (const auto& cand : c) {
+      REQUIRE(cand.valid);
+      const auto [ep, er] = fk_error(r, cand.dh, t);
+      CHECK(ep < 5e-12 * 1000);  // < 5e-9 mm; the table quotes < 5e-13 mm
+      CHECK(er < 1e-12);
+      if (cand.config.righty != row.righty || cand.config.above != row.above) continue;
+      found_main += same_dh(cand.dh, row.q, 1e-4);
+      found_other += same_dh(cand.dh, other, 1e-4);
+    }
+    INFO("branch righty=" << row.righty << " above=" << row.above);
+    CHECK(found_main == 1);
+    CHECK(found_other == 1);
+  }
+}
+
+TEST_CASE("FK(IK(T)) round trips over random poses", "[ik][random]") {
+  const Robot r = puma560();
+  std::mt19937 rng(20261128);
+  std::uniform_real_distribution<double> u(0, 1);
+  double max_p = 0, max_r = 0, max_back = 0;
+  int tested = 0, recovered = 0;
+  const int n = 4000;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 0; k < n; ++k) {
+    JointVector d(6);
+    for (int i = 0; i < 6; ++i) d[i] = r.lower[i] + u(rng) * (r.upper[i] - r.lower[i]);
+    if (std::abs(d[4]) < 0.01) continue;  // declared wrist band
+    const JointVector q = display_to_dh(r, d);
+    const Pose t = flange_pose_dh(r, q);
+    IkCandidates c;
+    if (puma_ik_all(r, t, q[3], c) != IkStatus::ok) continue;  // shoulder/elbow band
+    ++tested;
+    bool back = false;
+    for (const auto& cand : c) {
+      const auto [ep, er] = fk_error(r, cand.dh, t);
+      max_p = std::max(max_p, ep);
+      max_r = std::max(max_r, er);
+      if (same_dh(cand.dh, q / kDeg, 1e-6)) back = true;
+    }
+    recovered += back;
+    // The selected solution in the pose's own configuration, near its own joints, is itself.
+    const IkResult res = solve_puma(r, t, d, configuration_of(r, d), false);
+    REQUIRE(res.status == IkStatus::ok);
+    max_back = std::max(max_back, (res.joints - d).cwiseAbs().maxCoeff());
+  }
+  const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  WARN("IK round trips: " << tested << " poses x 8, max position error " << max_p << " mm, max rotation error "
+                          << max_r << ", max joint recovery error " << max_back << " deg, " << us / tested
+                          << " us per pose (all 8 + select)");
+  CHECK(tested > n * 9 / 10);
+  CHECK(recovered == tested);
+  CHECK(max_p < 1e-9);
+  CHECK(max_r < 1e-12);
+  CHECK(max_back < 1e-9);
+}
+
+TEST_CASE("configuration selection", "[ik][configuration]") {
+  const Robot r = puma560();
+  const JointVector start = jv({20, -30, 100, 40, -50, 60});  // display
+  const Pose t = flange_pose(r, start);
+  const Configuration c0 = configuration_of(r, start);
+  for (int mask = 0; mask < 8; ++mask) {
+    Configuration want{(mask & 1) != 0, (mask & 2) != 0, (mask & 4) != 0};
+    const IkResult res = solve_puma(r, t, start, want, true);
+    INFO("mask " << mask);
+    if (res.status != IkStatus::ok) {
+      CHECK(res.status == IkStatus::joint_limit);
+      continue;
+    }
+    CHECK(configuration_of(r, res.joints) == want);
+    const auto [ep, er] = fk_error(r, display_to_dh(r, res.joints), t);
+    CHECK(ep < 1e-9);
+    CHECK(er < 1e-12);
+    if (want == c0) CHECK((res.joints - start).norm() < 1e-9);
+  }
+}
+
+TEST_CASE("wrist singularity keeps the current J4", "[ik][singular]") {
+  const Robot r = puma560();
+  const JointVector ready = jv({0, -90, 90, 0, 0, 0});
+  const JointVector cur = jv({0, -90, 90, 37, 0, 10});
+  const Pose t = flange_pose(r, jv({10, -80, 120, 15, 0, 40}));  // J4 + J6 = 55
+  const IkResult res = solve_puma(r, t, cur, configuration_of(r, cur), true);
+  REQUIRE(res.status == IkStatus::ok);
+  CHECK(res.joints[3] == 37);
+  CHECK(std::abs(res.joints[4]) < 1e-9);
+  CHECK(res.joints[3] + res.joints[5] == Approx(55));
+  // READY itself from READY.
+  const IkResult rr = solve_puma(r, flange_pose(r, ready), ready, configuration_of(r, ready), true);
+  REQUIRE(rr.status == IkStatus::ok);
+  CHECK((rr.joints - ready).norm() < 1e-9);
+}
+
+TEST_CASE("reach errors: shoulder cylinder and beyond reach", "[ik][reach]") {
+  const Robot r = puma560();
+  const JointVector cur = jv({0, -90, 180, 0, 0, 0});
+  const Configuration c = configuration_of(r, cur);
+  Pose t = Pose::Identity();
+  t.translation() = asimov::collision::Vec3(50, 50, 300);  // r = 70.7 < d3
+  CHECK(solve_puma(r, t, cur, c, true).status == IkStatus::out_of_reach);
+  t.translation() = asimov::collision::Vec3(1000, 0, 300);  // rho > a2 + L
+  CHECK(solve_puma(r, t, cur, c, true).status == IkStatus::out_of_reach);
+  t.translation() = asimov::collision::Vec3(0, 150.0, 0);  // exactly... inside (r < d3)
+  CHECK(solve_puma(r, t, cur, c, true).status == IkStatus::out_of_reach);
+}
+
+TEST_CASE("joint limits and J6 SINGLE / MULTIPLE", "[ik][limits]") {
+  const Robot r = puma560();
+  // J1 beyond 160: RIGHTY target behind the robot.
+  const JointVector cur = jv({150, -90, 180, 0, 30, 0});
+  const Pose t = flange_pose(r, jv({175, -90, 180, 0, 30, 0}));
+  JointVector past = jv({175, -90, 180, 0, 30, 0});
+  REQUIRE(first_limit_violation(r, past) == 0);
+  const IkResult res = solve_puma(r, t, cur, configuration_of(r, cur), true);
+  CHECK(res.status == IkStatus::joint_limit);
+  CHECK(res.joint == 0);
+  // J6: SINGLE keeps (-180, 180]; MULTIPLE goes to the equivalent nearest the current value.
+  const JointVector cur6 = jv({0, -90, 180, 0, 30, 200});
+  const Pose t6 = flange_pose(r, jv({0, -90, 180, 0, 30, 210}));
+  const IkResult single = solve_puma(r, t6, cur6, configuration_of(r, cur6), true);
+  REQUIRE(single.status == IkStatus::ok);
+  CHECK(single.joints[5] == Approx(-150));
+  const IkResult multi = solve_puma(r, t6, cur6, configuration_of(r, cur6), false);
+  REQUIRE(multi.status == IkStatus::ok);
+  CHECK(multi.joints[5] == Approx(210));
+  // J1 nearest equivalent: from J1 = 150 a target at -170 + 360 = 190 is out, the answer is the
+  // in-range value, never a jump through the limit.
+  const JointVector c1 = jv({-150, -90, 180, 0, 30, 0});
+  const IkResult r1 = solve_puma(r, flange_pose(r, jv({-155, -90, 180, 0, 30, 0})), c1, configuration_of(r, c1), true);
+  REQUIRE(r1.status == IkStatus::ok);
+  CHECK(r1.joints[0] == Approx(-155));
+}
