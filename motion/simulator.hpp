@@ -44,6 +44,8 @@ struct MotionResult {
 struct SpeedSettings {
   double monitor = 100;  // monitor speed [%]
   double program = 100;  // program speed for this motion [%]
+  double rotation = -1;  // program speed of straight-line rotation [%]; < 0: same as program
+  double duration_s = 0; // DURATION: minimum motion time [s]; 0 = off
 };
 
 class Simulator {

@@ -53,25 +53,25 @@ std::vector<LinkBody> puma_bodies() {
   // link0, world frame: the fixed column from the floor (z = -670) to the trunk (z = -170).
   b.push_back({0, "link0", cylinder(2, 110, -670, -170)});
   // link1, frame 1 (y1 = up, z1 = J2 axis, toward -Y0 at J1 = 0): the rotating trunk and the
-  // shoulder housing around the J2 axis. Touches link0 at y1 = -170 and link2 at z1 = 30.
-  b.push_back({1, "link1", merged(cylinder(1, 90, -170, 0), cylinder(2, 90, -110, 30))});
+  // shoulder housing around the J2 axis. Overlaps link0 and link2 by 1 mm at the joints.
+  b.push_back({1, "link1", merged(cylinder(1, 90, -171, 0), cylinder(2, 90, -110, 31))});
   // link2, frame 2 (elbow at the origin, x2 along the upper arm, z2 = J2/J3 axes): the upper
   // arm beside the trunk, z2 in [30, 100], hubs at the shoulder and the elbow.
   b.push_back({2, "link2",
                merged(merged(box(Vec3(-a2, -50, 30), Vec3(0, 50, 100)), cylinder(2, 85, 30, 100, -a2, 0)),
                       cylinder(2, 60, 30, 100, 0, 0))});
   // link3, frame 3 (z3 along the forearm to the wrist centre at z3 = d4, y3 = -z2, J3 axis
-  // through x3 = -a3): elbow hub (touches link2 at y3 = d3 - 100) and the forearm box.
+  // through x3 = -a3): elbow hub (overlaps link2 by 1 mm) and the forearm box.
   b.push_back({3, "link3",
-               merged(cylinder(1, 60, -45, d3 - 100, -a3, 0), box(Vec3(-50, -40, 0), Vec3(40, 40, d4 - 71.8)))});
+               merged(cylinder(1, 60, -45, d3 - 99, -a3, 0), box(Vec3(-50, -40, 0), Vec3(40, 40, d4 - 71.8)))});
   // link4, frame 4 (wrist centre at the origin, forearm along -y4, z4 = J5 axis): a collar at the
   // forearm end and the two fork plates beside the J5 body.
   b.push_back({4, "link4",
-               merged(merged(cylinder(1, 40, -71.8, -45), box(Vec3(-35, -45, 40), Vec3(35, 10, 50))),
+               merged(merged(cylinder(1, 40, -72.8, -45), box(Vec3(-35, -45, 40), Vec3(35, 10, 50))),
                       box(Vec3(-35, -45, -50), Vec3(35, 10, -40)))});
   // link5, frame 5 (z5 = J6 axis, y5 = -z4): the J5 drum between the fork plates and a boss
   // toward the flange.
-  b.push_back({5, "link5", merged(cylinder(1, 35, -40, 40), cylinder(2, 25, 0, 45))});
+  b.push_back({5, "link5", merged(cylinder(1, 35, -41, 41), cylinder(2, 25, 0, 46))});
   // link6, frame 6: the flange disc (real flange face about 56 mm past the wrist centre).
   b.push_back({6, "link6", cylinder(2, 30, 45, 56)});
   return b;

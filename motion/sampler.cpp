@@ -1,0 +1,133 @@
+#include "motion/sampler.hpp"
+
+#include "robots/ik_puma.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace asimov::motion {
+namespace {
+using robots::JointVector;
+
+constexpr int kMaxRefineDepth = 6;  // subdivision rounds of one interval before giving up
+constexpr int kMaxSplits = 4096;    // sub-intervals per round
+
+struct LineContext {
+  const robots::Robot& robot;
+  std::span<const robots::BodyReach> reach;
+  const LineRequest& req;
+  Location base_inv;
+  Location tool_inv;
+  double limit;  // kLineSafety * step_mm
+};
+
+// Shoulder (r - d3) and elbow reach margins [mm] of a wrist-centre position (kinematics.md §7).
+void margins(const robots::Robot& r, const collision::Vec3& p, double& shoulder, double& elbow) {
+  const double a2 = r.dh[1].a, d3 = r.dh[2].d, a3 = r.dh[2].a, d4 = r.dh[3].d;
+  const double rr = std::hypot(p.x(), p.y());
+  shoulder = rr - d3;
+  const double rho = std::sqrt(std::max(0.0, rr * rr - d3 * d3) + p.z() * p.z());
+  const double L = std::hypot(a3, d4);
+  elbow = std::min(a2 + L - rho, rho - std::abs(a2 - L));
+}
+
+LineStatus fail(LinePlan& plan, LineStatus st, double s) {
+  plan.status = st;
+  plan.fail_fraction = s;
+  return st;
+}
+
+LineStatus singular(LinePlan& plan, SingularityKind kind, double s) {
+  plan.singularity = kind;
+  return fail(plan, LineStatus::singularity, s);
+}
+
+// Margins at the flange pose of sample s.
+LineStatus check_margins(const LineContext& c, const Location& flange, double s, LinePlan& plan) {
+  double sh, el;
+  margins(c.robot, flange.translation(), sh, el);
+  if (sh < kShoulderMarginMm) return singular(plan, SingularityKind::shoulder, s);
+  if (el < kElbowMarginMm) return singular(plan, SingularityKind::elbow, s);
+  return LineStatus::ok;
+}
+
+// Solves and checks one sample; `prev` is the joint reference (nearest equivalents, kept J4).
+LineStatus solve_sample(const LineContext& c, double s, const JointVector& prev, JointVector& out, LinePlan& plan) {
+  const Location flange = c.base_inv * line_pose(c.req.path, s) * c.tool_inv;
+  const robots::IkResult ik = robots::solve_puma(c.robot, flange, prev, c.req.config, false);
+  if (ik.status == robots::IkStatus::out_of_reach) return fail(plan, LineStatus::out_of_reach, s);
+  if (check_margins(c, flange, s, plan) != LineStatus::ok) return plan.status;
+  if (ik.status == robots::IkStatus::joint_limit) {
+    plan.joint = ik.joint, plan.value = ik.value;
+    return fail(plan, LineStatus::joint_limit, s);
+  }
+  for (int i = 0; i < ik.joints.size(); ++i) {
+    const double jump = std::abs(ik.joints[i] - prev[i]);
+    if (jump > kMaxJointJumpDeg) {
+      plan.joint = i, plan.value = jump;
+      return singular(plan, SingularityKind::joint_jump, s);
+    }
+  }
+  out = ik.joints;
+  return LineStatus::ok;
+}
+
+// Appends samples strictly inside (a, b] so that the bound between neighbours is <= limit.
+LineStatus refine(const LineContext& c, const LineSample& a, const LineSample& b, int depth, LinePlan& plan) {
+  const double d = max_body_displacement(c.reach, b.joints - a.joints);
+  if (d <= c.limit) {
+    plan.samples.push_back(b);
+    return LineStatus::ok;
+  }
+  if (depth >= kMaxRefineDepth) return singular(plan, SingularityKind::unresolved, b.s);
+  const int m = std::clamp(static_cast<int>(std::ceil(d / c.limit)), 2, kMaxSplits);
+  LineSample prev = a;
+  for (int i = 1; i <= m; ++i) {
+    LineSample next;
+    if (i == m) {
+      next = b;
+    } else {
+      next.s = a.s + (b.s - a.s) * i / m;
+      if (solve_sample(c, next.s, prev.joints, next.joints, plan) != LineStatus::ok) return plan.status;
+    }
+    if (refine(c, prev, next, depth + 1, plan) != LineStatus::ok) return plan.status;
+    prev = next;
+  }
+  return LineStatus::ok;
+}
+}  // namespace
+
+double max_body_displacement(std::span<const robots::BodyReach> reach, const JointVector& delta) {
+  double m = 0;
+  for (const auto& r : reach) m = std::max(m, robots::max_displacement(r, delta));
+  return m;
+}
+
+int joint_move_intervals(std::span<const robots::BodyReach> reach, const JointVector& from, const JointVector& to,
+                         double step_mm) {
+  const double d = max_body_displacement(reach, to - from);
+  return std::max(1, static_cast<int>(std::ceil(d / step_mm)));
+}
+
+LineStatus plan_line(const robots::Robot& robot, std::span<const robots::BodyReach> reach, const LineRequest& req,
+                     LinePlan& out) {
+  out = LinePlan{};
+  const LineContext c{robot, reach, req, req.base.inverse(), req.tool.inverse(), kLineSafety * req.step_mm};
+  const Location flange0 = c.base_inv * line_pose(req.path, 0) * c.tool_inv;
+  if (check_margins(c, flange0, 0, out) != LineStatus::ok) return out.status;
+  const int n = std::max({1, static_cast<int>(std::ceil(req.path.length / kLineSampleMm)),
+                          static_cast<int>(std::ceil(req.path.angle_deg() / kLineSampleDeg))});
+  out.samples.reserve(static_cast<std::size_t>(n) * 2 + 1);
+  LineSample prev{0, req.start};
+  out.samples.push_back(prev);
+  for (int i = 1; i <= n; ++i) {
+    LineSample next;
+    next.s = static_cast<double>(i) / n;
+    if (solve_sample(c, next.s, prev.joints, next.joints, out) != LineStatus::ok) return out.status;
+    if (refine(c, prev, next, 0, out) != LineStatus::ok) return out.status;
+    prev = next;
+  }
+  return out.status;
+}
+
+}  // namespace asimov::motion

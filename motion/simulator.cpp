@@ -1,0 +1,340 @@
+// The simulated arm in its cell (dialect §4-§5, kinematics.md §5-§8, four-step.md §6.3).
+//
+// Frames: HERE = BASE . FK(q) . TOOL with the program's BASE and TOOL; the physical robot stays
+// at cell.base ("BASE moves neither robot nor cell"), so collision bodies use cell.base . frames[k].
+#include "motion/simulator.hpp"
+
+#include "collision/engine.hpp"
+#include "motion/profile.hpp"
+#include "motion/sampler.hpp"
+#include "robots/ik_puma.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <unordered_map>
+
+namespace asimov::motion {
+namespace {
+using robots::JointVector;
+
+constexpr int kStaticGroup = 1000;  // link0 and every cell object: never tested together
+constexpr int kToolGroup = 6;       // the tool is rigid with link6
+
+MotionResult error(const char* message, std::string detail = {}) {
+  MotionResult r;
+  r.status = MotionStatus::error;
+  r.error.message = message;
+  r.error.detail = std::move(detail);
+  return r;
+}
+
+std::string fmt_limit(const robots::Robot& robot, int j, double v) {
+  char buf[96];
+  const double lo = robot.lower[j], hi = robot.upper[j];
+  if (v > hi)
+    std::snprintf(buf, sizeof buf, "J%d = %.3f > %.3f", j + 1, v, hi);
+  else
+    std::snprintf(buf, sizeof buf, "J%d = %.3f < %.3f", j + 1, v, lo);
+  return buf;
+}
+
+std::string fmt_fraction(const char* what, double s) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%s at %.1f %% of the path", what, 100 * s);
+  return buf;
+}
+}  // namespace
+
+struct Simulator::Impl {
+  Cell cell;
+  JointVector joints;
+  Location base, tool, dest;
+  robots::ConfigurationRequest request;
+  double time = 0;
+  std::uint64_t poses = 0;
+  bool tracing = false;
+  std::vector<TraceSample> trace;
+  collision::StepCounts counts;
+  std::optional<collision::Engine> engine;
+  std::vector<collision::BodyId> link_ids;  // per robot body (index into cell.robot.bodies)
+  std::optional<collision::BodyId> tool_id;
+  std::vector<robots::BodyReach> reach;      // moving bodies: links 1..n and the tool
+  std::vector<collision::Pose> frames;
+  bool start_checked = false;
+
+  // The pending motion.
+  struct Pending {
+    bool active = false;
+    bool straight = false;
+    JointVector from, to;
+    int intervals = 1;
+    LinePlan line;
+    Profile profile;
+    double t0 = 0;
+    int tag = 0;
+  } pending;
+
+  explicit Impl(Cell c) : cell(std::move(c)) {
+    const auto& robot = cell.robot;
+    joints = cell.start_joints.size() == robot.joint_count() ? cell.start_joints : ready(robot);
+    base = cell.base;
+    tool = cell.tool;
+    frames.reserve(static_cast<std::size_t>(robot.joint_count()) + 1);
+    for (const auto& b : robot.bodies) reach.push_back(robots::body_reach(robot, b.mesh, b.link));
+    if (cell.tool_shape) reach.push_back(robots::body_reach(robot, *cell.tool_shape, robot.joint_count()));
+    dest = here();
+    if (cell.collision.enabled) build_engine();
+  }
+
+  static JointVector ready(const robots::Robot& robot) {
+    JointVector j = JointVector::Zero(robot.joint_count());
+    if (robot.joint_count() >= 3) j[1] = -90, j[2] = 90;
+    return j;
+  }
+
+  Location here() const { return base * robots::flange_pose(cell.robot, joints) * tool; }
+  Location here_at(const JointVector& q) const { return base * robots::flange_pose(cell.robot, q) * tool; }
+
+  void build_engine() {
+    const auto& robot = cell.robot;
+    collision::Engine e;
+    std::unordered_map<std::string, collision::BodyId> by_name;
+    const int halvings = cell.collision.halvings;
+    for (const auto& b : robot.bodies) {
+      collision::BodyDef def;
+      def.name = b.name;
+      def.mesh = b.mesh;
+      def.group = b.link == 0 ? kStaticGroup : b.link;
+      def.is_static = b.link == 0;
+      def.halvings = halvings;
+      const auto id = e.add_body(std::move(def));
+      link_ids.push_back(id);
+      by_name[b.name] = id;
+    }
+    if (cell.tool_shape) {
+      collision::BodyDef def{"tool", *cell.tool_shape, kToolGroup, false, halvings};
+      tool_id = e.add_body(std::move(def));
+      by_name["tool"] = *tool_id;
+    }
+    std::vector<collision::BodyId> statics;
+    for (const auto& o : cell.objects) {
+      collision::BodyDef def{o.name, o.mesh, kStaticGroup, true, halvings};
+      const auto id = e.add_body(std::move(def));
+      statics.push_back(id);
+      by_name[o.name] = id;
+    }
+    // Joined parts: adjacent links touch at their joint; the tool is fixed to the flange, next
+    // to the J5 body (link5).
+    for (std::size_t i = 0; i < robot.bodies.size(); ++i)
+      for (std::size_t j = 0; j < robot.bodies.size(); ++j)
+        if (i != j && std::abs(robot.bodies[i].link - robot.bodies[j].link) <= 1)
+          e.set_pair_enabled(link_ids[i], link_ids[j], false);
+    if (tool_id)
+      for (std::size_t i = 0; i < robot.bodies.size(); ++i)
+        if (robot.bodies[i].link >= robot.joint_count() - 1) e.set_pair_enabled(*tool_id, link_ids[i], false);
+    for (const auto& [a, b] : cell.collision.ignore) {
+      const auto ia = by_name.find(a), ib = by_name.find(b);
+      if (ia != by_name.end() && ib != by_name.end() && ia->second != ib->second)
+        e.set_pair_enabled(ia->second, ib->second, false);
+    }
+    if (!e.has_enabled_pairs()) return;  // never call the engine
+    e.set_clearance(cell.collision.clearance_mm);
+    for (std::size_t i = 0; i < cell.objects.size(); ++i) e.set_pose(statics[i], cell.objects[i].pose);
+    for (std::size_t i = 0; i < robot.bodies.size(); ++i)
+      if (robot.bodies[i].link == 0) e.set_pose(link_ids[i], cell.base);
+    engine.emplace(std::move(e));
+  }
+
+  // Checks the arm at `q`; fills `report` on contact.
+  bool collides(const JointVector& q, CollisionReport& report) {
+    if (!engine) return false;
+    robots::link_frames(cell.robot, q, frames);
+    const auto& bodies = cell.robot.bodies;
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      if (bodies[i].link > 0) engine->set_pose(link_ids[i], cell.base * frames[static_cast<std::size_t>(bodies[i].link)]);
+    if (tool_id) engine->set_pose(*tool_id, cell.base * frames.back());
+    const collision::QueryResult r = engine->check();
+    counts.pairs_enabled += r.counts.pairs_enabled;
+    counts.pairs_after_minimax += r.counts.pairs_after_minimax;
+    counts.pairs_after_voxels += r.counts.pairs_after_voxels;
+    counts.voxel_pairs += r.counts.voxel_pairs;
+    counts.face_pairs += r.counts.face_pairs;
+    if (!r.collided) return false;
+    report.body_a = engine->body_name(r.contact.body_a);
+    report.body_b = engine->body_name(r.contact.body_b);
+    report.point = r.contact.point;
+    report.joints = q;
+    return true;
+  }
+
+  // One checked pose at time t: counts it, traces it, checks it.
+  bool visit(const JointVector& q, double t, CollisionReport& report) {
+    ++poses;
+    if (tracing) trace.push_back({t, q, here_at(q)});
+    if (!collides(q, report)) return false;
+    report.time_s = t;
+    return true;
+  }
+
+  MotionResult collision_result(CollisionReport report, int tag) {
+    MotionResult r;
+    r.status = MotionStatus::collision;
+    report.tag = tag;
+    r.collision = std::move(report);
+    return r;
+  }
+
+  double speed_factor(const SpeedSettings& s) const { return s.monitor / 100 * s.program / 100; }
+
+  MotionResult plan_joint(const JointVector& target, const SpeedSettings& speed, int tag) {
+    const auto& robot = cell.robot;
+    const double f = speed_factor(speed);
+    std::array<ProfileAxis, robots::kMaxJoints> axes{};
+    for (int i = 0; i < robot.joint_count(); ++i)
+      axes[static_cast<std::size_t>(i)] = {std::abs(target[i] - joints[i]), robot.max_velocity[i] * f,
+                                           robot.max_acceleration[i]};
+    pending = Pending{};
+    pending.active = true;
+    pending.from = joints;
+    pending.to = target;
+    pending.intervals = joint_move_intervals(reach, joints, target, cell.collision.step_mm);
+    pending.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(robot.joint_count())), speed.duration_s);
+    pending.t0 = time;
+    pending.tag = tag;
+    dest = here_at(target);
+    return {};
+  }
+};
+
+Simulator::Simulator(Cell cell) : impl_(std::make_unique<Impl>(std::move(cell))) {}
+Simulator::~Simulator() = default;
+Simulator::Simulator(Simulator&&) noexcept = default;
+
+const Cell& Simulator::cell() const { return impl_->cell; }
+const robots::Robot& Simulator::robot() const { return impl_->cell.robot; }
+const robots::JointVector& Simulator::joints() const { return impl_->joints; }
+Location Simulator::here() const { return impl_->here(); }
+Location Simulator::dest() const { return impl_->dest; }
+Location Simulator::base() const { return impl_->base; }
+Location Simulator::tool() const { return impl_->tool; }
+void Simulator::set_base(const Location& base) { impl_->base = base; }
+void Simulator::set_tool(const Location& tool) { impl_->tool = tool; }
+robots::Configuration Simulator::configuration() const { return robots::configuration_of(impl_->cell.robot, impl_->joints); }
+robots::ConfigurationRequest& Simulator::request() { return impl_->request; }
+double Simulator::time_s() const { return impl_->time; }
+std::uint64_t Simulator::poses_checked() const { return impl_->poses; }
+bool Simulator::motion_pending() const { return impl_->pending.active; }
+void Simulator::set_trace(bool on) { impl_->tracing = on; }
+const std::vector<TraceSample>& Simulator::trace() const { return impl_->trace; }
+const collision::StepCounts& Simulator::collision_counts() const { return impl_->counts; }
+bool Simulator::collision_engine_used() const { return impl_->engine.has_value(); }
+
+MotionResult Simulator::start_joint_move(const robots::JointVector& target, SpeedSettings speed, int tag) {
+  if (impl_->pending.active)
+    if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
+  const auto& robot = impl_->cell.robot;
+  if (target.size() != robot.joint_count()) return error("*Illegal value*", "wrong number of joints");
+  if (const int j = robots::first_limit_violation(robot, target); j >= 0)
+    return error("*Joint limit exceeded*", fmt_limit(robot, j, target[j]));
+  return impl_->plan_joint(target, speed, tag);
+}
+
+MotionResult Simulator::start_move(const Location& target, bool straight, SpeedSettings speed, int tag) {
+  if (impl_->pending.active)
+    if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
+  Impl& s = *impl_;
+  const auto& robot = s.cell.robot;
+  const Location flange = s.base.inverse() * target * s.tool.inverse();
+  const robots::Configuration current = robots::configuration_of(robot, s.joints);
+  if (!straight) {
+    const robots::Configuration want = robots::requested_configuration(current, s.request);
+    const robots::IkResult ik = robots::solve_puma(robot, flange, s.joints, want, s.request.single);
+    if (ik.status == robots::IkStatus::out_of_reach) return error("*Location out of reach*");
+    if (ik.status == robots::IkStatus::joint_limit)
+      return error("*Joint limit exceeded*", fmt_limit(robot, ik.joint, ik.value));
+    s.request.righty = s.request.above = s.request.noflip = -1;  // consumed by this motion
+    MotionResult r = s.plan_joint(ik.joints, speed, tag);
+    s.dest = target;
+    return r;
+  }
+  LineRequest req;
+  req.path = make_line(s.here(), target);
+  req.base = s.base;
+  req.tool = s.tool;
+  req.start = s.joints;
+  req.config = current;
+  req.step_mm = s.cell.collision.step_mm;
+  LinePlan plan;
+  switch (plan_line(robot, s.reach, req, plan)) {
+    case LineStatus::ok: break;
+    case LineStatus::out_of_reach: return error("*Location out of reach*", fmt_fraction("no solution", plan.fail_fraction));
+    case LineStatus::joint_limit:
+      return error("*Joint limit exceeded*",
+                   fmt_limit(robot, plan.joint, plan.value) + ", " + fmt_fraction("", plan.fail_fraction).substr(1));
+    case LineStatus::singularity: {
+      const char* what = plan.singularity == SingularityKind::shoulder ? "shoulder"
+                         : plan.singularity == SingularityKind::elbow  ? "elbow"
+                         : plan.singularity == SingularityKind::joint_jump ? "joint jump"
+                                                                           : "unresolved step";
+      return error("*Singularity on straight-line path*", fmt_fraction(what, plan.fail_fraction));
+    }
+  }
+  const double f = s.speed_factor(speed);
+  const double fr = (speed.rotation < 0 ? speed.program : speed.rotation) / 100 * speed.monitor / 100;
+  const std::array<ProfileAxis, 2> axes{{{req.path.length, robot.max_tool_speed * f, robot.max_tool_accel},
+                                          {req.path.angle_deg(), robot.max_tool_rot_speed * fr, robot.max_tool_rot_accel}}};
+  s.pending = Impl::Pending{};
+  s.pending.active = true;
+  s.pending.straight = true;
+  s.pending.from = s.joints;
+  s.pending.to = plan.samples.back().joints;
+  s.pending.line = std::move(plan);
+  s.pending.profile = plan_profile(axes, speed.duration_s);
+  s.pending.t0 = s.time;
+  s.pending.tag = tag;
+  s.dest = target;
+  return {};
+}
+
+MotionResult Simulator::finish_motion() {
+  Impl& s = *impl_;
+  if (!s.pending.active) return {};
+  Impl::Pending& p = s.pending;
+  p.active = false;
+  CollisionReport report;
+  if (!s.start_checked) {  // the start pose of the first motion
+    s.start_checked = true;
+    if (s.visit(s.joints, s.time, report)) return s.collision_result(std::move(report), p.tag);
+  }
+  JointVector q(s.joints.size());
+  if (p.straight) {
+    const auto& samples = p.line.samples;
+    for (std::size_t i = 1; i < samples.size(); ++i) {
+      const double t = p.t0 + p.profile.time_at(samples[i].s);
+      if (s.visit(samples[i].joints, t, report)) {
+        s.time = t;
+        return s.collision_result(std::move(report), p.tag);
+      }
+      s.joints = samples[i].joints;
+    }
+  } else {
+    for (int i = 1; i <= p.intervals; ++i) {
+      const double sigma = static_cast<double>(i) / p.intervals;
+      q = i == p.intervals ? p.to : interpolate_joints(p.from, p.to, sigma);
+      const double t = p.t0 + p.profile.time_at(sigma);
+      if (s.visit(q, t, report)) {
+        s.time = t;
+        return s.collision_result(std::move(report), p.tag);
+      }
+      s.joints = q;
+    }
+  }
+  s.joints = p.to;
+  s.time = p.t0 + p.profile.duration;
+  return {};
+}
+
+}  // namespace asimov::motion
