@@ -1,0 +1,190 @@
+// The simulated arm: planning errors before any pose is checked, free motions reaching their
+// targets, a halt at the first contact with a point on both bodies, BASE/TOOL semantics, time.
+#include "collision/face_distance.hpp"
+#include "motion/simulator.hpp"
+#include "robots/puma560.hpp"
+
+#include <catch2/catch.hpp>
+#include <limits>
+
+using namespace asimov;
+using namespace asimov::motion;
+using robots::JointVector;
+
+namespace {
+JointVector jv(std::initializer_list<double> v) {
+  JointVector j(static_cast<Eigen::Index>(v.size()));
+  Eigen::Index i = 0;
+  for (double x : v) j[i++] = x;
+  return j;
+}
+
+Cell basic_cell(double step_mm = 2.0) {
+  Cell c;
+  c.robot = robots::puma560();
+  c.start_joints = jv({0, -90, 90, 0, 0, 0});
+  c.collision.step_mm = step_mm;
+  return c;
+}
+
+CellObject box(const std::string& name, const collision::Vec3& size, const collision::Vec3& at) {
+  CellObject o;
+  o.name = name;
+  o.mesh = collision::make_box(size);
+  o.pose = Location::Identity();
+  o.pose.translation() = at;
+  return o;
+}
+
+// Distance from a world point to the surface of a mesh placed at `pose`.
+double surface_distance(const collision::Polyhedron& mesh, const collision::Pose& pose, const collision::Vec3& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : mesh.triangles) {
+    const collision::TriangleVerts tv{pose * mesh.vertices[t[0]], pose * mesh.vertices[t[1]], pose * mesh.vertices[t[2]]};
+    best = std::min(best, (collision::triangle_closest_point(p, tv) - p).norm());
+  }
+  return best;
+}
+
+// Mesh and world pose of a named body at display joints.
+std::pair<collision::Polyhedron, collision::Pose> body_at(const Cell& cell, const std::string& name, const JointVector& q) {
+  std::vector<collision::Pose> f;
+  robots::link_frames(cell.robot, q, f);
+  for (const auto& b : cell.robot.bodies)
+    if (b.name == name) return {b.mesh, cell.base * f[static_cast<std::size_t>(b.link)]};
+  if (name == "tool") return {*cell.tool_shape, cell.base * f.back()};
+  for (const auto& o : cell.objects)
+    if (o.name == name) return {o.mesh, o.pose};
+  FAIL("unknown body " << name);
+  return {};
+}
+}  // namespace
+
+TEST_CASE("simulator: a free joint move reaches its target", "[simulator]") {
+  Simulator sim(basic_cell());
+  CHECK(sim.collision_engine_used());  // self-collision pairs are enabled
+  const JointVector target = jv({30, -60, 150, 20, 40, 30});
+  REQUIRE(sim.start_joint_move(target, {}, 7).status == MotionStatus::ok);
+  CHECK(sim.motion_pending());
+  CHECK(sim.time_s() == 0);
+  const MotionResult r = sim.finish_motion();
+  REQUIRE(r.status == MotionStatus::ok);
+  CHECK((sim.joints() - target).norm() == 0);
+  CHECK(sim.poses_checked() > 10);
+  // J3 moves 60 deg at 90 deg/s, 360 deg/s^2: T = 60/90 + 90/360.
+  CHECK(sim.time_s() == Approx(60.0 / 90 + 0.25));
+  CHECK(sim.here().isApprox(robots::flange_pose(sim.robot(), target), 1e-12));
+  CHECK(sim.dest().isApprox(sim.here(), 1e-12));
+  CHECK(sim.collision_counts().pairs_enabled > 0);
+}
+
+TEST_CASE("simulator: speed scales velocity only", "[simulator]") {
+  Simulator sim(basic_cell(20));
+  REQUIRE(sim.start_joint_move(jv({0, -90, 150, 0, 0, 0}), {50, 100, -1, 0}, 1).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  CHECK(sim.time_s() == Approx(60.0 / 45 + 45.0 / 360));  // V = 45, A = 360
+  const double t0 = sim.time_s();
+  REQUIRE(sim.start_joint_move(jv({0, -90, 151, 0, 0, 0}), {100, 100, -1, 3.0}, 1).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  CHECK(sim.time_s() - t0 == Approx(3.0));  // DURATION
+}
+
+TEST_CASE("simulator: errors come before any pose is checked", "[simulator]") {
+  Simulator sim(basic_cell());
+  MotionResult r = sim.start_move(trans(2000, 0, 0, 0, 0, 0), false, {}, 1);
+  CHECK(r.status == MotionStatus::error);
+  CHECK(r.error.message == "*Location out of reach*");
+  r = sim.start_move(trans(10, 10, 300, 0, 0, 0), false, {}, 1);  // inside the shoulder cylinder
+  CHECK(r.error.message == "*Location out of reach*");
+  r = sim.start_joint_move(jv({0, -90, 231, 0, 0, 0}), {}, 2);
+  CHECK(r.status == MotionStatus::error);
+  CHECK(r.error.message == "*Joint limit exceeded*");
+  CHECK(r.error.detail == "J3 = 231.000 > 225.000");
+  // A transformation whose solution in the current configuration needs J1 beyond 160.
+  const Location behind = robots::flange_pose(sim.robot(), jv({175, -60, 150, 0, 30, 0}));
+  r = sim.start_move(behind, false, {}, 3);
+  CHECK(r.error.message == "*Joint limit exceeded*");
+  CHECK(r.error.detail.rfind("J1 = ", 0) == 0);
+  // Straight line from READY: singular.
+  r = sim.start_move(trans(0, 0, -100, 0, 0, 0) * sim.here(), true, {}, 4);
+  CHECK(r.error.message == "*Singularity on straight-line path*");
+  CHECK_FALSE(sim.motion_pending());
+  CHECK(sim.poses_checked() == 0);
+  CHECK(sim.time_s() == 0);
+}
+
+TEST_CASE("simulator: a move into a box halts at the first contact", "[simulator][collision]") {
+  Cell cell = basic_cell();
+  // The forearm sweeps from vertical to horizontal-forward about the elbow (x = 0, z = 431.8).
+  cell.objects.push_back(box("block", {100, 200, 100}, {220, -150, 660}));
+  Simulator sim(cell);
+  REQUIRE(sim.start_joint_move(jv({0, -90, 180, 0, 0, 0}), {}, 42).status == MotionStatus::ok);
+  const MotionResult r = sim.finish_motion();
+  REQUIRE(r.status == MotionStatus::collision);
+  const CollisionReport& c = r.collision;
+  CHECK(c.tag == 42);
+  CHECK((c.body_a == "block" || c.body_b == "block"));
+  INFO("bodies " << c.body_a << " / " << c.body_b << ", point " << c.point.transpose());
+  for (const auto& name : {c.body_a, c.body_b}) {
+    const auto [mesh, pose] = body_at(cell, name, c.joints);
+    CHECK(surface_distance(mesh, pose, c.point) < 0.01);
+  }
+  // Halted at the last free pose, before the colliding one, and the clock at the contact.
+  CHECK(sim.joints()[2] < c.joints[2]);
+  CHECK(sim.joints()[2] > 90);
+  CHECK(c.joints[2] < 180);
+  CHECK(sim.time_s() == c.time_s);
+  CHECK(c.time_s > 0);
+  CHECK_FALSE(sim.motion_pending());
+}
+
+TEST_CASE("simulator: the start pose of the first motion is checked", "[simulator][collision]") {
+  Cell cell = basic_cell();
+  cell.objects.push_back(box("pole", {300, 30, 30}, {20, -150, 700}));  // through the READY forearm
+  Simulator sim(cell);
+  REQUIRE(sim.start_joint_move(jv({0, -90, 95, 0, 0, 0}), {}, 5).status == MotionStatus::ok);
+  const MotionResult r = sim.finish_motion();
+  REQUIRE(r.status == MotionStatus::collision);
+  CHECK(r.collision.time_s == 0);
+  CHECK((r.collision.joints - jv({0, -90, 90, 0, 0, 0})).norm() == 0);
+  CHECK(sim.poses_checked() == 1);
+}
+
+TEST_CASE("simulator: straight line, BASE and TOOL", "[simulator]") {
+  Cell cell = basic_cell(5);
+  cell.tool = trans(0, 0, 100, 0, 0, 0);
+  cell.tool_shape = collision::transformed(collision::make_box({40, 40, 80}), collision::Pose(Eigen::Translation3d(0, 0, 100)));
+  cell.objects.push_back(box("table", {700, 1200, 40}, {750, 0, -420}));
+  Simulator sim(cell);
+  sim.set_trace(true);
+  REQUIRE(sim.start_joint_move(jv({10, -60, 150, 20, 40, 30}), {}, 1).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  const Location target = trans(-80, 60, -100, 0, 0, 0) * sim.here() * trans(0, 0, 0, 0, 20, 0);
+  REQUIRE(sim.start_move(target, true, {}, 2).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  CHECK((sim.here().translation() - target.translation()).norm() < 1e-6);
+  CHECK((sim.here().linear() - target.linear()).norm() < 1e-9);
+  // Every traced tool point of the line lies on the segment.
+  const auto& tr = sim.trace();
+  REQUIRE(tr.size() > 10);
+  CHECK(tr.back().time_s == Approx(sim.time_s()));
+  // BASE changes the interpretation of locations, not where the robot is.
+  const JointVector before = sim.joints();
+  const Location h0 = sim.here();
+  sim.set_base(trans(1000, 0, 0, 90, 0, 0));
+  CHECK(sim.here().isApprox(trans(1000, 0, 0, 90, 0, 0) * h0, 1e-9));
+  REQUIRE(sim.start_move(sim.here(), false, {}, 3).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  CHECK((sim.joints() - before).norm() < 1e-9);
+}
+
+TEST_CASE("simulator: collision checking off never uses the engine", "[simulator]") {
+  Cell cell = basic_cell();
+  cell.collision.enabled = false;
+  cell.objects.push_back(box("pole", {60, 60, 60}, {20, -150, 700}));
+  Simulator sim(cell);
+  CHECK_FALSE(sim.collision_engine_used());
+  REQUIRE(sim.start_joint_move(jv({0, -90, 95, 0, 0, 0}), {}, 5).status == MotionStatus::ok);
+  CHECK(sim.finish_motion().status == MotionStatus::ok);
+  CHECK(sim.collision_counts().pairs_enabled == 0);
+}
