@@ -3,6 +3,7 @@
 #include "robots/ik_puma.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace asimov::motion {
@@ -74,7 +75,7 @@ LineStatus solve_sample(const LineContext& c, double s, const JointVector& prev,
 
 // Appends samples strictly inside (a, b] so that the bound between neighbours is <= limit.
 LineStatus refine(const LineContext& c, const LineSample& a, const LineSample& b, int depth, LinePlan& plan) {
-  const double d = max_body_displacement(c.reach, b.joints - a.joints);
+  const double d = max_body_displacement(c.reach, b.joints - a.joints, c.req.pairs);
   if (d <= c.limit) {
     plan.samples.push_back(b);
     return LineStatus::ok;
@@ -97,15 +98,25 @@ LineStatus refine(const LineContext& c, const LineSample& a, const LineSample& b
 }
 }  // namespace
 
-double max_body_displacement(std::span<const robots::BodyReach> reach, const JointVector& delta) {
+double max_body_displacement(std::span<const robots::BodyReach> reach, const JointVector& delta,
+                             std::span<const BodyPair> pairs) {
+  constexpr std::size_t kMaxBodies = 32;
+  std::array<double, kMaxBodies> d{};
   double m = 0;
-  for (const auto& r : reach) m = std::max(m, robots::max_displacement(r, delta));
+  for (std::size_t k = 0; k < reach.size(); ++k) {
+    const double dk = robots::max_displacement(reach[k], delta);
+    if (k < kMaxBodies) d[k] = dk;
+    m = std::max(m, dk);
+  }
+  for (const auto& [a, b] : pairs)
+    if (static_cast<std::size_t>(std::max(a, b)) < std::min(reach.size(), kMaxBodies))
+      m = std::max(m, d[static_cast<std::size_t>(a)] + d[static_cast<std::size_t>(b)]);
   return m;
 }
 
 int joint_move_intervals(std::span<const robots::BodyReach> reach, const JointVector& from, const JointVector& to,
-                         double step_mm) {
-  const double d = max_body_displacement(reach, to - from);
+                         double step_mm, std::span<const BodyPair> pairs) {
+  const double d = max_body_displacement(reach, to - from, pairs);
   return std::max(1, static_cast<int>(std::ceil(d / step_mm)));
 }
 

@@ -10,16 +10,23 @@
 #include "robots/configuration.hpp"
 #include "robots/displacement_bound.hpp"
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace asimov::motion {
 
-// Bound [mm] on the displacement of any point of any of the bodies for a display joint step.
-double max_body_displacement(std::span<const robots::BodyReach> reach, const robots::JointVector& delta);
+// Two moving bodies (indices into the reach list) that are tested against each other: their
+// relative displacement is bounded by delta_a + delta_b (four-step.md §6.3 step rule).
+using BodyPair = std::pair<int, int>;
+
+// Bound [mm] for a display joint step: max over bodies of delta_k and over `pairs` of
+// delta_a + delta_b (static bodies have delta = 0, so body-vs-static pairs need only delta_k).
+double max_body_displacement(std::span<const robots::BodyReach> reach, const robots::JointVector& delta,
+                             std::span<const BodyPair> pairs = {});
 
 // Number of equal sigma intervals of a joint move from `from` to `to` (>= 1).
 int joint_move_intervals(std::span<const robots::BodyReach> reach, const robots::JointVector& from,
-                         const robots::JointVector& to, double step_mm);
+                         const robots::JointVector& to, double step_mm, std::span<const BodyPair> pairs = {});
 
 enum class LineStatus { ok, out_of_reach, joint_limit, singularity };
 enum class SingularityKind { none, joint_jump, shoulder, elbow, unresolved };
@@ -45,6 +52,7 @@ struct LineRequest {
   robots::JointVector start;                     // display joints at s = 0
   robots::Configuration config;                  // kept along the path
   double step_mm = 1.0;                          // collision step
+  std::span<const BodyPair> pairs;               // moving-vs-moving pairs (see max_body_displacement)
 };
 
 constexpr double kLineSafety = 0.9;          // straight lines: bound <= 0.9 * step_mm

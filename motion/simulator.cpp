@@ -22,6 +22,7 @@ using robots::JointVector;
 
 constexpr int kStaticGroup = 1000;  // link0 and every cell object: never tested together
 constexpr int kToolGroup = 6;       // the tool is rigid with link6
+constexpr double kMinStepMm = 1e-3; // guards against a zero or negative step_mm
 
 MotionResult error(const char* message, std::string detail = {}) {
   MotionResult r;
@@ -61,7 +62,8 @@ struct Simulator::Impl {
   std::optional<collision::Engine> engine;
   std::vector<collision::BodyId> link_ids;  // per robot body (index into cell.robot.bodies)
   std::optional<collision::BodyId> tool_id;
-  std::vector<robots::BodyReach> reach;      // moving bodies: links 1..n and the tool
+  std::vector<robots::BodyReach> reach;      // robot bodies (index = body index), then the tool
+  std::vector<BodyPair> moving_pairs;        // enabled pairs of two moving bodies (indices into reach)
   std::vector<collision::Pose> frames;
   bool start_checked = false;
 
@@ -145,6 +147,16 @@ struct Simulator::Impl {
     for (std::size_t i = 0; i < cell.objects.size(); ++i) e.set_pose(statics[i], cell.objects[i].pose);
     for (std::size_t i = 0; i < robot.bodies.size(); ++i)
       if (robot.bodies[i].link == 0) e.set_pose(link_ids[i], cell.base);
+    // Pairs of two moving bodies: their relative motion is bounded by the sum of both bounds.
+    std::vector<collision::BodyId> ids = link_ids;
+    if (tool_id) ids.push_back(*tool_id);
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      for (std::size_t j = i + 1; j < ids.size(); ++j) {
+        const bool moving_i = i >= robot.bodies.size() || robot.bodies[i].link > 0;
+        const bool moving_j = j >= robot.bodies.size() || robot.bodies[j].link > 0;
+        if (moving_i && moving_j && e.pair_enabled(ids[i], ids[j]))
+          moving_pairs.emplace_back(static_cast<int>(i), static_cast<int>(j));
+      }
     engine.emplace(std::move(e));
   }
 
@@ -187,6 +199,9 @@ struct Simulator::Impl {
     return r;
   }
 
+  // Step rule (four-step.md §6.3): pairs may move max(c, step_mm) relative to each other.
+  double step() const { return std::max({cell.collision.clearance_mm, cell.collision.step_mm, kMinStepMm}); }
+
   double speed_factor(const SpeedSettings& s) const { return s.monitor / 100 * s.program / 100; }
 
   MotionResult plan_joint(const JointVector& target, const SpeedSettings& speed, int tag) {
@@ -200,7 +215,7 @@ struct Simulator::Impl {
     pending.active = true;
     pending.from = joints;
     pending.to = target;
-    pending.intervals = joint_move_intervals(reach, joints, target, cell.collision.step_mm);
+    pending.intervals = joint_move_intervals(reach, joints, target, step(), moving_pairs);
     pending.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(robot.joint_count())), speed.duration_s);
     pending.t0 = time;
     pending.tag = tag;
@@ -266,7 +281,8 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   req.tool = s.tool;
   req.start = s.joints;
   req.config = current;
-  req.step_mm = s.cell.collision.step_mm;
+  req.step_mm = s.step();
+  req.pairs = s.moving_pairs;
   LinePlan plan;
   switch (plan_line(robot, s.reach, req, plan)) {
     case LineStatus::ok: break;
@@ -297,6 +313,15 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   s.pending.tag = tag;
   s.dest = target;
   return {};
+}
+
+int Simulator::inrange(const Location& target) const {
+  const Impl& s = *impl_;
+  const auto& robot = s.cell.robot;
+  const Location flange = s.base.inverse() * target * s.tool.inverse();
+  const robots::Configuration want = robots::requested_configuration(robots::configuration_of(robot, s.joints), s.request);
+  const robots::IkResult ik = robots::solve_puma(robot, flange, s.joints, want, s.request.single);
+  return ik.status == robots::IkStatus::ok ? 0 : ik.status == robots::IkStatus::out_of_reach ? 1 : 2;
 }
 
 MotionResult Simulator::finish_motion() {

@@ -75,6 +75,9 @@ class Simulator {
   MotionResult start_joint_move(const robots::JointVector& target_display, SpeedSettings speed, int tag);
   MotionResult start_move(const Location& target, bool straight, SpeedSettings speed, int tag);
   MotionResult finish_motion();  // carries out the pending motion, if any
+  // INRANGE: 0 reachable within limits in the requested configuration, 1 out of reach, 2 a joint
+  // limit in the way (same IK as a joint motion to `target`).
+  int inrange(const Location& target) const;
   bool motion_pending() const;
 
   // Every checked pose is appended here when tracing is on.

@@ -27,6 +27,17 @@ struct Arm {
     for (const auto& b : robot.bodies) reach.push_back(robots::body_reach(robot, b.mesh, b.link));
     reach.push_back(robots::body_reach(robot, tool, 6));
   }
+  // Largest displacement of any vertex of body k (tool = bodies.size()) between two joint vectors.
+  double measured_body(std::size_t k, const JointVector& a, const JointVector& b) const {
+    std::vector<collision::Pose> fa, fb;
+    robots::link_frames(robot, a, fa);
+    robots::link_frames(robot, b, fb);
+    const auto& mesh = k < robot.bodies.size() ? robot.bodies[k].mesh : tool;
+    const auto l = static_cast<std::size_t>(k < robot.bodies.size() ? robot.bodies[k].link : 6);
+    double m = 0;
+    for (const auto& v : mesh.vertices) m = std::max(m, (fa[l] * v - fb[l] * v).norm());
+    return m;
+  }
   // Largest displacement of any vertex of any body between two joint vectors.
   double measured(const JointVector& a, const JointVector& b) const {
     std::vector<collision::Pose> fa, fb;
@@ -71,6 +82,28 @@ TEST_CASE("joint moves: measured displacement between checked poses <= step_mm",
   WARN("joint moves: " << poses << " checked poses, max measured displacement / step_mm = " << worst);
   CHECK(worst <= 1.0);
   CHECK(worst > 0.3);  // the bound is not absurdly loose
+}
+
+TEST_CASE("pair rule: two moving bodies together move at most step_mm", "[sampler]") {
+  const Arm arm;
+  std::vector<BodyPair> pairs;
+  for (int a = 1; a < 8; ++a)
+    for (int b = a + 2; b < 8; ++b) pairs.emplace_back(a, b);  // non-adjacent links and the tool
+  const JointVector from = jv({-40, -120, 60, -90, -60, 100}), to = jv({60, -30, 200, 80, 70, -120});
+  const double step = 2.0;
+  const int n = joint_move_intervals(arm.reach, from, to, step, pairs);
+  CHECK(n > joint_move_intervals(arm.reach, from, to, step));
+  double worst = 0;
+  JointVector prev = from;
+  for (int i = 1; i <= n; ++i) {
+    const JointVector q = from + (to - from) * (static_cast<double>(i) / n);
+    for (const auto& [a, b] : pairs)
+      worst = std::max(worst, arm.measured_body(static_cast<std::size_t>(a), prev, q) +
+                                  arm.measured_body(static_cast<std::size_t>(b), prev, q));
+    prev = q;
+  }
+  WARN("pair rule: " << n << " poses, max measured delta_a + delta_b / step_mm = " << worst / step);
+  CHECK(worst <= step);
 }
 
 TEST_CASE("straight lines: measured displacement between checked poses <= 0.9 step_mm", "[sampler]") {
