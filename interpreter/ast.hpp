@@ -1,0 +1,143 @@
+// The syntax tree the parser builds, one Line per source line. It mirrors the text: names are
+// raw strings, binary operators are a flat list (the checker applies the precedence table of
+// dialect §3), and no name is resolved yet. Only parser.cpp adapts these structs for X3.
+#pragma once
+#include <boost/optional.hpp>
+#include <boost/spirit/home/x3/support/ast/variant.hpp>
+#include <string>
+#include <vector>
+
+namespace asimov::val::ast {
+
+namespace x3 = boost::spirit::x3;
+
+// Operators, shared by the parser (symbols) and the checker (precedence, code).
+enum class Op : int {
+  neg, plus, not_,                        // unary
+  mul, div, mod,                          // level 3
+  add, sub,                               // level 4
+  eq, ne, lt, gt, le, ge,                 // level 5
+  and_, band,                             // level 6
+  or_, xor_, bor, bxor,                   // level 7
+  compound,                               // ':' (location compound)
+  count
+};
+
+struct Nil {};
+struct Expr;
+struct Call;
+struct Unary;
+
+// A variable reference: `x`, `$s`, `#p`, `a[i,j]`, or a whole array `a[]` (empty subscript).
+struct VarRef {
+  std::string name;                                   // with its '$' or '#' prefix
+  boost::optional<std::vector<Expr>> subscript;       // absent: scalar use
+};
+
+struct Operand : x3::variant<Nil, double, std::string, VarRef, x3::forward_ast<Call>,
+                             x3::forward_ast<Unary>, x3::forward_ast<Expr>> {
+  using base_type::base_type;
+  using base_type::operator=;
+};
+
+struct Unary {
+  Op op = Op::neg;
+  Operand operand;
+};
+
+struct Operation {
+  Op op = Op::add;
+  Operand operand;
+};
+
+// operand { binary_op operand }; a parenthesized group is an Operand holding an Expr.
+struct Expr {
+  Operand first;
+  std::vector<Operation> rest;
+};
+
+// `name(args)` (args may be omitted: `TRANS(,,300)`), or a bare function word (`HERE`, `PI`).
+struct Call {
+  std::string name;                                   // with '#' or '$' prefix if written
+  std::vector<boost::optional<Expr>> args;
+};
+
+// Keywords that start an instruction, and trailing words. ORDER: kKeywordNames in parser.cpp.
+enum class Kw : int {
+  none, assign, set, decompose, here, move, moves, appro, appros, depart, departs, break_,
+  speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,
+  dot_end, always, monitor, then, count
+};
+
+// KEYWORD [ expression { "," expression } ] [ trailing_word ]
+struct Instruction {
+  Kw kw = Kw::none;
+  std::vector<Expr> args;
+  Kw trailing = Kw::none;                             // ALWAYS, MONITOR, DO, THEN
+};
+
+// (SET | DECOMPOSE | <assign>) variable "=" expression
+struct Binding {
+  Kw kw = Kw::assign;
+  VarRef target;
+  Expr value;
+};
+
+// FOR variable "=" expression TO expression [ STEP expression ]
+struct ForStmt {
+  VarRef var;
+  Expr from;
+  Expr to;
+  boost::optional<Expr> step;
+};
+
+// IF expression ( GOTO label | [THEN] )
+struct IfStmt {
+  Expr cond;
+  boost::optional<unsigned> goto_label;
+};
+
+// CALL name [ "(" [ [expression] { "," [expression] } ] ")" ]
+struct CallStmt {
+  std::string name;
+  std::vector<boost::optional<Expr>> args;
+};
+
+// A TYPE format specifier: /D /Fw.d /Iw /Xn /Cn /S.
+struct Format {
+  char code = 'D';
+  unsigned width = 0;
+  unsigned decimals = 0;
+};
+
+struct TypeItem : x3::variant<Format, Expr> {
+  using base_type::base_type;
+  using base_type::operator=;
+};
+
+// TYPE [ type_item { "," type_item } ]
+struct TypeStmt {
+  Kw kw = Kw::type;
+  std::vector<TypeItem> items;
+};
+
+// .PROGRAM name [ "(" [ param { "," param } ] ")" ]
+struct ProgramHeader {
+  std::string name;
+  std::vector<std::string> params;                    // with prefix; "a[]" for an array
+};
+
+struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
+                               ProgramHeader> {
+  using base_type::base_type;
+  using base_type::operator=;
+};
+
+// [ label ] [ statement ]   (comments and blanks are skipped)
+struct Line {
+  boost::optional<unsigned> label;
+  boost::optional<Statement> statement;
+  int column = 1;                                     // 1-based column of the statement
+};
+
+}  // namespace asimov::val::ast

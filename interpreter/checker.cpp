@@ -1,0 +1,581 @@
+#include "interpreter/checker.hpp"
+
+#include "interpreter/limits.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <map>
+
+namespace asimov::val {
+
+int Symbols::global(const std::string& name) {
+  auto [it, added] = global_slots.try_emplace(name, static_cast<int>(globals.size()));
+  if (added) globals.push_back(name);
+  return it->second;
+}
+
+int Symbols::program(const std::string& name) {
+  auto [it, added] = program_slots.try_emplace(name, static_cast<int>(programs.size()));
+  if (added) programs.push_back(name);
+  return it->second;
+}
+
+namespace {
+
+using ast::Kw;
+using ast::Op;
+
+// Binary operator levels of dialect §3 (7 = weakest). ':' binds tighter than '*' [assumption].
+constexpr std::array<int, static_cast<std::size_t>(Op::count)> kPrecedence = {
+    0, 0, 0,           // unary: never binary
+    5, 5, 5,           // * / MOD
+    4, 4,              // + -
+    3, 3, 3, 3, 3, 3,  // relational
+    2, 2,              // AND BAND
+    1, 1, 1, 1,        // OR XOR BOR BXOR
+    6,                 // :
+};
+
+struct Block {
+  Kw kind = Kw::none;         // if_ (Kw::then), while_, do_, for (Kw::next marks FOR)
+  int line = 0;               // opening line
+  int id = 0;
+  int test = -1;              // instruction to patch (IF/WHILE jump_false, FOR init)
+  int else_jump = -1;         // IF: the jump over the ELSE part
+  int start = -1;             // loop start (WHILE test, DO body, FOR body)
+  std::vector<int> exits;     // EXIT jumps to patch
+  std::vector<int> nexts;     // NEXT jumps to patch
+};
+
+constexpr Kw kIfBlock = Kw::then;
+constexpr Kw kForBlock = Kw::next;
+
+class Checker {
+ public:
+  Checker(const ParsedSource& src, Symbols& symbols) : src_(src), symbols_(symbols) {
+    text_ = std::make_shared<const std::vector<std::string>>(src.text);
+  }
+
+  CheckResult run() {
+    for (std::size_t i = 0; i < src_.lines.size(); ++i) {
+      line_ = static_cast<int>(i) + 1;
+      const ast::Line& l = src_.lines[i];
+      column_ = l.column;
+      if (!l.statement) {
+        if (l.label) {
+          if (!in_program_) error("label outside .PROGRAM");
+          else define_label(*l.label);
+        }
+        continue;
+      }
+      if (const auto* h = boost::get<ast::ProgramHeader>(&*l.statement)) {
+        if (l.label) error("a label cannot precede .PROGRAM");
+        begin_program(*h);
+        continue;
+      }
+      if (!in_program_) {
+        error("only comments may appear outside .PROGRAM ... .END");
+        continue;
+      }
+      if (l.label) define_label(*l.label);
+      statement(*l.statement);
+    }
+    if (in_program_) {
+      error_at(prog_.line, 1, ".PROGRAM without .END");
+      in_program_ = false;
+    }
+    return std::move(out_);
+  }
+
+ private:
+  // --- diagnostics ---------------------------------------------------------------------
+  void error_at(int line, int column, std::string detail) {
+    Diagnostic d;
+    d.message = "*Syntax error*";
+    d.detail = std::move(detail);
+    d.file = src_.file;
+    d.line = line;
+    d.column = column;
+    if (in_program_ && line > prog_.line) {
+      d.program = prog_.name;
+      d.step = line - prog_.line;
+    }
+    d.source_line = src_.text[static_cast<std::size_t>(line - 1)];
+    out_.errors.push_back(std::move(d));
+  }
+  void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
+
+  // --- programs ------------------------------------------------------------------------
+  void begin_program(const ast::ProgramHeader& h) {
+    if (in_program_) {
+      error_at(prog_.line, 1, ".PROGRAM without .END");
+      in_program_ = false;
+    }
+    prog_ = Program{};
+    prog_.name = normalize_name(h.name);
+    prog_.file = src_.file;
+    prog_.line = line_;
+    prog_.text = text_;
+    for (const std::string& p : h.params) {
+      Param param;
+      param.array = p.size() > 2 && p.substr(p.size() - 2) == "[]";
+      param.name = normalize_name(param.array ? p.substr(0, p.size() - 2) : p);
+      for (const Param& other : prog_.params)
+        if (other.name == param.name) error(fmt::format("parameter {} twice", param.name));
+      prog_.params.push_back(param);
+    }
+    for (const Program& other : out_.programs)
+      if (other.name == prog_.name) error(fmt::format("program {} defined twice", prog_.name));
+    in_program_ = true;
+    blocks_.clear();
+    block_parent_.assign(1, -1);
+    labels_.clear();
+    gotos_.clear();
+    block_of_instr_.clear();
+  }
+
+  void end_program() {
+    for (auto it = blocks_.rbegin(); it != blocks_.rend(); ++it)
+      error_at(it->line, 1, fmt::format("{} without END", block_name(it->kind)));
+    for (const Goto& g : gotos_) {
+      auto found = labels_.find(g.label);
+      if (found == labels_.end()) {
+        error_at(g.line, g.column, fmt::format("undefined label {}", g.label));
+        continue;
+      }
+      if (!encloses(found->second.block, g.block)) {
+        error_at(g.line, g.column, fmt::format("GOTO {} jumps into a block", g.label));
+        continue;
+      }
+      prog_.code[static_cast<std::size_t>(g.instr)].jump = found->second.instr;
+    }
+    out_.programs.push_back(std::move(prog_));
+    in_program_ = false;
+  }
+
+  static const char* block_name(Kw kind) {
+    switch (kind) {
+      case kIfBlock: return "IF";
+      case Kw::while_: return "WHILE";
+      case Kw::do_: return "DO";
+      case kForBlock: return "FOR";
+      default: return "block";
+    }
+  }
+
+  // --- labels and blocks -----------------------------------------------------------------
+  struct LabelInfo {
+    int instr;
+    int block;
+  };
+  struct Goto {
+    unsigned label;
+    int instr, block, line, column;
+  };
+
+  int current_block() const { return blocks_.empty() ? 0 : blocks_.back().id; }
+  bool encloses(int outer, int inner) const {
+    for (int b = inner; b >= 0; b = block_parent_[static_cast<std::size_t>(b)])
+      if (b == outer) return true;
+    return false;
+  }
+
+  void define_label(unsigned label) {
+    if (labels_.count(label)) {
+      error(fmt::format("duplicate label {}", label));
+      return;
+    }
+    labels_[label] = {here(), current_block()};
+  }
+
+  void add_goto(unsigned label) {
+    gotos_.push_back({label, here() - 1, current_block(), line_, column_});
+  }
+
+  void open_block(Kw kind, int test, int start) {
+    Block b;
+    b.kind = kind;
+    b.line = line_;
+    b.id = static_cast<int>(block_parent_.size());
+    b.test = test;
+    b.start = start;
+    block_parent_.push_back(current_block());
+    blocks_.push_back(std::move(b));
+  }
+
+  Block* innermost_loop() {
+    for (auto it = blocks_.rbegin(); it != blocks_.rend(); ++it)
+      if (it->kind != kIfBlock) return &*it;
+    return nullptr;
+  }
+
+  // --- code emission ---------------------------------------------------------------------
+  int here() const { return static_cast<int>(prog_.code.size()); }
+  Instr& emit(Code code) {
+    Instr in;
+    in.code = code;
+    in.line = line_;
+    prog_.code.push_back(std::move(in));
+    return prog_.code.back();
+  }
+  Instr& at(int index) { return prog_.code[static_cast<std::size_t>(index)]; }
+
+  // --- expressions -----------------------------------------------------------------------
+  Node expression(const ast::Expr& e) {
+    std::size_t pos = 0;
+    return climb(operand(e.first), e.rest, pos, 1);
+  }
+
+  // Precedence climbing over the flat operator list the parser produced.
+  Node climb(Node lhs, const std::vector<ast::Operation>& rest, std::size_t& pos, int min_prec) {
+    while (pos < rest.size() && precedence(rest[pos].op) >= min_prec) {
+      const Op op = rest[pos].op;
+      const int p = precedence(op);
+      Node rhs = operand(rest[pos].operand);
+      ++pos;
+      while (pos < rest.size() && precedence(rest[pos].op) > p)
+        rhs = climb(std::move(rhs), rest, pos, p + 1);
+      Node bin;
+      bin.kind = NodeKind::binary;
+      bin.op = op;
+      bin.kids.push_back(std::move(lhs));
+      bin.kids.push_back(std::move(rhs));
+      lhs = std::move(bin);
+    }
+    return lhs;
+  }
+
+  Node operand(const ast::Operand& o) {
+    struct Visitor {
+      Checker& c;
+      Node operator()(const ast::Nil&) const { return Node{}; }
+      Node operator()(double d) const {
+        Node n;
+        n.kind = NodeKind::number;
+        n.number = d;
+        return n;
+      }
+      Node operator()(const std::string& s) const {
+        Node n;
+        n.kind = NodeKind::string;
+        n.text = s;
+        if (s.size() > kMaxStringLength) c.error("string longer than 128 characters");
+        return n;
+      }
+      Node operator()(const ast::VarRef& v) const { return c.variable(v, false); }
+      Node operator()(const ast::Call& call) const { return c.function(call); }
+      Node operator()(const ast::Unary& u) const {
+        Node n;
+        n.kind = NodeKind::unary;
+        n.op = u.op;
+        n.kids.push_back(c.operand(u.operand));
+        return n;
+      }
+      Node operator()(const ast::Expr& e) const { return c.expression(e); }
+    };
+    return boost::apply_visitor(Visitor{*this}, o);
+  }
+
+  Node variable(const ast::VarRef& v, bool whole_array_ok) {
+    Node n;
+    n.kind = NodeKind::variable;
+    n.text = normalize_name(v.name);
+    if (v.subscript) {
+      n.subscripted = true;
+      if (v.subscript->empty() && !whole_array_ok) error(fmt::format("{}[] is allowed only as a CALL argument", n.text));
+      if (v.subscript->size() > static_cast<std::size_t>(kMaxSubscripts)) error("at most 3 subscripts");
+      for (const ast::Expr& e : *v.subscript) n.kids.push_back(expression(e));
+    }
+    for (std::size_t i = 0; i < prog_.params.size(); ++i)
+      if (prog_.params[i].name == n.text) {
+        n.ref = {Scope::param, static_cast<int>(i)};
+        return n;
+      }
+    n.ref = {Scope::global, symbols_.global(n.text)};
+    return n;
+  }
+
+  Node function(const ast::Call& call) {
+    Node n;
+    n.kind = NodeKind::function;
+    const std::string name = normalize_name(call.name);
+    const auto f = find_function(name);
+    if (!f) {
+      error(fmt::format("unknown function {}", name));
+      return n;
+    }
+    n.func = *f;
+    n.text = name;
+    std::size_t count = call.args.size();
+    if (count == 1 && !call.args[0]) count = 0;  // NAME()
+    const FunctionInfo& info = function_info(*f);
+    if (static_cast<int>(count) < info.min_args || (info.max_args >= 0 && static_cast<int>(count) > info.max_args)) {
+      error(fmt::format("wrong number of arguments to {}", name));
+      return n;
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!call.args[i]) {
+        n.kids.emplace_back();  // omitted
+        continue;
+      }
+      if (*f == Func::defined) {
+        const ast::VarRef* v = plain_variable(*call.args[i], true);
+        if (!v) {
+          error("DEFINED needs a variable");
+          return n;
+        }
+        n.kids.push_back(variable(*v, false));
+      } else {
+        n.kids.push_back(expression(*call.args[i]));
+      }
+    }
+    return n;
+  }
+
+  // The variable when `e` is just a variable (by-reference argument, HERE target ...).
+  static const ast::VarRef* plain_variable(const ast::Expr& e, bool subscript_ok) {
+    if (!e.rest.empty()) return nullptr;
+    const auto* v = boost::get<ast::VarRef>(&e.first);
+    if (!v || (v->subscript && !subscript_ok)) return nullptr;
+    return v;
+  }
+
+  // --- statements ------------------------------------------------------------------------
+  void statement(const ast::Statement& s) {
+    struct Visitor {
+      Checker& c;
+      void operator()(const ast::Instruction& i) const { c.instruction(i); }
+      void operator()(const ast::Binding& b) const { c.binding(b); }
+      void operator()(const ast::ForStmt& f) const { c.for_statement(f); }
+      void operator()(const ast::IfStmt& i) const { c.if_statement(i); }
+      void operator()(const ast::CallStmt& call) const { c.call_statement(call); }
+      void operator()(const ast::TypeStmt& t) const { c.type_statement(t); }
+      void operator()(const ast::ProgramHeader&) const {}
+    };
+    boost::apply_visitor(Visitor{*this}, s);
+  }
+
+  void binding(const ast::Binding& b) {
+    Node target = variable(b.target, false);
+    const Code code = b.kw == Kw::set ? Code::set : b.kw == Kw::decompose ? Code::decompose : Code::assign;
+    Instr& in = emit(code);
+    in.target = std::move(target);
+    in.args.push_back(expression(b.value));
+  }
+
+  void for_statement(const ast::ForStmt& f) {
+    if (f.var.subscript || f.var.name[0] == '$' || f.var.name[0] == '#')
+      error("FOR needs a plain real variable");
+    Instr& in = emit(Code::for_init);
+    in.target = variable(f.var, false);
+    in.args.push_back(expression(f.from));
+    in.args.push_back(expression(f.to));
+    if (f.step) in.args.push_back(expression(*f.step));
+    in.temp = prog_.temps;
+    prog_.temps += 2;
+    open_block(kForBlock, here() - 1, here());
+  }
+
+  void if_statement(const ast::IfStmt& i) {
+    if (i.goto_label) {
+      emit(Code::jump_true).args.push_back(expression(i.cond));
+      add_goto(*i.goto_label);
+      return;
+    }
+    emit(Code::jump_false).args.push_back(expression(i.cond));
+    open_block(kIfBlock, here() - 1, -1);
+  }
+
+  void call_statement(const ast::CallStmt& call) {
+    Instr& in = emit(Code::call);
+    in.program = symbols_.program(normalize_name(call.name));
+    std::size_t count = call.args.size();
+    if (count == 1 && !call.args[0]) count = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto& a = call.args[i];
+      const ast::VarRef* v = a ? plain_variable(*a, true) : nullptr;
+      // A plain variable or a whole array a[] goes by reference; anything else by value.
+      if (v && (!v->subscript || v->subscript->empty())) {
+        in.args.push_back(variable(*v, true));
+        in.by_ref.push_back(true);
+      } else {
+        in.args.push_back(a ? expression(*a) : Node{});
+        in.by_ref.push_back(false);
+      }
+    }
+  }
+
+  void type_statement(const ast::TypeStmt& t) {
+    Instr& in = emit(Code::type);
+    for (const ast::TypeItem& item : t.items) {
+      if (const auto* f = boost::get<ast::Format>(&item)) {
+        ast::Format spec = *f;
+        spec.code = static_cast<char>(std::toupper(static_cast<unsigned char>(spec.code)));
+        in.formats.push_back(spec);
+      } else {
+        in.formats.push_back(ast::Format{0, 0, 0});
+        in.args.push_back(expression(boost::get<ast::Expr>(item)));
+      }
+    }
+  }
+
+  void expect_args(const ast::Instruction& i, std::size_t lo, std::size_t hi, const char* what) {
+    if (i.args.size() < lo || i.args.size() > hi) error(fmt::format("{} expects {}", what, lo == hi && lo == 0 ? "no argument" : "other arguments"));
+  }
+
+  void instruction(const ast::Instruction& i) {
+    if (i.trailing != Kw::none) {
+      const bool ok = (i.kw == Kw::speed && (i.trailing == Kw::always || i.trailing == Kw::monitor))
+          || (i.kw == Kw::while_ && i.trailing == Kw::do_);
+      if (!ok) error("unexpected word at the end of the statement");
+    }
+    switch (i.kw) {
+      case Kw::here: {
+        const ast::VarRef* v = i.args.size() == 1 ? plain_variable(i.args[0], true) : nullptr;
+        if (!v) {
+          error("HERE expects a location variable");
+          return;
+        }
+        emit(Code::here).target = variable(*v, false);
+        return;
+      }
+      case Kw::move: case Kw::moves: case Kw::depart: case Kw::departs:
+        expect_args(i, 1, 1, "the motion instruction");
+        return simple(i, i.kw == Kw::move ? Code::move : i.kw == Kw::moves ? Code::moves
+                         : i.kw == Kw::depart ? Code::depart : Code::departs);
+      case Kw::appro: case Kw::appros:
+        expect_args(i, 2, 2, "APPRO");
+        return simple(i, i.kw == Kw::appro ? Code::appro : Code::appros);
+      case Kw::break_: expect_args(i, 0, 0, "BREAK"); return simple(i, Code::break_);
+      case Kw::return_: expect_args(i, 0, 0, "RETURN"); return simple(i, Code::return_);
+      case Kw::stop: expect_args(i, 0, 0, "STOP"); return simple(i, Code::stop);
+      case Kw::speed: {
+        expect_args(i, 1, 2, "SPEED");
+        simple(i, Code::speed);
+        prog_.code.back().always = i.trailing == Kw::always;
+        prog_.code.back().monitor = i.trailing == Kw::monitor;
+        return;
+      }
+      case Kw::goto_: {
+        const double* label = i.args.size() == 1 && i.args[0].rest.empty() ? boost::get<double>(&i.args[0].first) : nullptr;
+        if (!label || *label < 0 || *label > kMaxLabel || *label != static_cast<unsigned>(*label)) {
+          error("GOTO expects a label (0 to 65535)");
+          return;
+        }
+        emit(Code::jump);
+        add_goto(static_cast<unsigned>(*label));
+        return;
+      }
+      case Kw::while_: {
+        expect_args(i, 1, 1, "WHILE");
+        const int test = here();
+        simple(i, Code::jump_false);
+        open_block(Kw::while_, test, test);
+        return;
+      }
+      case Kw::do_: expect_args(i, 0, 0, "DO"); open_block(Kw::do_, -1, here()); return;
+      case Kw::until: return until(i);
+      case Kw::else_: return else_part(i);
+      case Kw::end: return end_block(i);
+      case Kw::exit:
+      case Kw::next: {
+        expect_args(i, 0, 0, i.kw == Kw::exit ? "EXIT" : "NEXT");
+        Block* loop = innermost_loop();
+        if (!loop) {
+          error(fmt::format("{} outside a loop", i.kw == Kw::exit ? "EXIT" : "NEXT"));
+          return;
+        }
+        (i.kw == Kw::exit ? loop->exits : loop->nexts).push_back(here());
+        emit(Code::jump);
+        return;
+      }
+      case Kw::pause: case Kw::halt:
+        error("PAUSE and HALT are not supported yet");
+        return;
+      case Kw::dot_end: expect_args(i, 0, 0, ".END"); return end_program();
+      default: error("unexpected statement"); return;
+    }
+  }
+
+  void simple(const ast::Instruction& i, Code code) {
+    Instr& in = emit(code);
+    for (const ast::Expr& e : i.args) in.args.push_back(expression(e));
+  }
+
+  void until(const ast::Instruction& i) {
+    expect_args(i, 1, 1, "UNTIL");
+    if (blocks_.empty() || blocks_.back().kind != Kw::do_) {
+      error("UNTIL without DO");
+      return;
+    }
+    Block b = std::move(blocks_.back());
+    blocks_.pop_back();
+    for (int n : b.nexts) at(n).jump = here();
+    simple(i, Code::jump_false);
+    prog_.code.back().jump = b.start;
+    for (int e : b.exits) at(e).jump = here();
+  }
+
+  void else_part(const ast::Instruction& i) {
+    expect_args(i, 0, 0, "ELSE");
+    if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().else_jump >= 0) {
+      error("ELSE without IF ... THEN");
+      return;
+    }
+    Block& b = blocks_.back();
+    b.else_jump = here();
+    emit(Code::jump);
+    at(b.test).jump = here();
+  }
+
+  void end_block(const ast::Instruction& i) {
+    expect_args(i, 0, 0, "END");
+    if (blocks_.empty() || blocks_.back().kind == Kw::do_) {
+      error(blocks_.empty() ? "END without a block" : "DO ends with UNTIL, not END");
+      return;
+    }
+    Block b = std::move(blocks_.back());
+    blocks_.pop_back();
+    if (b.kind == kIfBlock) {
+      at(b.else_jump >= 0 ? b.else_jump : b.test).jump = here();
+      return;
+    }
+    const int loop_end = here();
+    for (int n : b.nexts) at(n).jump = loop_end;
+    if (b.kind == Kw::while_) {
+      emit(Code::jump).jump = b.start;
+    } else {  // FOR
+      Instr& next = emit(Code::for_next);
+      const Instr& init = at(b.test);
+      next.target = init.target;
+      next.temp = init.temp;
+      next.jump = b.start;
+    }
+    at(b.test).jump = here();
+    for (int e : b.exits) at(e).jump = here();
+  }
+
+  const ParsedSource& src_;
+  Symbols& symbols_;
+  CheckResult out_;
+  std::shared_ptr<const std::vector<std::string>> text_;
+  int line_ = 0, column_ = 1;
+  bool in_program_ = false;
+  Program prog_;
+  std::vector<Block> blocks_;
+  std::vector<int> block_parent_;       // block id -> enclosing block id (0 = program level)
+  std::map<unsigned, LabelInfo> labels_;
+  std::vector<Goto> gotos_;
+  std::vector<int> block_of_instr_;
+};
+
+}  // namespace
+
+int precedence(ast::Op op) { return kPrecedence[static_cast<std::size_t>(op)]; }
+
+CheckResult check_source(const ParsedSource& source, Symbols& symbols) {
+  return Checker(source, symbols).run();
+}
+
+}  // namespace asimov::val

@@ -1,0 +1,68 @@
+// Stage 2 output: programs compiled by the checker into flat instruction lists with names
+// resolved to slots (globals, parameters, programs) and jumps resolved to instruction indices.
+#pragma once
+#include "interpreter/ast.hpp"
+#include "interpreter/functions.hpp"
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace asimov::val {
+
+enum class Scope : unsigned char { global, param };
+
+struct Ref {
+  Scope scope = Scope::global;
+  int slot = -1;                // index into the globals or the frame's parameters
+};
+
+enum class NodeKind : unsigned char { number, string, variable, unary, binary, function, absent };
+
+// An expression tree node. Variables carry their resolved slot; `kids` are operands,
+// subscripts (variables) or arguments (functions).
+struct Node {
+  NodeKind kind = NodeKind::absent;
+  ast::Op op = ast::Op::add;    // unary / binary
+  Func func = Func::pi;         // function
+  double number = 0;            // number literal
+  std::string text;             // string literal, or the variable's name for messages
+  Ref ref;                      // variable
+  bool subscripted = false;     // variable written with [...]
+  std::vector<Node> kids;
+};
+
+enum class Code : unsigned char {
+  assign, set, here, decompose, type, move, moves, appro, appros, depart, departs, break_,
+  speed, jump, jump_false, jump_true, for_init, for_next, call, return_, stop
+};
+
+struct Instr {
+  Code code = Code::jump;
+  int line = 0;                    // file line
+  Node target;                     // assign/set/here/decompose/for: the variable written
+  std::vector<Node> args;          // operands in source order (FOR: from, to, step)
+  std::vector<ast::Format> formats;  // TYPE: one per item; code 0 = the next of `args`
+  int jump = -1;                   // jumps, FOR exit / FOR body start
+  int temp = -1;                   // FOR: first of two frame temporaries (limit, step)
+  bool always = false;             // SPEED ... ALWAYS
+  bool monitor = false;            // SPEED ... MONITOR
+  int program = -1;                // CALL: program slot
+  std::vector<bool> by_ref;        // CALL: argument i passed by reference
+};
+
+struct Param {
+  std::string name;                // normalized, with prefix
+  bool array = false;              // written a[]
+};
+
+struct Program {
+  std::string name;                // normalized
+  std::string file;
+  int line = 0;                    // line of .PROGRAM
+  std::vector<Param> params;
+  std::vector<Instr> code;
+  int temps = 0;                   // frame temporaries (FOR limits and steps)
+  std::shared_ptr<const std::vector<std::string>> text;  // the file's lines, for reports
+};
+
+}  // namespace asimov::val

@@ -1,0 +1,69 @@
+// Stage 3: runs compiled programs against the simulator. Holds the run-time state (call
+// stack, speeds); the memory (symbols, globals, programs) belongs to the interpreter.
+#pragma once
+#include "interpreter/checker.hpp"
+#include "interpreter/code.hpp"
+#include "interpreter/interpreter.hpp"
+#include "interpreter/values.hpp"
+#include <deque>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace asimov::val {
+
+// Everything LOAD puts in memory, indexed by the slots the checker resolved.
+struct Memory {
+  Symbols symbols;
+  std::deque<Variable> globals;                            // by global slot
+  std::vector<std::shared_ptr<const Program>> programs;    // by program slot; null if absent
+  std::vector<std::string> load_order;                     // program names as first loaded
+};
+
+class Evaluator {
+ public:
+  Evaluator(motion::Simulator& sim, std::ostream& out, Memory& memory, const Limits& limits);
+  // Runs the program in `slot` to its end; the one protected boundary for runtime errors.
+  RunResult run(int slot);
+
+ private:
+  struct Frame {
+    std::shared_ptr<const Program> program;
+    std::vector<Variable*> params;                 // by reference or into `owned`
+    std::vector<std::unique_ptr<Variable>> owned;  // parameters passed by value or omitted
+    std::vector<double> temps;                     // FOR limits and steps
+    int pc = 0;                                    // next instruction
+  };
+
+  void execute(const Instr& in);
+  void call(const Instr& in);
+  void motion(const Instr& in);
+  void type(const Instr& in);
+  void finish_motion();
+
+  Value eval(const Node& n);
+  Value binary(ast::Op op, const Value& a, const Value& b);
+  Value function(const Node& n);
+  Variable& variable(const Node& n);
+  Index index(const Node& n);
+  Value read(const Node& n);
+  void store(const Node& target, Value value);
+  bool defined(const Node& n);
+
+  motion::Simulator& sim_;
+  std::ostream& out_;
+  Memory& memory_;
+  const Limits& limits_;
+  std::vector<Frame> stack_;
+  const Program* current_program_ = nullptr;  // where the executing statement is
+  int current_line_ = 0;
+  const Program* motion_program_ = nullptr;   // where the last motion was started
+  int motion_line_ = 0;
+  double speed_always_ = 100;                 // SPEED ... ALWAYS
+  std::optional<double> speed_next_;          // SPEED for the next motion only
+  double speed_monitor_ = 100;
+  std::uint64_t statements_ = 0;
+};
+
+}  // namespace asimov::val

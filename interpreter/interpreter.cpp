@@ -1,0 +1,80 @@
+// Interpreter: LOAD (parse -> check -> install atomically) and EXECUTE (evaluator).
+#include "interpreter/interpreter.hpp"
+
+#include "interpreter/checker.hpp"
+#include "interpreter/evaluator.hpp"
+#include "interpreter/limits.hpp"
+#include "interpreter/parser.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace asimov::val {
+
+struct Interpreter::Impl {
+  motion::Simulator& sim;
+  std::ostream& out;
+  Memory memory;
+  Limits limits;
+};
+
+Interpreter::Interpreter(motion::Simulator& sim, std::ostream& out)
+    : impl_(std::make_unique<Impl>(Impl{sim, out, {}, {}})) {}
+
+Interpreter::~Interpreter() = default;
+
+std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const std::string& file_name) {
+  ParsedSource parsed = parse_source(text, file_name);
+  Memory& m = impl_->memory;
+  CheckResult checked = check_source(parsed, m.symbols);
+  // Syntax errors first, then checker errors, each group in line order; at most 20.
+  std::vector<Diagnostic> all = std::move(parsed.errors);
+  all.insert(all.end(), checked.errors.begin(), checked.errors.end());
+  std::stable_sort(all.begin(), all.end(), [](const Diagnostic& a, const Diagnostic& b) { return a.line < b.line; });
+  if (all.size() > kMaxLoadErrors) all.resize(kMaxLoadErrors);
+  if (!all.empty()) return all;  // nothing is loaded
+  m.programs.resize(m.symbols.programs.size());
+  m.globals.resize(m.symbols.globals.size());
+  for (Program& p : checked.programs) {
+    const int slot = m.symbols.program(p.name);
+    m.programs.resize(m.symbols.programs.size());
+    if (!m.programs[static_cast<std::size_t>(slot)]) m.load_order.push_back(p.name);
+    m.programs[static_cast<std::size_t>(slot)] = std::make_shared<const Program>(std::move(p));
+  }
+  return all;
+}
+
+std::vector<Diagnostic> Interpreter::load_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    Diagnostic d;
+    d.message = "*File not found*";
+    d.detail = path;
+    return {d};
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_source(text.str(), path);
+}
+
+std::vector<std::string> Interpreter::program_names() const { return impl_->memory.load_order; }
+
+bool Interpreter::has_program(const std::string& name) const {
+  const Memory& m = impl_->memory;
+  const auto it = m.symbols.program_slots.find(normalize_name(name));
+  return it != m.symbols.program_slots.end() && static_cast<std::size_t>(it->second) < m.programs.size()
+      && m.programs[static_cast<std::size_t>(it->second)];
+}
+
+RunResult Interpreter::run(const std::string& name) {
+  Memory& m = impl_->memory;
+  const int slot = m.symbols.program(normalize_name(name));
+  m.programs.resize(m.symbols.programs.size());
+  Evaluator evaluator(impl_->sim, impl_->out, m, impl_->limits);
+  return evaluator.run(slot);
+}
+
+Limits& Interpreter::limits() { return impl_->limits; }
+
+}  // namespace asimov::val

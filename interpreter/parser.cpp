@@ -1,0 +1,322 @@
+// The VAL II grammar in Spirit X3. The only X3 translation unit of the project (compile time).
+// Each rule is preceded by its EBNF line. Keywords are case-insensitive and end at a
+// character that cannot continue a name, so `speed.x` is a name, not SPEED.
+#include "interpreter/parser.hpp"
+
+#include "interpreter/limits.hpp"
+
+#include <boost/fusion/include/adapt_struct.hpp>
+#include <boost/spirit/home/x3.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <string_view>
+
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::VarRef, name, subscript)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Unary, op, operand)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Operation, op, operand)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Expr, first, rest)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Call, name, args)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Instruction, kw, args, trailing)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Binding, kw, target, value)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::ForStmt, var, from, to, step)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::IfStmt, cond, goto_label)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::CallStmt, name, args)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Format, code, width, decimals)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::TypeStmt, kw, items)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::ProgramHeader, name, params)
+
+namespace asimov::val {
+
+std::string normalize_name(const std::string& name) {
+  std::string out;
+  for (char c : name) {
+    if (c == '$' || c == '#') {
+      out += c;
+      continue;
+    }
+    if (out.size() - (out.size() && (out[0] == '$' || out[0] == '#')) >= kNameLength) break;
+    out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return out;
+}
+
+namespace {
+
+namespace x3 = boost::spirit::x3;
+using ast::Kw;
+using ast::Op;
+
+// Reserved words: they never parse as variable names (dialect §1).
+constexpr std::array<std::string_view, 56> kReserved = {
+    "and", "or", "xor", "not", "mod", "band", "bor", "bxor", "to", "step", "then", "else",
+    "end", "do", "until", "while", "for", "if", "goto", "call", "return", "stop", "set",
+    "decompose", "here", "move", "moves", "appro", "appros", "depart", "departs", "break",
+    "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
+    "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
+    "auto", "local", "global"};
+
+bool is_reserved(const std::string& word) {
+  std::string lower = word;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return std::find(kReserved.begin(), kReserved.end(), lower) != kReserved.end();
+}
+
+// Reals without "nan"/"inf" spellings, unsigned (the sign is a unary operator).
+struct strict_real_policies : x3::ureal_policies<double> {
+  template <typename It, typename Attr>
+  static bool parse_nan(It&, It const&, Attr&) { return false; }
+  template <typename It, typename Attr>
+  static bool parse_inf(It&, It const&, Attr&) { return false; }
+};
+const x3::real_parser<double, strict_real_policies> real_literal;
+
+struct symbol_ops_table : x3::symbols<Op> {
+  symbol_ops_table() {
+    add("*", Op::mul)("/", Op::div)("+", Op::add)("-", Op::sub)("==", Op::eq)("<>", Op::ne)
+       ("<", Op::lt)(">", Op::gt)("<=", Op::le)(">=", Op::ge)("=<", Op::le)("=>", Op::ge)
+       (":", Op::compound);
+  }
+} const symbol_ops;
+
+struct word_ops_table : x3::symbols<Op> {
+  word_ops_table() {
+    add("mod", Op::mod)("and", Op::and_)("band", Op::band)("or", Op::or_)("xor", Op::xor_)
+       ("bor", Op::bor)("bxor", Op::bxor);
+  }
+} const word_ops;
+
+struct unary_ops_table : x3::symbols<Op> {
+  unary_ops_table() { add("-", Op::neg)("+", Op::plus); }
+} const unary_sign;
+
+// Instruction keywords parsed by the generic `instruction` rule.
+struct instruction_table : x3::symbols<Kw> {
+  instruction_table() {
+    add("here", Kw::here)("move", Kw::move)("moves", Kw::moves)("appro", Kw::appro)
+       ("appros", Kw::appros)("depart", Kw::depart)("departs", Kw::departs)
+       ("break", Kw::break_)("speed", Kw::speed)("goto", Kw::goto_)("return", Kw::return_)
+       ("stop", Kw::stop)("end", Kw::end)("else", Kw::else_)("while", Kw::while_)
+       ("do", Kw::do_)("until", Kw::until)("exit", Kw::exit)("next", Kw::next)
+       ("pause", Kw::pause)("halt", Kw::halt)(".end", Kw::dot_end);
+  }
+} const instruction_words;
+
+struct trailing_table : x3::symbols<Kw> {
+  trailing_table() {
+    add("always", Kw::always)("monitor", Kw::monitor)("do", Kw::do_)("then", Kw::then);
+  }
+} const trailing_words;
+
+struct binding_table : x3::symbols<Kw> {
+  binding_table() { add("set", Kw::set)("decompose", Kw::decompose); }
+} const binding_words;
+
+// Function words that need no parentheses.
+struct bare_function_table : x3::symbols<std::string> {
+  bare_function_table() {
+    for (const char* w : {"here", "dest", "pi", "true", "false", "null", "random", "tool", "base"})
+      add(w, std::string(w));
+  }
+} const bare_function_words;
+
+const auto name_char = x3::alnum | x3::char_("._");
+
+auto kw(const char* word) { return x3::lexeme[x3::no_case[x3::lit(word)] >> !name_char]; }
+template <typename P>
+auto word_of(const P& table) { return x3::lexeme[x3::no_case[table] >> !name_char]; }
+
+const auto check_not_reserved = [](auto& ctx) { x3::_pass(ctx) = !is_reserved(x3::_attr(ctx)); };
+const auto check_label = [](auto& ctx) { x3::_pass(ctx) = x3::_attr(ctx) <= kMaxLabel; };
+const auto check_finite = [](auto& ctx) { x3::_pass(ctx) = std::isfinite(x3::_attr(ctx)); };
+
+x3::rule<class word_class, std::string> const word = "name";
+x3::rule<class identifier_class, std::string, true> const identifier = "name";
+x3::rule<class number_class, double, true> const number = "number";
+x3::rule<class string_class, std::string> const string_literal = "string";
+x3::rule<class expression_class, ast::Expr> const expression = "expression";
+x3::rule<class operand_class, ast::Operand> const operand = "operand";
+x3::rule<class unary_class, ast::Unary> const unary = "operand";
+x3::rule<class primary_class, ast::Operand> const primary = "operand";
+x3::rule<class call_class, ast::Call> const call = "function";
+x3::rule<class function_name_class, std::string> const function_name = "function";
+x3::rule<class variable_class, ast::VarRef> const variable = "variable";
+x3::rule<class var_name_class, std::string> const var_name = "variable";
+x3::rule<class binary_op_class, Op> const binary_op = "operator";
+x3::rule<class args_class, std::vector<boost::optional<ast::Expr>>> const arguments = "arguments";
+x3::rule<class label_class, unsigned, true> const label = "label";
+x3::rule<class instruction_class, ast::Instruction> const instruction = "instruction";
+x3::rule<class binding_class, ast::Binding> const binding = "assignment";
+x3::rule<class for_class, ast::ForStmt> const for_stmt = "FOR";
+x3::rule<class if_class, ast::IfStmt> const if_stmt = "IF";
+x3::rule<class call_stmt_class, ast::CallStmt> const call_stmt = "CALL";
+x3::rule<class format_class, ast::Format> const format = "format";
+x3::rule<class type_item_class, ast::TypeItem> const type_item = "TYPE item";
+x3::rule<class type_class, ast::TypeStmt> const type_stmt = "TYPE";
+x3::rule<class param_class, std::string> const param = "parameter";
+x3::rule<class header_class, ast::ProgramHeader> const program_header = ".PROGRAM";
+x3::rule<class statement_class, ast::Statement> const statement = "statement";
+x3::rule<class to_class> const to_keyword = "TO";
+
+// name = letter { letter | digit | "." | "_" }
+const auto word_def = x3::lexeme[x3::alpha >> *name_char];
+// identifier = name - keyword
+const auto identifier_def = word[check_not_reserved];
+// label = integer 0..65535
+const auto label_def = x3::lexeme[x3::uint_ >> !name_char][check_label];
+// number = real | "^B" binary | "^H" hex | "^" octal | "'" char
+const auto number_def = real_literal[check_finite]
+    | x3::lexeme[x3::lit('^') >> x3::no_case['b'] >> x3::bin]
+    | x3::lexeme[x3::lit('^') >> x3::no_case['h'] >> x3::hex]
+    | x3::lexeme[x3::lit('^') >> x3::oct]
+    | x3::lexeme[x3::lit('\'') >> x3::char_("\x20-\x7e")];
+// string = '"' { character - '"' } '"'
+const auto string_literal_def = x3::lexeme['"' > *(x3::char_ - '"') > '"'];
+// expression = operand { binary_op operand }      (precedence: checker, dialect §3)
+const auto expression_def = operand >> *(binary_op > operand);
+// binary_op = "*" | "/" | "+" | "-" | ":" | relational | MOD | AND | BAND | OR | XOR | BOR | BXOR
+const auto binary_op_def = symbol_ops | word_of(word_ops);
+// operand = ( "-" | "+" | NOT ) operand | primary
+const auto operand_def = unary | primary;
+const auto unary_def = (unary_sign | (kw("not") >> x3::attr(Op::not_))) > operand;
+// primary = number | string | function | variable | "(" expression ")"
+const auto primary_def = number | string_literal | call | variable | ('(' > expression > ')');
+// function = [ "#" | "$" ] name "(" arguments ")" | HERE | DEST | PI | TRUE | FALSE | NULL | ...
+const auto function_name_def = x3::raw[x3::lexeme[-x3::char_("#$") >> word]];
+const auto call_def = (function_name >> '(' > arguments > ')')
+    | (word_of(bare_function_words) >> x3::attr(std::vector<boost::optional<ast::Expr>>()));
+// arguments = [ expression ] { "," [ expression ] }
+const auto arguments_def = -expression % ',';
+// variable = [ "$" | "#" ] identifier [ "[" [ expression { "," expression } ] "]" ]
+const auto var_name_def = x3::raw[x3::lexeme[(x3::char_("$#") >> word) | identifier]];
+const auto variable_def = var_name >> -('[' > -(expression % ',') > ']');
+
+// instruction = KEYWORD [ expression { "," expression } ] [ ALWAYS | MONITOR | DO | THEN ]
+const auto instruction_def = word_of(instruction_words) >> -(expression % ',')
+    >> -word_of(trailing_words);
+// assignment = ( SET | DECOMPOSE ) variable "=" expression | variable "=" expression
+const auto binding_def = (word_of(binding_words) > variable > '=' > expression)
+    | (x3::attr(Kw::assign) >> variable >> '=' > expression);
+// for = FOR variable "=" expression TO expression [ STEP expression ]
+const auto to_keyword_def = kw("to");
+const auto for_stmt_def = kw("for") > variable > '=' > expression > to_keyword > expression
+    > -(kw("step") > expression);
+// if = IF expression ( GOTO label | [ THEN ] )
+const auto if_stmt_def = kw("if") > expression > -(kw("goto") > label) > -kw("then");
+// call = CALL name [ "(" arguments ")" ]
+const auto call_stmt_def = kw("call") > word > -('(' > arguments > ')');
+// format = "/D" | "/S" | "/F" w "." d | "/I" w | "/X" [n] | "/C" [n]
+const auto format_def = x3::lexeme['/' >> (
+    (x3::no_case[x3::char_("ds")] >> x3::attr(0u) >> x3::attr(0u))
+    | (x3::no_case[x3::char_('f')] >> x3::uint_ >> '.' >> x3::uint_)
+    | (x3::no_case[x3::char_('i')] >> x3::uint_ >> x3::attr(0u))
+    | (x3::no_case[x3::char_("xc")] >> (x3::uint_ | x3::attr(1u)) >> x3::attr(0u)))];
+// type_item = format | expression
+const auto type_item_def = format | expression;
+// type = TYPE [ type_item { "," type_item } ]
+const auto type_stmt_def = x3::attr(Kw::type) >> kw("type") >> -(type_item % ',');
+// param = [ "$" | "#" ] name [ "[" "]" ]
+const auto param_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word >> -(x3::lit('[') >> ']')]];
+// program_header = ".PROGRAM" name [ "(" [ param { "," param } ] ")" ]
+const auto program_header_def = kw(".program") > word > -('(' > -(param % ',') > ')');
+// statement = program_header | type | for | if | call | instruction | assignment
+const auto statement_def =
+    program_header | type_stmt | for_stmt | if_stmt | call_stmt | instruction | binding;
+
+BOOST_SPIRIT_DEFINE(word, identifier, label, number, string_literal, expression, binary_op,
+                    operand, unary, primary, call, function_name, arguments, var_name, variable, instruction,
+                    binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
+                    program_header, statement, to_keyword)
+
+// skipper = blank | ";" { any }
+const auto skipper = x3::blank | (';' >> *x3::char_);
+
+// Turns X3's description of what was expected into the detail of dialect §10.
+std::string expected_text(const std::string& which) {
+  std::string w = which;
+  if (w.size() >= 2 && w.front() == '\'' && w.back() == '\'') w = w.substr(1, w.size() - 2);
+  if (w == "\"") return "expected closing \"";
+  if (w.size() == 1) return "expected \"" + w + "\"";
+  if (w.find("boost") != std::string::npos) return "unexpected text";
+  return "expected " + w;
+}
+
+}  // namespace
+
+ParsedSource parse_source(const std::string& source, const std::string& file) {
+  ParsedSource out;
+  out.file = file;
+  std::size_t start = 0;
+  while (start <= source.size()) {
+    std::size_t end = source.find('\n', start);
+    if (end == std::string::npos) end = source.size();
+    std::string line = source.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    out.text.push_back(line);
+    if (end == source.size()) break;
+    start = end + 1;
+  }
+  if (!out.text.empty() && out.text.back().empty()) out.text.pop_back();  // final newline
+  out.lines.resize(out.text.size());
+
+  for (std::size_t i = 0; i < out.text.size(); ++i) {
+    const std::string& text = out.text[i];
+    auto first = text.begin();
+    const auto last = text.end();
+    ast::Line& line = out.lines[i];
+    auto fail = [&](std::string::const_iterator where, std::string detail) {
+      Diagnostic d;
+      d.message = "*Syntax error*";
+      d.detail = std::move(detail);
+      d.file = file;
+      d.line = static_cast<int>(i) + 1;
+      d.column = static_cast<int>(where - text.begin()) + 1;
+      d.source_line = text;
+      out.errors.push_back(std::move(d));
+      line = ast::Line{};
+    };
+    // Bytes outside ASCII are allowed only in comments (dialect §1).
+    bool in_string = false;
+    auto bad = text.end();
+    for (auto it = text.begin(); it != text.end(); ++it) {
+      if (*it == '"') in_string = !in_string;
+      if (*it == ';' && !in_string) break;
+      if (static_cast<unsigned char>(*it) > 126) {
+        bad = it;
+        break;
+      }
+    }
+    if (bad != text.end()) {
+      fail(bad, "character outside ASCII");
+      continue;
+    }
+    try {
+      unsigned number = 0;
+      if (x3::phrase_parse(first, last, label, skipper, number)) line.label = number;
+      x3::phrase_parse(first, last, x3::eps, skipper);
+      line.column = static_cast<int>(first - text.begin()) + 1;
+      ast::Statement stmt;
+      auto before = first;
+      if (first != last && x3::phrase_parse(first, last, statement, skipper, stmt))
+        line.statement = std::move(stmt);
+      else
+        first = before;
+      x3::phrase_parse(first, last, x3::eps, skipper);
+      if (first != last) {
+        std::string detail = line.statement ? "unexpected text" : "expected a statement";
+        if (*first == '=') detail = "\"=\" is not an operator; use \"==\" to compare";
+        fail(first, detail);
+      }
+    } catch (const x3::expectation_failure<std::string::const_iterator>& e) {
+      std::string detail = expected_text(e.which());
+      if (e.where() != last && *e.where() == '=' && detail != "expected \"=\"")
+        detail = "\"=\" is not an operator; use \"==\" to compare";
+      fail(e.where(), detail);
+    }
+  }
+  return out;
+}
+
+}  // namespace asimov::val
