@@ -48,7 +48,11 @@ class Engine {
 
 // Reference answer: every face of every enabled pair against every face, same exact predicate.
 // Used by tests to cross-check the four steps.
+// Includes the containment test of four-step.md §6.1 (a shell of one mesh inside the other,
+// closed, mesh), as the engine does; `clearance` > 0 adds the face distance test.
 bool brute_force_collides(const Polyhedron& a, const Pose& pose_a,
                           const Polyhedron& b, const Pose& pose_b);
+bool brute_force_collides(const Polyhedron& a, const Pose& pose_a,
+                          const Polyhedron& b, const Pose& pose_b, double clearance);
 
 }  // namespace asimov::collision

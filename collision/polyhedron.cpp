@@ -40,8 +40,9 @@ Polyhedron make_cylinder(double radius, double height, int segments) {
 }
 
 Polyhedron transformed(const Polyhedron& mesh, const Pose& pose) {
-  Polyhedron p = mesh;
-  for (auto& v : p.vertices) v = pose * v;
+  Polyhedron p;
+  p.triangles = mesh.triangles;
+  transform_vertices(mesh.vertices, pose, p.vertices);
   return p;
 }
 
@@ -51,6 +52,11 @@ Polyhedron merged(const Polyhedron& a, const Polyhedron& b) {
   p.vertices.insert(p.vertices.end(), b.vertices.begin(), b.vertices.end());
   for (const auto& t : b.triangles) p.triangles.push_back({t[0] + shift, t[1] + shift, t[2] + shift});
   return p;
+}
+
+void transform_vertices(const std::vector<Vec3>& vertices, const Pose& pose, std::vector<Vec3>& out) {
+  out.resize(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) out[i] = pose * vertices[i];
 }
 
 }  // namespace asimov::collision

@@ -18,5 +18,8 @@ Polyhedron make_cylinder(double radius, double height, int segments = 24);
 Polyhedron transformed(const Polyhedron& mesh, const Pose& pose);
 // Concatenation of two meshes (vertex indices of `b` are shifted).
 Polyhedron merged(const Polyhedron& a, const Polyhedron& b);
+// out[i] = pose * vertices[i]. The one place local vertices become world vertices, so the
+// engine and the brute-force reference test bit-identical coordinates.
+void transform_vertices(const std::vector<Vec3>& vertices, const Pose& pose, std::vector<Vec3>& out);
 
 }  // namespace asimov::collision

@@ -12,9 +12,17 @@ struct StepCounts {
   std::uint64_t face_pairs = 0;         // unique face pairs given to the exact test
 };
 
+enum class ContactKind : std::uint8_t {
+  faces,        // two faces meet (touching counts)
+  clearance,    // no faces meet, but two are within the clearance: 0 < distance <= c
+  containment,  // one body lies inside the other; point is a vertex of the inner one
+};
+
 struct Contact {
+  ContactKind kind = ContactKind::faces;
+  double distance = 0;                   // [mm] 0 unless kind == clearance
   std::uint32_t body_a = 0, body_b = 0;  // BodyId, body_a < body_b
-  std::uint32_t face_a = 0, face_b = 0;  // triangle indices in each body's mesh
+  std::uint32_t face_a = 0, face_b = 0;  // triangle indices in each body's mesh (0 for containment)
   Vec3 point = Vec3::Zero();             // world point on both surfaces [mm] (reporting only)
 };
 

@@ -1,0 +1,39 @@
+// Step 2: containers (local axis-aligned boxes given by basic axes) and world minimax boxes.
+#pragma once
+#include "collision/types.hpp"
+#include <vector>
+
+namespace asimov::collision {
+
+struct Box {
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+};
+
+// A body's container as basic axes: corner `origin` and edges size.x*e_x, size.y*e_y, size.z*e_z.
+// Every vertex v satisfies origin <= v <= origin + size in double arithmetic.
+struct Container {
+  Vec3 origin = Vec3::Zero();  // local corner O [mm]
+  Vec3 size = Vec3::Ones();    // edge lengths [mm], > 0 (thin sides padded)
+  double scale = 1;            // largest |coordinate| of the container, for relative margins
+};
+
+Container make_container(const std::vector<Vec3>& vertices);
+
+// Minimax box of the container mapped by `pose`: O' = M O, v'_k = R v_k, and
+// min_i = O'_i + sum_k min(0, v'_k,i), max_i likewise; no corner is transformed.
+Box minimax_box(const Container& c, const Pose& pose);
+
+Box grown(const Box& b, double margin);
+
+// The six separation tests: true when some axis has lo_A > hi_B + margin or the reverse.
+bool separated(const Box& a, const Box& b, double margin);
+
+// Largest positive separation along an axis (0 when the boxes overlap): a lower bound on
+// the distance between anything inside a and anything inside b.
+double box_gap(const Box& a, const Box& b);
+
+// Relative margin epsilon_r for a pair: generous multiple of the rounding in mapping local
+// coordinates of containers of scale s_a, s_b through poses with translations t_a, t_b.
+double relative_margin(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b);
+
+}  // namespace asimov::collision

@@ -1,0 +1,160 @@
+#include "collision/voxel_grid.hpp"
+
+#include "collision/containment.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <utility>
+
+namespace asimov::collision {
+namespace {
+
+int clamp_index(double x, int n) {
+  if (!(x > 0)) return 0;  // also NaN
+  if (x >= n - 1) return n - 1;
+  return static_cast<int>(std::floor(x));
+}
+
+// Empty voxels reachable from the grid border through empty faces are outside; every other
+// empty component is on one side of the surface, decided by one exact point-in-solid test.
+void classify_voxels(VoxelGrid& g, const Polyhedron& mesh) {
+  constexpr auto unknown = static_cast<VoxelClass>(255);
+  const std::size_t n = g.voxel_count();
+  g.classes.assign(n, unknown);
+  for (std::size_t v = 0; v < n; ++v)
+    if (!g.voxel_empty(v)) g.classes[v] = VoxelClass::surface;
+  std::vector<std::size_t> stack;
+  auto fill = [&](std::size_t seed, VoxelClass c) {
+    g.classes[seed] = c;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
+      const int i = static_cast<int>(v % g.cells[0]);
+      const int j = static_cast<int>((v / g.cells[0]) % g.cells[1]);
+      const int k = static_cast<int>(v / (static_cast<std::size_t>(g.cells[0]) * g.cells[1]));
+      const std::array<std::array<int, 3>, 6> nb{{{i - 1, j, k}, {i + 1, j, k}, {i, j - 1, k},
+                                                  {i, j + 1, k}, {i, j, k - 1}, {i, j, k + 1}}};
+      for (const auto& q : nb) {
+        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= g.cells[0] || q[1] >= g.cells[1] || q[2] >= g.cells[2]) continue;
+        const std::size_t w = g.index(q[0], q[1], q[2]);
+        if (g.classes[w] != unknown) continue;
+        g.classes[w] = c;
+        stack.push_back(w);
+      }
+    }
+  };
+  for (int k = 0; k < g.cells[2]; ++k)
+    for (int j = 0; j < g.cells[1]; ++j)
+      for (int i = 0; i < g.cells[0]; ++i) {
+        const bool border = i == 0 || j == 0 || k == 0 || i == g.cells[0] - 1 || j == g.cells[1] - 1 || k == g.cells[2] - 1;
+        if (border && g.classes[g.index(i, j, k)] == unknown) fill(g.index(i, j, k), VoxelClass::outside);
+      }
+  for (int k = 0; k < g.cells[2]; ++k)
+    for (int j = 0; j < g.cells[1]; ++j)
+      for (int i = 0; i < g.cells[0]; ++i) {
+        if (g.classes[g.index(i, j, k)] != unknown) continue;
+        const Box b = g.voxel_box(i, j, k);
+        const PointClass pc = point_in_solid(0.5 * (b.lo + b.hi), mesh.vertices, mesh.triangles);
+        // on_surface cannot happen (no face touches an empty voxel); keep it conservative.
+        fill(g.index(i, j, k), pc == PointClass::inside ? VoxelClass::inside
+                               : pc == PointClass::outside ? VoxelClass::outside
+                                                           : VoxelClass::surface);
+      }
+}
+
+}  // namespace
+
+Box VoxelGrid::voxel_box(int i, int j, int k) const {
+  const Vec3 lo = container.origin + Vec3(i * cell.x(), j * cell.y(), k * cell.z());
+  return {lo, lo + cell};
+}
+
+std::array<int, 3> halve_cells(const Vec3& size, int halvings) {
+  std::array<int, 3> n{1, 1, 1};
+  for (int m = 0; m < halvings; ++m) {
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (size[k] / n[k] > size[axis] / n[axis]) axis = k;
+    n[axis] *= 2;
+  }
+  return n;
+}
+
+VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
+  VoxelGrid g;
+  g.container = make_container(mesh.vertices);
+  g.cells = halve_cells(g.container.size, std::clamp(halvings, 0, 24));
+  g.cell = g.container.size.cwiseQuotient(Vec3(g.cells[0], g.cells[1], g.cells[2]));
+  // Covers the rounding of voxel corners and of the separating-axis arithmetic.
+  g.margin = 64 * DBL_EPSILON * (g.container.scale + g.container.size.maxCoeff());
+  g.face_count = mesh.triangles.size();
+
+  // (voxel, face) incidences in face order, then a counting sort into CSR.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> hits;
+  const Vec3 half = 0.5 * g.cell + Vec3::Constant(g.margin);
+  for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Triangle& tri = mesh.triangles[f];
+    const TriangleVerts t{mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]};
+    const Box tb{t[0].cwiseMin(t[1]).cwiseMin(t[2]), t[0].cwiseMax(t[1]).cwiseMax(t[2])};
+    const CellRange r = cell_range(g, grown(tb, 2 * g.margin));
+    for (int k = r.lo[2]; k <= r.hi[2]; ++k)
+      for (int j = r.lo[1]; j <= r.hi[1]; ++j)
+        for (int i = r.lo[0]; i <= r.hi[0]; ++i) {
+          const Box vb = g.voxel_box(i, j, k);
+          if (triangle_box_overlap(0.5 * (vb.lo + vb.hi), half, t))
+            hits.emplace_back(static_cast<std::uint32_t>(g.index(i, j, k)), f);
+        }
+  }
+  const std::size_t n = static_cast<std::size_t>(g.cells[0]) * g.cells[1] * g.cells[2];
+  g.offsets.assign(n + 1, 0);
+  for (const auto& h : hits) ++g.offsets[h.first + 1];
+  for (std::size_t v = 0; v < n; ++v) g.offsets[v + 1] += g.offsets[v];
+  g.faces.resize(hits.size());
+  std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
+  for (const auto& h : hits) g.faces[fill[h.first]++] = h.second;
+
+  if (is_closed(mesh)) classify_voxels(g, mesh);
+  return g;
+}
+
+CellRange cell_range(const VoxelGrid& g, const Box& b) {
+  CellRange r;
+  for (int k = 0; k < 3; ++k) {
+    const double o = g.container.origin[k];
+    if (b.hi[k] < o || b.lo[k] > o + g.container.size[k] || !(b.lo[k] <= b.hi[k])) return CellRange{};
+    r.lo[k] = clamp_index((b.lo[k] - o) / g.cell[k], g.cells[k]);
+    r.hi[k] = clamp_index((b.hi[k] - o) / g.cell[k], g.cells[k]);
+  }
+  return r;
+}
+
+CellRange intersect(const CellRange& a, const CellRange& b) {
+  CellRange r;
+  for (int k = 0; k < 3; ++k) {
+    r.lo[k] = std::max(a.lo[k], b.lo[k]);
+    r.hi[k] = std::min(a.hi[k], b.hi[k]);
+  }
+  return r;
+}
+
+bool triangle_box_overlap(const Vec3& centre, const Vec3& half, const TriangleVerts& t) {
+  const Vec3 v0 = t[0] - centre, v1 = t[1] - centre, v2 = t[2] - centre;
+  auto separates = [&](const Vec3& a) {
+    const double p0 = a.dot(v0), p1 = a.dot(v1), p2 = a.dot(v2);
+    const double r = half.x() * std::fabs(a.x()) + half.y() * std::fabs(a.y()) + half.z() * std::fabs(a.z());
+    return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+  };
+  // The box's face normals (the triangle's bounding box against the box).
+  for (int k = 0; k < 3; ++k)
+    if (std::min({v0[k], v1[k], v2[k]}) > half[k] || std::max({v0[k], v1[k], v2[k]}) < -half[k]) return false;
+  const Vec3 e[3] = {v1 - v0, v2 - v1, v0 - v2};
+  if (separates(e[0].cross(e[1]))) return false;  // the triangle's plane
+  for (const Vec3& edge : e)
+    for (int k = 0; k < 3; ++k)
+      if (separates(Vec3::Unit(k).cross(edge))) return false;
+  return true;
+}
+
+}  // namespace asimov::collision

@@ -1,0 +1,58 @@
+// Step 3 preprocessing: a body's container cut into 2^M voxels by M halvings of the longest
+// cell side, each voxel listing (CSR) every face that touches it.
+#pragma once
+#include "collision/face_test.hpp"
+#include "collision/minimax.hpp"
+#include "collision/polyhedron.hpp"
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace asimov::collision {
+
+// Inclusive voxel index ranges per axis; empty when any lo > hi.
+struct CellRange {
+  std::array<int, 3> lo{0, 0, 0}, hi{-1, -1, -1};
+  bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
+};
+
+// Containment class of a voxel (four-step.md §6.1).
+enum class VoxelClass : std::uint8_t { surface, outside, inside };
+
+struct VoxelGrid {
+  Container container;
+  std::array<int, 3> cells{1, 1, 1};  // voxels per axis, product 2^M
+  Vec3 cell = Vec3::Ones();           // voxel side lengths [mm]
+  double margin = 0;                  // growth of each voxel in the triangle-box test [mm]
+  std::vector<std::uint32_t> offsets; // CSR: faces of voxel v are faces[offsets[v] .. offsets[v+1])
+  std::vector<std::uint32_t> faces;   // triangle indices
+  std::vector<VoxelClass> classes;    // per voxel; empty when the mesh is not closed
+  std::size_t face_count = 0;         // triangles of the mesh
+
+  std::size_t voxel_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t index(int i, int j, int k) const {
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(cells[0]) * (j + static_cast<std::size_t>(cells[1]) * k);
+  }
+  bool voxel_empty(std::size_t v) const { return offsets[v] == offsets[v + 1]; }
+  std::span<const std::uint32_t> faces_in(std::size_t v) const {
+    return {faces.data() + offsets[v], faces.data() + offsets[v + 1]};
+  }
+  Box voxel_box(int i, int j, int k) const;  // local, not grown
+};
+
+// Cells per axis after M halvings, each doubling the axis whose cells are longest (ties x, y, z).
+std::array<int, 3> halve_cells(const Vec3& size, int halvings);
+
+VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings);
+
+// Voxels of `grid` that a local box overlaps (clamped to the grid; empty if outside).
+CellRange cell_range(const VoxelGrid& grid, const Box& local_box);
+CellRange intersect(const CellRange& a, const CellRange& b);
+
+// Akenine-Moller (2001) separating-axis test of a closed triangle against an axis-aligned box.
+// Conservative: it can only err toward "overlap" (callers grow the box for rounding).
+bool triangle_box_overlap(const Vec3& centre, const Vec3& half, const TriangleVerts& t);
+
+}  // namespace asimov::collision

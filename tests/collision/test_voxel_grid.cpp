@@ -1,0 +1,174 @@
+// Step 3: halvings, conservative face lists (checked by sampling), voxel classes, and the
+// interference sub-matrices / voxel-pair buffer.
+#include "collision/containment.hpp"
+#include "collision/interference.hpp"
+#include "collision/voxel_grid.hpp"
+#include "scenes.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <set>
+
+using namespace asimov::collision;
+
+namespace {
+
+// The voxel that holds local point p (floor of its scaled offset), or none.
+bool voxel_of(const VoxelGrid& g, const Vec3& p, std::size_t& v) {
+  int idx[3];
+  for (int k = 0; k < 3; ++k) {
+    const double s = (p[k] - g.container.origin[k]) / g.cell[k];
+    if (s < 0 || s > g.cells[k]) return false;
+    idx[k] = std::min(static_cast<int>(s), g.cells[k] - 1);
+  }
+  v = g.index(idx[0], idx[1], idx[2]);
+  return true;
+}
+
+bool listed(const VoxelGrid& g, std::size_t v, std::uint32_t f) {
+  const auto faces = g.faces_in(v);
+  return std::find(faces.begin(), faces.end(), f) != faces.end();
+}
+
+}  // namespace
+
+TEST_CASE("M halvings split the longest cells first, ties x, y, z", "[voxel_grid]") {
+  CHECK(halve_cells(Vec3(1, 1, 1), 0) == std::array<int, 3>{1, 1, 1});
+  CHECK(halve_cells(Vec3(1, 1, 1), 3) == std::array<int, 3>{2, 2, 2});
+  CHECK(halve_cells(Vec3(1, 1, 1), 9) == std::array<int, 3>{8, 8, 8});
+  CHECK(halve_cells(Vec3(8, 1, 1), 3) == std::array<int, 3>{8, 1, 1});
+  CHECK(halve_cells(Vec3(4, 2, 1), 4) == std::array<int, 3>{8, 2, 1});  // 2,1,1 4,1,1 4,2,1 8,2,1
+  CHECK(halve_cells(Vec3(4, 2, 1), 6) == std::array<int, 3>{8, 4, 2});
+  const VoxelGrid g = build_voxel_grid(make_box(Vec3(10, 20, 40)), 9);
+  CHECK(g.voxel_count() == 512);
+  CHECK(g.offsets.size() == 513);
+}
+
+TEST_CASE("every face is listed in every voxel it touches (sampled)", "[voxel_grid]") {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const auto& [mesh, m] : {std::pair{test::make_merged_part(), 9}, std::pair{make_cylinder(10, 30, 20), 7},
+                                std::pair{make_box(Vec3(3, 5, 7)), 6}}) {
+    const VoxelGrid g = build_voxel_grid(mesh, m);
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+      const Triangle& t = mesh.triangles[f];
+      const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+      for (int s = 0; s < 400; ++s) {
+        double x = u(rng), y = u(rng);
+        if (x + y > 1) {
+          x = 1 - x;
+          y = 1 - y;
+        }
+        // Include the vertices and edges, where voxel boundaries are hit exactly.
+        if (s < 3) x = s == 1, y = s == 2;
+        const Vec3 p = a + x * (b - a) + y * (c - a);
+        std::size_t v = 0;
+        REQUIRE(voxel_of(g, p, v));
+        REQUIRE(listed(g, v, f));
+      }
+    }
+    // Lists are sorted by face and every listed face really is near its voxel.
+    for (std::size_t v = 0; v < g.voxel_count(); ++v) {
+      const auto faces = g.faces_in(v);
+      REQUIRE(std::is_sorted(faces.begin(), faces.end()));
+    }
+  }
+}
+
+TEST_CASE("the triangle-box test finds a triangle inside one voxel (the thesis's test would not)", "[voxel_grid]") {
+  const TriangleVerts t{Vec3(0.1, 0.1, 0.1), Vec3(0.2, 0.1, 0.1), Vec3(0.1, 0.2, 0.1)};
+  CHECK(triangle_box_overlap(Vec3(0, 0, 0), Vec3(1, 1, 1), t));
+  CHECK_FALSE(triangle_box_overlap(Vec3(5, 0, 0), Vec3(1, 1, 1), t));
+  // A big triangle crossing a small box without any vertex inside.
+  CHECK(triangle_box_overlap(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1), {Vec3(-10, -10, 0), Vec3(10, -10, 0), Vec3(0, 10, 0)}));
+  // Plane passes near the box corner but misses it.
+  CHECK_FALSE(triangle_box_overlap(Vec3(0, 0, 0), Vec3(1, 1, 1), {Vec3(3.1, 0, 0), Vec3(0, 3.1, 0), Vec3(0, 0, 3.1)}));
+  CHECK(triangle_box_overlap(Vec3(0, 0, 0), Vec3(1, 1, 1), {Vec3(3, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 3)}));  // touches corner
+}
+
+TEST_CASE("voxel classes: surface, flood-filled outside, inside components", "[voxel_grid]") {
+  const Polyhedron box = make_box(Vec3(10, 10, 10));
+  const VoxelGrid g = build_voxel_grid(box, 9);  // 8^3: the two central layers are inside
+  REQUIRE(g.classes.size() == 512);
+  int inside = 0, surface = 0;
+  for (std::size_t v = 0; v < 512; ++v) {
+    inside += g.classes[v] == VoxelClass::inside;
+    surface += g.classes[v] == VoxelClass::surface;
+    CHECK((g.classes[v] == VoxelClass::surface) == !g.voxel_empty(v));
+  }
+  CHECK(inside == 6 * 6 * 6);
+  CHECK(surface == 512 - 216);
+  // The L prism has empty voxels outside in its notch (reached from the border).
+  const VoxelGrid l = build_voxel_grid(test::make_l_prism(40, 10, 20), 9);
+  int outside = 0;
+  for (const VoxelClass c : l.classes) outside += c == VoxelClass::outside;
+  CHECK(outside > 0);
+  // An open mesh has no classes.
+  Polyhedron open = box;
+  open.triangles.pop_back();
+  CHECK(build_voxel_grid(open, 6).classes.empty());
+}
+
+TEST_CASE("exact point-in-solid: inside, outside, on the surface", "[containment]") {
+  const Polyhedron box = make_box(Vec3(2, 2, 2));
+  CHECK(point_in_solid(Vec3(0, 0, 0), box.vertices, box.triangles) == PointClass::inside);
+  CHECK(point_in_solid(Vec3(0.999, 0.999, -0.999), box.vertices, box.triangles) == PointClass::inside);
+  CHECK(point_in_solid(Vec3(1.001, 0, 0), box.vertices, box.triangles) == PointClass::outside);
+  CHECK(point_in_solid(Vec3(1, 0.3, 0.2), box.vertices, box.triangles) == PointClass::on_surface);
+  CHECK(point_in_solid(Vec3(1, 1, 1), box.vertices, box.triangles) == PointClass::on_surface);
+  const Polyhedron l = test::make_l_prism(40, 10, 20);
+  CHECK(point_in_solid(Vec3(5, 5, 10), l.vertices, l.triangles) == PointClass::inside);
+  CHECK(point_in_solid(Vec3(30, 30, 10), l.vertices, l.triangles) == PointClass::outside);  // the notch
+  CHECK(point_in_solid(Vec3(10, 10, 10), l.vertices, l.triangles) == PointClass::on_surface);  // reflex edge
+}
+
+TEST_CASE("interference sub-matrices and voxel pairs cover every pair of overlapping voxels", "[voxel_grid]") {
+  // Brute force: vB's eight corners mapped into A's frame give a box; every non-empty vA that
+  // this box overlaps (by more than a small slack) must be paired with vB in the buffer, if vB
+  // is in B's sub-matrix (overlaps A's container box in B's frame).
+  std::mt19937_64 rng(5);
+  const VoxelGrid ga = build_voxel_grid(test::make_merged_part(), 6);
+  const VoxelGrid gb = build_voxel_grid(make_cylinder(12, 40, 12), 5);
+  std::vector<VoxelPair> pairs;
+  int nonempty_runs = 0;
+  for (int n = 0; n < 300; ++n) {
+    const Pose pa = test::random_pose(rng, 20), pb = test::random_pose(rng, 20);
+    const double grow = 0.25 * (n % 3);
+    collect_voxel_pairs(ga, pa, gb, pb, grow, pairs);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> got;
+    for (const VoxelPair& p : pairs) {
+      REQUIRE(!ga.voxel_empty(p.a));
+      REQUIRE(!gb.voxel_empty(p.b));
+      REQUIRE(got.emplace(p.a, p.b).second);  // no duplicates
+    }
+    nonempty_runs += !pairs.empty();
+    const Pose a_from_b = pa.inverse(Eigen::Isometry) * pb;
+    const Box a_in_b = minimax_box(ga.container, pb.inverse(Eigen::Isometry) * pa);
+    for (int kb = 0; kb < gb.cells[2]; ++kb)
+      for (int jb = 0; jb < gb.cells[1]; ++jb)
+        for (int ib = 0; ib < gb.cells[0]; ++ib) {
+          const std::size_t vb = gb.index(ib, jb, kb);
+          if (gb.voxel_empty(vb)) continue;
+          const Box bb = gb.voxel_box(ib, jb, kb);
+          if (separated(bb, a_in_b, grow - 1e-9)) continue;
+          Box m{Vec3::Constant(1e300), Vec3::Constant(-1e300)};
+          for (int c = 0; c < 8; ++c) {
+            const Vec3 corner((c & 1) ? bb.hi.x() : bb.lo.x(), (c & 2) ? bb.hi.y() : bb.lo.y(), (c & 4) ? bb.hi.z() : bb.lo.z());
+            const Vec3 q = a_from_b * corner;
+            m.lo = m.lo.cwiseMin(q);
+            m.hi = m.hi.cwiseMax(q);
+          }
+          for (int ka = 0; ka < ga.cells[2]; ++ka)
+            for (int ja = 0; ja < ga.cells[1]; ++ja)
+              for (int ia = 0; ia < ga.cells[0]; ++ia) {
+                const std::size_t va = ga.index(ia, ja, ka);
+                if (ga.voxel_empty(va)) continue;
+                const Box ab = ga.voxel_box(ia, ja, ka);
+                if (!separated(ab, m, grow - 1e-9))
+                  REQUIRE(got.count({static_cast<std::uint32_t>(va), static_cast<std::uint32_t>(vb)}) == 1);
+              }
+        }
+  }
+  CHECK(nonempty_runs > 30);
+}
