@@ -188,3 +188,34 @@ TEST_CASE("simulator: collision checking off never uses the engine", "[simulator
   CHECK(sim.finish_motion().status == MotionStatus::ok);
   CHECK(sim.collision_counts().pairs_enabled == 0);
 }
+
+TEST_CASE("simulator: configuration requests and INRANGE", "[simulator]") {
+  Cell cell = basic_cell(20);
+  cell.collision.enabled = false;
+  Simulator sim(cell);
+  REQUIRE(sim.start_joint_move(jv({20, -30, 100, -40, -50, 60}), {}, 1).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  const robots::Configuration c0 = sim.configuration();
+  CHECK(c0.righty);
+  CHECK_FALSE(c0.noflip);
+  const Location target = sim.here();
+  CHECK(sim.inrange(target) == 0);
+  CHECK(sim.inrange(trans(3000, 0, 0, 0, 0, 0)) == 1);
+  // Request NOFLIP: same tool pose, other wrist.
+  sim.request().noflip = 1;
+  REQUIRE(sim.start_move(target, false, {}, 2).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  CHECK(sim.configuration().noflip);
+  CHECK(sim.configuration().righty);
+  CHECK(sim.here().isApprox(target, 1e-9));
+  CHECK(sim.request().noflip == -1);  // consumed by the motion
+  CHECK(sim.joints()[3] == Approx(140));
+  CHECK(sim.joints()[4] == Approx(50));
+  // The configuration reached is kept by the next motion.
+  REQUIRE(sim.start_move(trans(0, 0, -50, 0, 0, 0) * target, false, {}, 3).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  CHECK(sim.configuration().noflip);
+  // FLIP needs J4 = 140 + 180 = 320 or -40 ... -40 is fine; J4 = 200 would not be.
+  sim.request().noflip = 0;
+  CHECK(sim.inrange(sim.here()) == 0);
+}
