@@ -6,7 +6,24 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
+#include <new>
+
 using namespace asimov::collision;
+
+// Counts heap allocations while `counting` is set (replaces the global operator new of the
+// test program; Eigen's fixed-size types never allocate).
+namespace {
+bool counting = false;
+long allocations = 0;
+}  // namespace
+void* operator new(std::size_t n) {
+  if (counting) ++allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -209,4 +226,39 @@ TEST_CASE("invalid meshes are refused at add_body", "[engine]") {
   Polyhedron nan = make_box(Vec3(1, 1, 1));
   nan.vertices[0].x() = std::nan("");
   CHECK_THROWS_AS(e.add_body({.name = "nan", .mesh = nan}), std::invalid_argument);
+}
+
+TEST_CASE("no heap allocation per pose after warm-up", "[engine]") {
+  std::mt19937_64 rng(31);
+  Engine e;
+  e.add_body({.name = "m", .mesh = test::make_merged_part()});
+  e.add_body({.name = "c", .mesh = make_cylinder(8, 30, 24)});
+  e.add_body({.name = "t", .mesh = make_box(Vec3(200, 200, 4)), .is_static = true});
+  e.set_pose(2, at(0, 0, -40));
+  std::vector<std::pair<Pose, Pose>> poses;
+  for (int n = 0; n < 300; ++n) poses.emplace_back(test::random_pose(rng, 30), test::random_pose(rng, 30));
+  e.set_pose(0, at(0, 0, 0));
+  e.set_pose(1, at(0, 0, 0));
+  (void)e.check();
+  Engine hollow;  // containment path too: a body inside a closed box
+  hollow.add_body({.name = "big", .mesh = make_box(Vec3(100, 100, 100))});
+  hollow.add_body({.name = "small", .mesh = make_cylinder(5, 10, 12)});
+  auto run = [&] {
+    int hits = 0;
+    for (const auto& [p0, p1] : poses) {
+      e.set_pose(0, p0);
+      e.set_pose(1, p1);
+      hits += e.check().collided;
+      hollow.set_pose(1, p0);
+      hits += hollow.check().collided;
+    }
+    return hits;
+  };
+  const int warm = run();  // fills the buffers to their largest size
+  counting = true;
+  allocations = 0;
+  const int again = run();
+  counting = false;
+  CHECK(again == warm);
+  CHECK(allocations == 0);
 }
