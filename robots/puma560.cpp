@@ -81,7 +81,7 @@ std::vector<LinkBody> puma_bodies() {
 Robot puma560() {
   using namespace puma;
   Robot r;
-  r.name = "PUMA 560";
+  r.name = "puma560";
   r.dh = {{0, 0, kPi / 2}, {0, a2, 0}, {d3, a3, -kPi / 2}, {d4, 0, kPi / 2}, {0, 0, -kPi / 2}, {0, 0, 0}};
   const double signs[6] = {+1, -1, -1, +1, -1, +1};
   for (double s : signs) r.mapping.push_back({s, 0.0});
