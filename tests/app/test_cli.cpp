@@ -134,7 +134,7 @@ TEST_CASE("run: a location out of reach is a program error, exit 2") {
   CHECK(doc["line"] == 3);
 }
 
-TEST_CASE("--main selects the program; names are case-insensitive") {
+TEST_CASE("run: the main option selects the program; names are case-insensitive") {
   const auto file = write_file("two.v2",
                                ".PROGRAM first()\n    TYPE \"first\"\n.END\n.PROGRAM Second()\n    TYPE \"second\"\n.END\n");
   CHECK(run_cli("run " + file.string()).out == "first\n");
