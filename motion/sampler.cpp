@@ -60,6 +60,12 @@ LineStatus solve_sample(const LineContext& c, double s, const JointVector& prev,
   if (check_margins(c, flange, s, plan) != LineStatus::ok) return plan.status;
   if (ik.status == robots::IkStatus::joint_limit) {
     plan.joint = ik.joint, plan.value = ik.value;
+    // A limit hit by a sudden jump (e.g. J4 turning 180 deg through the wrist singularity) is
+    // reported as what it is.
+    if (std::abs(ik.value - prev[ik.joint]) > kMaxJointJumpDeg) {
+      plan.value = std::abs(ik.value - prev[ik.joint]);
+      return singular(plan, SingularityKind::joint_jump, s);
+    }
     return fail(plan, LineStatus::joint_limit, s);
   }
   for (int i = 0; i < ik.joints.size(); ++i) {

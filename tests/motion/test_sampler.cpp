@@ -164,4 +164,10 @@ TEST_CASE("straight lines: validation errors", "[sampler]") {
   CHECK(plan_to(start, through, plan) != LineStatus::ok);
   CHECK(plan.fail_fraction > 0.2);
   CHECK(plan.fail_fraction < 0.8);
+  // Down through the wrist singularity (J5 reaches 0, J4 would turn by 180 deg).
+  const JointVector wrist = jv({0, -60, 150, 0, 30, 0});
+  CHECK(plan_to(wrist, trans(0, 0, -300, 0, 0, 0) * robots::flange_pose(arm.robot, wrist), plan) ==
+        LineStatus::singularity);
+  CHECK(plan.singularity == SingularityKind::joint_jump);
+  CHECK(plan.joint == 3);
 }

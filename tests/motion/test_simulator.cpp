@@ -1,5 +1,6 @@
 // The simulated arm: planning errors before any pose is checked, free motions reaching their
 // targets, a halt at the first contact with a point on both bodies, BASE/TOOL semantics, time.
+#include "collision/engine.hpp"
 #include "collision/face_distance.hpp"
 #include "motion/simulator.hpp"
 #include "robots/puma560.hpp"
@@ -136,6 +137,39 @@ TEST_CASE("simulator: a move into a box halts at the first contact", "[simulator
   CHECK(sim.time_s() == c.time_s);
   CHECK(c.time_s > 0);
   CHECK_FALSE(sim.motion_pending());
+  // The halting pose is collision-free for the reported pair.
+  const auto [ma, pa] = body_at(cell, c.body_a, sim.joints());
+  const auto [mb, pb] = body_at(cell, c.body_b, sim.joints());
+  CHECK_FALSE(collision::brute_force_collides(ma, pa, mb, pb));
+}
+
+TEST_CASE("simulator: a straight line into a box halts too", "[simulator][collision]") {
+  Cell cell = basic_cell();
+  Simulator probe(cell);
+  REQUIRE(probe.start_joint_move(jv({0, -60, 150, 0, 70, 0}), {}, 1).status == MotionStatus::ok);
+  REQUIRE(probe.finish_motion().status == MotionStatus::ok);
+  const Location start = probe.here();
+  // A thin plate 150 mm below the flange, across the path of a 300 mm downward line.
+  cell.objects.push_back(box("plate", {400, 400, 10}, start.translation() + collision::Vec3(0, 0, -150)));
+  Simulator sim(cell);
+  REQUIRE(sim.start_joint_move(jv({0, -60, 150, 0, 70, 0}), {}, 1).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  const MotionResult planned = sim.start_move(trans(0, 0, -300, 0, 0, 0) * start, true, {}, 9);
+  INFO(planned.error.message << " " << planned.error.detail << " from " << start.translation().transpose());
+  REQUIRE(planned.status == MotionStatus::ok);
+  const MotionResult r = sim.finish_motion();
+  REQUIRE(r.status == MotionStatus::collision);
+  CHECK(r.collision.tag == 9);
+  CHECK((r.collision.body_a == "plate" || r.collision.body_b == "plate"));
+  for (const auto& name : {r.collision.body_a, r.collision.body_b}) {
+    const auto [mesh, pose] = body_at(cell, name, r.collision.joints);
+    CHECK(surface_distance(mesh, pose, r.collision.point) < 0.01);
+  }
+  // Stopped on the line, above the plate.
+  const double drop = start.translation().z() - sim.here().translation().z();
+  CHECK(drop > 50);
+  CHECK(drop < 150);
+  CHECK((sim.here().translation() - start.translation()).head<2>().norm() < 1e-6);
 }
 
 TEST_CASE("simulator: the start pose of the first motion is checked", "[simulator][collision]") {
@@ -164,10 +198,28 @@ TEST_CASE("simulator: straight line, BASE and TOOL", "[simulator]") {
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
   CHECK((sim.here().translation() - target.translation()).norm() < 1e-6);
   CHECK((sim.here().linear() - target.linear()).norm() < 1e-9);
-  // Every traced tool point of the line lies on the segment.
+  // Every traced tool point of the line lies on the segment, times increase.
   const auto& tr = sim.trace();
   REQUIRE(tr.size() > 10);
   CHECK(tr.back().time_s == Approx(sim.time_s()));
+  const collision::Vec3 p1 = target.translation();
+  const collision::Vec3 p0 = tr.front().tool.translation();  // first checked pose: start of the joint move
+  double off_line = 0;
+  bool increasing = true;
+  std::size_t line_start = 0;
+  for (std::size_t i = 0; i < tr.size(); ++i)
+    if (tr[i].time_s > 0 && (tr[i].joints - jv({10, -60, 150, 20, 40, 30})).norm() == 0) line_start = i;
+  const collision::Vec3 a = tr[line_start].tool.translation();
+  for (std::size_t i = line_start + 1; i < tr.size(); ++i) {
+    const collision::Vec3 p = tr[i].tool.translation();
+    const collision::Vec3 d = (p1 - a).normalized();
+    off_line = std::max(off_line, ((p - a) - d * d.dot(p - a)).norm());
+    increasing = increasing && tr[i].time_s > tr[i - 1].time_s;
+  }
+  (void)p0;
+  CHECK(line_start > 0);
+  CHECK(off_line < 1e-6);
+  CHECK(increasing);
   // BASE changes the interpretation of locations, not where the robot is.
   const JointVector before = sim.joints();
   const Location h0 = sim.here();
