@@ -68,7 +68,7 @@ TEST_CASE("FK(IK(T)) round trips over random poses", "[ik][random]") {
   std::mt19937 rng(20261128);
   std::uniform_real_distribution<double> u(0, 1);
   double max_p = 0, max_r = 0, max_back = 0;
-  int tested = 0, recovered = 0;
+  int tested = 0, recovered = 0, mislabelled = 0;
   const int n = 4000;
   const auto t0 = std::chrono::steady_clock::now();
   for (int k = 0; k < n; ++k) {
@@ -86,6 +86,7 @@ TEST_CASE("FK(IK(T)) round trips over random poses", "[ik][random]") {
       max_p = std::max(max_p, ep);
       max_r = std::max(max_r, er);
       if (same_dh(cand.dh, q / kDeg, 1e-6)) back = true;
+      if (!(configuration_of(r, dh_to_display(r, cand.dh)) == cand.config)) ++mislabelled;
     }
     recovered += back;
     // The selected solution in the pose's own configuration, near its own joints, is itself.
@@ -99,6 +100,7 @@ TEST_CASE("FK(IK(T)) round trips over random poses", "[ik][random]") {
                           << " us per pose (all 8 + select)");
   CHECK(tested > n * 9 / 10);
   CHECK(recovered == tested);
+  CHECK(mislabelled == 0);  // every branch label agrees with configuration_of (§6)
   CHECK(max_p < 1e-9);
   CHECK(max_r < 1e-12);
   CHECK(max_back < 1e-9);
