@@ -6,6 +6,7 @@
 
 #include "collision/containment.hpp"
 #include "collision/face_distance.hpp"
+#include "collision/face_pairs.hpp"
 #include "collision/face_test.hpp"
 #include "collision/interference.hpp"
 #include "collision/minimax.hpp"
@@ -47,7 +48,7 @@ struct Engine::Impl {
   Participation participation;
   double clearance = 0;
   std::vector<VoxelPair> voxel_pairs;    // step 3 buffer, reused
-  std::vector<std::uint64_t> face_keys;  // step 4 buffer, reused
+  FacePairs face_pairs;                  // step 4 list, buffers reused
 
   static bool never_tested(const Body& a, const Body& b) {
     return (a.def.group >= 0 && a.def.group == b.def.group) || (a.def.is_static && b.def.is_static);
@@ -127,20 +128,13 @@ struct Engine::Impl {
       res.counts.voxel_pairs += voxel_pairs.size();
 
       // Step 4: unique face pairs, tested in key order in world coordinates.
-      face_keys.clear();
-      for (const VoxelPair& vp : voxel_pairs)
-        for (const std::uint32_t fa : a.grid->faces_in(vp.a))
-          for (const std::uint32_t fb : b.grid->faces_in(vp.b))
-            face_keys.push_back(std::uint64_t{fa} << 32 | fb);
-      std::sort(face_keys.begin(), face_keys.end());
-      face_keys.erase(std::unique(face_keys.begin(), face_keys.end()), face_keys.end());
-      res.counts.face_pairs += face_keys.size();
-
+      face_pairs.start(*a.grid, *b.grid, voxel_pairs);
       const std::vector<Vec3>& wa = world(a);
       const std::vector<Vec3>& wb = world(b);
       const double c2 = clearance * clearance;
-      for (const std::uint64_t key : face_keys) {
-        const auto fa = static_cast<std::uint32_t>(key >> 32), fb = static_cast<std::uint32_t>(key);
+      std::uint32_t fa = 0, fb = 0;
+      while (face_pairs.next(fa, fb)) {
+        ++res.counts.face_pairs;
         const TriangleVerts ta = triangle_at(wa, a.def.mesh.triangles[fa]);
         const TriangleVerts tb = triangle_at(wb, b.def.mesh.triangles[fb]);
         if (triangles_intersect(ta, tb)) {

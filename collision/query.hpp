@@ -9,7 +9,7 @@ struct StepCounts {
   std::uint64_t pairs_after_minimax = 0;// pairs whose world minimax boxes overlap
   std::uint64_t pairs_after_voxels = 0; // pairs with a non-empty voxel-pair buffer
   std::uint64_t voxel_pairs = 0;        // entries pushed into voxel-pair buffers
-  std::uint64_t face_pairs = 0;         // unique face pairs given to the exact test
+  std::uint64_t face_pairs = 0;         // unique face pairs given to the exact test (up to the first hit)
 };
 
 enum class ContactKind : std::uint8_t {

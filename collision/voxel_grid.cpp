@@ -114,6 +114,12 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
   g.faces.resize(hits.size());
   std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
   for (const auto& h : hits) g.faces[fill[h.first]++] = h.second;
+  // Hits are in face order, and in increasing voxel order within a face.
+  g.face_offsets.assign(g.face_count + 1, 0);
+  for (const auto& h : hits) ++g.face_offsets[h.second + 1];
+  for (std::size_t f = 0; f < g.face_count; ++f) g.face_offsets[f + 1] += g.face_offsets[f];
+  g.face_voxels.resize(hits.size());
+  for (std::size_t n = 0; n < hits.size(); ++n) g.face_voxels[n] = hits[n].first;
 
   if (is_closed(mesh)) classify_voxels(g, mesh);
   return g;

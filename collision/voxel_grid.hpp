@@ -28,6 +28,8 @@ struct VoxelGrid {
   double margin = 0;                  // growth of each voxel in the triangle-box test [mm]
   std::vector<std::uint32_t> offsets; // CSR: faces of voxel v are faces[offsets[v] .. offsets[v+1])
   std::vector<std::uint32_t> faces;   // triangle indices
+  std::vector<std::uint32_t> face_offsets;  // inverse CSR: voxels of face f are
+  std::vector<std::uint32_t> face_voxels;   //   face_voxels[face_offsets[f] .. face_offsets[f+1])
   std::vector<VoxelClass> classes;    // per voxel; empty when the mesh is not closed
   std::size_t face_count = 0;         // triangles of the mesh
 
@@ -38,6 +40,9 @@ struct VoxelGrid {
   bool voxel_empty(std::size_t v) const { return offsets[v] == offsets[v + 1]; }
   std::span<const std::uint32_t> faces_in(std::size_t v) const {
     return {faces.data() + offsets[v], faces.data() + offsets[v + 1]};
+  }
+  std::span<const std::uint32_t> voxels_of(std::uint32_t f) const {
+    return {face_voxels.data() + face_offsets[f], face_voxels.data() + face_offsets[f + 1]};
   }
   Box voxel_box(int i, int j, int k) const;  // local, not grown
 };

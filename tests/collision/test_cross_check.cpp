@@ -37,7 +37,7 @@ struct Scene {
 };
 
 struct Tally {
-  int poses = 0, collisions = 0, disagreements = 0;
+  int poses = 0, collisions = 0, disagreements = 0, contained = 0;
 };
 
 // Engine vs brute force over every pair in the engine's order: the same verdict and the same
@@ -48,13 +48,14 @@ void compare(Scene& s, double c, Tally& t) {
   std::size_t first_i = 0, first_j = 0;
   for (std::size_t i = 0; i < s.meshes.size() && !any; ++i)
     for (std::size_t j = i + 1; j < s.meshes.size() && !any; ++j)
-      if (s.brute(i, j, c)) {
+      if (s.engine.pair_enabled(static_cast<BodyId>(i), static_cast<BodyId>(j)) && s.brute(i, j, c)) {
         any = true;
         first_i = i;
         first_j = j;
       }
   ++t.poses;
   t.collisions += any;
+  t.contained += r.collided && r.contact.kind == ContactKind::containment;
   bool ok = r.collided == any;
   if (ok && any) {
     ok = r.contact.body_a == first_i && r.contact.body_b == first_j;
@@ -117,7 +118,8 @@ TEST_CASE("four steps equal brute force on 10,000+ random poses of three bodies"
   CHECK(t.collisions > 2000);
   CHECK(t.collisions < 9000);
   REQUIRE(t.disagreements == 0);
-  WARN("cross-check random: " << t.poses << " poses, " << t.collisions << " colliding, " << t.disagreements << " disagreements");
+  WARN("cross-check random: " << t.poses << " poses, " << t.collisions << " colliding (" << t.contained
+                               << " by containment), " << t.disagreements << " disagreements");
 }
 
 TEST_CASE("four steps equal brute force within one ulp of touching", "[cross_check]") {
@@ -166,6 +168,29 @@ TEST_CASE("four steps equal brute force on exact face-to-face contacts and one u
   INFO("poses " << t.poses << ", colliding " << t.collisions << ", disagreements " << t.disagreements);
   CHECK(t.collisions > 500);
   REQUIRE(t.disagreements == 0);
+}
+
+TEST_CASE("four steps equal brute force when bodies nest (containment, cavities)", "[cross_check]") {
+  // A box with a cavity (inner box turned inside out), a solid box and two small bodies that
+  // often end up wholly inside one of them, in its wall, or in the cavity.
+  Polyhedron cavity = make_box(Vec3(50, 50, 50));
+  for (Triangle& tri : cavity.triangles) std::swap(tri[1], tri[2]);
+  Scene s({{merged(make_box(Vec3(90, 90, 90)), cavity), 9},
+           {make_box(Vec3(70, 40, 60)), 6},
+           {make_cylinder(4, 9, 10), 4},
+           {test::make_l_prism(8, 3, 5), 3}});
+  s.engine.set_pair_enabled(0, 1, false);  // the two big ones always overlap
+  std::mt19937_64 rng(492);
+  Tally t;
+  for (int n = 0; n < 2500; ++n) {
+    for (std::size_t i = 0; i < 4; ++i) s.set(i, test::random_pose(rng, i < 2 ? 10 : 45));
+    compare(s, 0.0, t);
+  }
+  INFO("poses " << t.poses << ", colliding " << t.collisions << ", containment " << t.contained);
+  CHECK(t.contained > 200);
+  REQUIRE(t.disagreements == 0);
+  WARN("cross-check nesting: " << t.poses << " poses, " << t.collisions << " colliding (" << t.contained
+                               << " by containment), " << t.disagreements << " disagreements");
 }
 
 TEST_CASE("four steps equal brute force with a clearance", "[cross_check]") {
