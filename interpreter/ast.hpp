@@ -31,7 +31,7 @@ struct Unary;
 // A variable reference: `x`, `$s`, `#p`, `a[i,j]`, or a whole array `a[]` (empty subscript).
 struct VarRef {
   std::string name;                                   // with its '$' or '#' prefix
-  boost::optional<std::vector<Expr>> subscript;       // absent: scalar use
+  std::vector<Expr> subscript;                        // empty: scalar; one Nil: a[]
 };
 
 struct Operand : x3::variant<Nil, double, std::string, VarRef, x3::forward_ast<Call>,
@@ -57,6 +57,12 @@ struct Expr {
 };
 
 // `name(args)` (args may be omitted: `TRANS(,,300)`), or a bare function word (`HERE`, `PI`).
+// `a[]`: the whole array (a CALL argument).
+inline bool is_whole_array(const VarRef& v) {
+  return v.subscript.size() == 1 && v.subscript[0].rest.empty()
+      && boost::get<Nil>(&v.subscript[0].first) != nullptr;
+}
+
 struct Call {
   std::string name;                                   // with '#' or '$' prefix if written
   std::vector<boost::optional<Expr>> args;

@@ -281,11 +281,14 @@ class Checker {
     Node n;
     n.kind = NodeKind::variable;
     n.text = normalize_name(v.name);
-    if (v.subscript) {
+    if (!v.subscript.empty()) {
       n.subscripted = true;
-      if (v.subscript->empty() && !whole_array_ok) error(fmt::format("{}[] is allowed only as a CALL argument", n.text));
-      if (v.subscript->size() > static_cast<std::size_t>(kMaxSubscripts)) error("at most 3 subscripts");
-      for (const ast::Expr& e : *v.subscript) n.kids.push_back(expression(e));
+      if (ast::is_whole_array(v)) {
+        if (!whole_array_ok) error(fmt::format("{}[] is allowed only as a CALL argument", n.text));
+      } else {
+        if (v.subscript.size() > static_cast<std::size_t>(kMaxSubscripts)) error("at most 3 subscripts");
+        for (const ast::Expr& e : v.subscript) n.kids.push_back(expression(e));
+      }
     }
     for (std::size_t i = 0; i < prog_.params.size(); ++i)
       if (prog_.params[i].name == n.text) {
@@ -337,7 +340,7 @@ class Checker {
   static const ast::VarRef* plain_variable(const ast::Expr& e, bool subscript_ok) {
     if (!e.rest.empty()) return nullptr;
     const auto* v = boost::get<ast::VarRef>(&e.first);
-    if (!v || (v->subscript && !subscript_ok)) return nullptr;
+    if (!v || (!v->subscript.empty() && !subscript_ok)) return nullptr;
     return v;
   }
 
@@ -365,7 +368,7 @@ class Checker {
   }
 
   void for_statement(const ast::ForStmt& f) {
-    if (f.var.subscript || f.var.name[0] == '$' || f.var.name[0] == '#')
+    if (!f.var.subscript.empty() || f.var.name[0] == '$' || f.var.name[0] == '#')
       error("FOR needs a plain real variable");
     Instr& in = emit(Code::for_init);
     in.target = variable(f.var, false);
@@ -396,7 +399,7 @@ class Checker {
       const auto& a = call.args[i];
       const ast::VarRef* v = a ? plain_variable(*a, true) : nullptr;
       // A plain variable or a whole array a[] goes by reference; anything else by value.
-      if (v && (!v->subscript || v->subscript->empty())) {
+      if (v && (v->subscript.empty() || ast::is_whole_array(*v))) {
         in.args.push_back(variable(*v, true));
         in.by_ref.push_back(true);
       } else {

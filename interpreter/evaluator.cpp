@@ -365,7 +365,10 @@ Index Evaluator::index(const Node& n) {
 
 static std::string element_name(const Node& n, const Index& idx) {
   std::string s = n.text + "[";
-  for (std::size_t i = 0; i < n.kids.size(); ++i) s += (i ? "," : "") + std::to_string(idx[i]);
+  for (std::size_t i = 0; i < n.kids.size(); ++i) {
+    if (i > 0) s += ',';
+    s += std::to_string(idx[i]);
+  }
   return s + "]";
 }
 

@@ -144,6 +144,7 @@ x3::rule<class call_class, ast::Call> const call = "function";
 x3::rule<class function_name_class, std::string> const function_name = "function";
 x3::rule<class variable_class, ast::VarRef> const variable = "variable";
 x3::rule<class var_name_class, std::string> const var_name = "variable";
+x3::rule<class subscript_class, std::vector<ast::Expr>, true> const subscript = "subscript";
 x3::rule<class binary_op_class, Op> const binary_op = "operator";
 x3::rule<class args_class, std::vector<boost::optional<ast::Expr>>> const arguments = "arguments";
 x3::rule<class label_class, unsigned, true> const label = "label";
@@ -191,7 +192,10 @@ const auto call_def = (function_name >> '(' > arguments > ')')
 const auto arguments_def = -expression % ',';
 // variable = [ "$" | "#" ] identifier [ "[" [ expression { "," expression } ] "]" ]
 const auto var_name_def = x3::raw[x3::lexeme[(x3::char_("$#") >> word) | identifier]];
-const auto variable_def = var_name >> -('[' > -(expression % ',') > ']');
+const auto variable_def = var_name >> -subscript;
+// subscript = "[" [ expression { "," expression } ] "]"   (a[] is kept as one Nil expression)
+const auto mark_whole_array = [](auto& ctx) { x3::_val(ctx).resize(1); };
+const auto subscript_def = '[' > ((&x3::lit(']'))[mark_whole_array] | (expression % ',')) > ']';
 
 // instruction = KEYWORD [ expression { "," expression } ] [ ALWAYS | MONITOR | DO | THEN ]
 const auto instruction_def = word_of(instruction_words) >> -(expression % ',')
@@ -226,7 +230,7 @@ const auto statement_def =
     program_header | type_stmt | for_stmt | if_stmt | call_stmt | instruction | binding;
 
 BOOST_SPIRIT_DEFINE(word, identifier, label, number, string_literal, expression, binary_op,
-                    operand, unary, primary, call, function_name, arguments, var_name, variable, instruction,
+                    operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
                     program_header, statement, to_keyword)
 
@@ -310,10 +314,12 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
         fail(first, detail);
       }
     } catch (const x3::expectation_failure<std::string::const_iterator>& e) {
+      auto where = e.where();
+      while (where != last && (*where == ' ' || *where == '\t')) ++where;
       std::string detail = expected_text(e.which());
-      if (e.where() != last && *e.where() == '=' && detail != "expected \"=\"")
+      if (where != last && *where == '=' && detail != "expected \"=\"")
         detail = "\"=\" is not an operator; use \"==\" to compare";
-      fail(e.where(), detail);
+      fail(where, detail);
     }
   }
   return out;

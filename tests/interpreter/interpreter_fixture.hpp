@@ -1,0 +1,41 @@
+// A PUMA 560 cell without objects, an interpreter writing TYPE output to a string.
+#pragma once
+#include "interpreter/interpreter.hpp"
+#include "robots/puma560.hpp"
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace asimov::test {
+
+inline motion::Cell empty_puma_cell() {
+  motion::Cell cell;
+  cell.robot = robots::puma560();
+  cell.start_joints = robots::JointVector::Zero(6);
+  cell.start_joints << 0, -90, 90, 0, 0, 0;  // READY
+  return cell;
+}
+
+struct InterpreterFixture {
+  motion::Simulator sim{empty_puma_cell()};
+  std::ostringstream out;
+  val::Interpreter interp{sim, out};
+
+  // Loads `text` as "test.v2"; returns the diagnostics.
+  std::vector<val::Diagnostic> load(const std::string& text) { return interp.load_source(text, "test.v2"); }
+
+  // Loads and runs `main`; a load error fails the test through `loaded`.
+  val::RunResult run(const std::string& text, const std::string& main = "main") {
+    const auto diags = load(text);
+    loaded = diags.empty();
+    for (const auto& d : diags) load_report += val::format_diagnostic(d);
+    if (!loaded) return {};
+    return interp.run(main);
+  }
+
+  bool loaded = false;
+  std::string load_report;
+};
+
+}  // namespace asimov::test

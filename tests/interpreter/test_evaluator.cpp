@@ -1,0 +1,246 @@
+// Running programs without motion: arithmetic, variables, control flow, CALL, TYPE, errors.
+#include "interpreter_fixture.hpp"
+
+#include <catch2/catch.hpp>
+
+using asimov::test::InterpreterFixture;
+using asimov::val::RunStatus;
+
+namespace {
+
+// Runs `body` as the program `main` and returns its TYPE output.
+std::string output_of(const std::string& body) {
+  InterpreterFixture f;
+  const auto r = f.run(".PROGRAM main()\n" + body + "\n.END\n");
+  INFO(f.load_report);
+  REQUIRE(f.loaded);
+  INFO(asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  return f.out.str();
+}
+
+}  // namespace
+
+TEST_CASE("arithmetic and precedence", "[evaluator]") {
+  CHECK(output_of("TYPE -2 * -3") == "6\n");
+  CHECK(output_of("TYPE 1 + 2 * 3") == "7\n");
+  CHECK(output_of("TYPE (1 + 2) * 3") == "9\n");
+  CHECK(output_of("TYPE 7 MOD 3, -7 MOD 3") == "1 -1\n");
+  CHECK(output_of("TYPE 10 - 4 - 3") == "3\n");
+  CHECK(output_of("TYPE 2 < 3, 3 < 2") == "-1 0\n");
+  CHECK(output_of("TYPE 1 <> 2, 2 =< 2, 2 => 3") == "-1 -1 0\n");
+  CHECK(output_of("a = 0\nb = 0\nTYPE NOT a == b") == "0\n");    // (NOT a) == b: -1 == 0
+  CHECK(output_of("a = 0\nb = 0\nTYPE NOT (a == b)") == "0\n");
+  CHECK(output_of("a = 5\nb = 0\nTYPE NOT a == b") == "-1\n");   // (NOT 5) == 0
+  CHECK(output_of("TYPE 1 OR 0 AND 0") == "-1\n");                // AND binds tighter
+  CHECK(output_of("TYPE 1 + 1 == 2 AND 3 > 2") == "-1\n");
+  CHECK(output_of("TYPE TRUE, FALSE") == "-1 0\n");
+  CHECK(output_of("TYPE ^B101000 BOR ^B100001, ^B101000 OR ^B100001") == "41 -1\n");
+  CHECK(output_of("TYPE ^HFF, ^17, 'A") == "255 15 65\n");
+  CHECK(output_of("TYPE 1 XOR 1, 0 XOR 1") == "0 -1\n");
+}
+
+TEST_CASE("numeric functions", "[evaluator]") {
+  CHECK(output_of("TYPE SIN(30), COS(60), TAN(45)") == "0.5 0.5 1\n");
+  CHECK(output_of("TYPE ATAN2(1, 1), ATAN2(0, -1), ATAN2(0, 0)") == "45 180 0\n");
+  CHECK(output_of("TYPE SQRT(16), ABS(-3), INT(-2.7), INT(2.7)") == "4 3 -2 2\n");
+  CHECK(output_of("TYPE MIN(3, 1, 2), MAX(3, 1, 2), MAX(4)") == "1 3 4\n");
+  CHECK(output_of("TYPE SQR(3), SIGN(0), SIGN(-2), FRACT(2.5)") == "9 1 -1 0.5\n");
+}
+
+TEST_CASE("TYPE number format and spacing", "[evaluator][type]") {
+  CHECK(output_of("TYPE 1, 2") == "1 2\n");
+  CHECK(output_of("TYPE \"x=\", 3") == "x=3\n");
+  CHECK(output_of("TYPE \"x=\", 3, \" y=\", 4") == "x=3 y=4\n");
+  CHECK(output_of("TYPE 1/3") == "0.333333\n");
+  CHECK(output_of("TYPE 0.00000015") == "1.5e-07\n");
+  CHECK(output_of("TYPE 1e15") == "1e+15\n");
+  CHECK(output_of("TYPE 123456789012345") == "123456789012345\n");
+  CHECK(output_of("TYPE -0.0, -1 * 0") == "0 0\n");
+  CHECK(output_of("TYPE 2.50") == "2.5\n");
+  CHECK(output_of("TYPE /F8.3, 3.14159, /D, 2") == "   3.1422\n");
+  CHECK(output_of("TYPE /I4, 7.6") == "   8\n");
+  CHECK(output_of("TYPE \"a\", /X3, \"b\"") == "a   b\n");
+  CHECK(output_of("TYPE \"a\", /S\nTYPE \"b\"") == "ab\n");
+  CHECK(output_of("TYPE \"a\", /C2, \"b\"") == "a\n\nb\n");
+  CHECK(output_of("TYPE") == "\n");
+  CHECK(output_of("TYPE \"Hello; not a comment\" ; a comment") == "Hello; not a comment\n");
+}
+
+TEST_CASE("strings", "[evaluator]") {
+  CHECK(output_of("$a = \"ab\"\n$b = $a + \"CD\"\nTYPE $b, LEN($b)") == "abCD4\n");
+  CHECK(output_of("TYPE \"a\" < \"b\", \"a\" == \"a\"") == "-1 -1\n");
+  CHECK(output_of("TYPE $CHR(65), ASC(\"A\"), VAL(\"2.5\")") == "A65 2.5\n");
+}
+
+TEST_CASE("any letter case", "[evaluator]") {
+  CHECK(output_of("Total = 2\ntype TOTAL * total\nIf total == 2 Then\nTYPE \"yes\"\nend") == "4\nyes\n");
+}
+
+TEST_CASE("FOR leaves the variable one step past the limit", "[evaluator][control]") {
+  CHECK(output_of("FOR i = 1 TO 5\nTYPE i, /S\nEND\nTYPE \"\"\nTYPE i") == "12345\n6\n");
+  CHECK(output_of("FOR i = 10 TO 1 STEP -3\nTYPE i\nEND\nTYPE i") == "10\n7\n4\n1\n-2\n");
+  CHECK(output_of("FOR i = 5 TO 1\nTYPE \"never\"\nEND\nTYPE i") == "5\n");
+  CHECK(output_of("n = 0\nFOR i = 1 TO 3\nFOR j = 1 TO 2\nn = n + 1\nEND\nEND\nTYPE n, i, j") == "6 4 3\n");
+}
+
+TEST_CASE("IF, ELSE, WHILE, DO UNTIL, EXIT, NEXT", "[evaluator][control]") {
+  CHECK(output_of("x = 3\nIF x > 2 THEN\nTYPE \"big\"\nELSE\nTYPE \"small\"\nEND") == "big\n");
+  CHECK(output_of("x = 1\nIF x > 2 THEN\nTYPE \"big\"\nELSE\nTYPE \"small\"\nEND") == "small\n");
+  CHECK(output_of("x = 1\nIF x > 2 THEN\nTYPE \"big\"\nEND\nTYPE \"after\"") == "after\n");
+  CHECK(output_of("n = 3\nWHILE n > 0 DO\nTYPE n\nn = n - 1\nEND") == "3\n2\n1\n");
+  CHECK(output_of("n = 0\nWHILE n > 0\nTYPE n\nEND\nTYPE \"done\"") == "done\n");  // DO omitted [ext]
+  CHECK(output_of("n = 0\nDO\nn = n + 1\nUNTIL n >= 3\nTYPE n") == "3\n");
+  CHECK(output_of("FOR i = 1 TO 10\nIF i == 3 THEN\nEXIT\nEND\nEND\nTYPE i") == "3\n");
+  CHECK(output_of("FOR i = 1 TO 4\nIF i == 2 THEN\nNEXT\nEND\nTYPE i, /S\nEND\nTYPE \"\"") == "134\n");
+}
+
+TEST_CASE("GOTO and labels", "[evaluator][control]") {
+  CHECK(output_of("n = 0\n10 n = n + 1\nIF n < 3 GOTO 10\nTYPE n") == "3\n");
+  CHECK(output_of("GOTO 20\nTYPE \"skipped\"\n20\nTYPE \"here\"") == "here\n");  // label alone
+  CHECK(output_of("FOR i = 1 TO 10\nIF i == 4 GOTO 99\nEND\n99 TYPE i") == "4\n");  // leaves a block
+}
+
+TEST_CASE("CALL by reference and by value", "[evaluator][call]") {
+  InterpreterFixture f;
+  const auto r = f.run(R"(.PROGRAM main()
+  a = 1
+  b = 1
+  CALL inc(a, b + 0)
+  TYPE a, b
+  CALL inc(c, 5)        ; c gets its value through the reference
+  TYPE c
+  CALL inc((a), 1)      ; (a) is by value
+  TYPE a
+  CALL opt(1, , 3)
+  arr[2] = 7
+  CALL first(arr[])
+.END
+.PROGRAM inc(x, y)
+  x = 10 * y
+  y = 99
+.END
+.PROGRAM opt(a, b, c)
+  TYPE DEFINED(a), DEFINED(b), DEFINED(c)
+.END
+.PROGRAM first(v[])
+  TYPE v[2]
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "10 1\n50\n10\n-1 0 -1\n7\n");
+}
+
+TEST_CASE("recursion", "[evaluator][call]") {
+  InterpreterFixture f;
+  const auto r = f.run(R"(.PROGRAM main()
+  CALL fact(5, r)
+  TYPE r
+.END
+.PROGRAM fact(n, result)
+  IF n <= 1 THEN
+    result = 1
+    RETURN
+  END
+  CALL fact(n - 1, sub)
+  result = n * sub
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "120\n");
+}
+
+TEST_CASE("RETURN and STOP", "[evaluator][control]") {
+  InterpreterFixture f;
+  const auto r = f.run(".PROGRAM main()\nCALL sub()\nTYPE \"back\"\nSTOP\nTYPE \"never\"\n.END\n"
+                       ".PROGRAM sub()\nTYPE \"in\"\nRETURN\nTYPE \"never\"\n.END\n");
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "in\nback\n");
+}
+
+TEST_CASE("runtime errors name the program, step and line", "[evaluator][errors]") {
+  InterpreterFixture f;
+  const auto r = f.run("; header comment\n.PROGRAM main()\n  a = 1\n\n  TYPE a + zz\n.END\n");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Undefined value*");
+  CHECK(r.error.detail == "zz");
+  CHECK(r.error.program == "main");
+  CHECK(r.error.line == 5);
+  CHECK(r.error.step == 3);
+  CHECK(r.error.source_line == "  TYPE a + zz");
+  CHECK(r.step == 3);
+  CHECK(asimov::val::format_diagnostic(r.error) ==
+        "*Undefined value*  zz\n main, step 3 (test.v2:5)\n      TYPE a + zz\n");
+}
+
+TEST_CASE("runtime error kinds", "[evaluator][errors]") {
+  auto error_of = [](const std::string& body) {
+    InterpreterFixture f;
+    const auto r = f.run(".PROGRAM main()\n" + body + "\n.END\n");
+    INFO(f.load_report);
+    REQUIRE(f.loaded);
+    REQUIRE(r.status == RunStatus::error);
+    return r.error.message;
+  };
+  CHECK(error_of("x = 1 / 0") == "*Division by zero*");
+  CHECK(error_of("x = 5 MOD 0") == "*Division by zero*");
+  CHECK(error_of("x = SQRT(-1)") == "*Illegal value*");
+  CHECK(error_of("x = \"a\" + 1") == "*Illegal value*");
+  CHECK(error_of("x = TRANS(1,2,3)") == "*Illegal value*");       // use SET
+  CHECK(error_of("SET x = 3") == "*Illegal value*");
+  CHECK(error_of("a[1] = 1\nx = a") == "*Illegal value*");       // array used as scalar
+  CHECK(error_of("x = a[-1]") == "*Illegal value*");
+  CHECK(error_of("x = a[2]") == "*Undefined value*");
+  CHECK(error_of("CALL nowhere()") == "*Undefined program or variable name*");
+  CHECK(error_of("FOR i = 1 TO 2 STEP 0\nEND") == "*Illegal value*");
+  CHECK(error_of("SPEED 0") == "*Illegal value*");
+  CHECK(error_of("SPEED 101") == "*Illegal value*");
+  CHECK(error_of("x = 1e300 * 1e300") == "*Illegal value*");
+  CHECK(error_of("x = ASIN(2)") == "*Illegal value*");
+}
+
+TEST_CASE("too many arguments", "[evaluator][errors]") {
+  InterpreterFixture f;
+  const auto r = f.run(".PROGRAM main()\nCALL sub(1, 2)\n.END\n.PROGRAM sub(a)\n.END\n");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Illegal value*");
+}
+
+TEST_CASE("runaway programs stop", "[evaluator][limits]") {
+  InterpreterFixture f;
+  f.interp.limits().max_statements = 1000;
+  auto r = f.run(".PROGRAM main()\n10 GOTO 10\n.END\n");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Too many statements*");
+
+  InterpreterFixture g;
+  r = g.run(".PROGRAM main()\nCALL main()\n.END\n");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Too many nested calls*");
+  CHECK(r.error.step == 1);
+
+  InterpreterFixture h;
+  h.interp.limits().max_call_depth = 10;
+  r = h.run(".PROGRAM main()\nn = n + 1\nCALL main()\n.END\n.PROGRAM x()\n.END", "main");
+  REQUIRE(r.status == RunStatus::error);  // n undefined at first: an error before any call
+}
+
+TEST_CASE("call depth limit", "[evaluator][limits]") {
+  InterpreterFixture f;
+  f.interp.limits().max_call_depth = 10;
+  const auto r = f.run(".PROGRAM main()\nn = 0\nCALL deep(n)\n.END\n.PROGRAM deep(n)\nn = n + 1\nCALL deep(n)\n.END\n");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Too many nested calls*");
+  CHECK(r.error.program == "deep");
+}
+
+TEST_CASE("globals keep their values between programs and runs", "[evaluator]") {
+  InterpreterFixture f;
+  auto r = f.run(".PROGRAM main()\ncount = 41\nCALL other()\n.END\n.PROGRAM other()\ncount = count + 1\n.END\n");
+  REQUIRE(r.status == RunStatus::completed);
+  r = f.run(".PROGRAM show()\nTYPE count\n.END\n", "show");
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "42\n");
+}

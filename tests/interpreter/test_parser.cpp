@@ -1,0 +1,149 @@
+// Stage 1: every construct of the slice parses; syntax errors carry line, column and caret.
+#include "interpreter/parser.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace asimov::val;
+
+namespace {
+
+// Parses one statement inside a program and returns the errors.
+std::vector<Diagnostic> errors_of(const std::string& line) {
+  return parse_source(".PROGRAM p()\n" + line + "\n.END\n", "t.v2").errors;
+}
+
+template <typename T>
+const T* statement_as(const ParsedSource& p, std::size_t index) {
+  const auto& l = p.lines.at(index);
+  return l.statement ? boost::get<T>(&*l.statement) : nullptr;
+}
+
+}  // namespace
+
+TEST_CASE("every slice construct parses", "[parser]") {
+  const char* lines[] = {
+      "n = n + 1", "10 n = n + 1", "20", "x = -2 * -3", "y = NOT a == b", "a[1,2] = 3",
+      "$s = \"text; not a comment\" + $t", "SET p = TRANS(1,2,3):TRANS(,,300)",
+      "SET #pp = #PPOINT(0,-90,90,0,0,0)", "SET pp = PPOINT(0,0,0,0,0,0)", "HERE q", "HERE #q",
+      "DECOMPOSE arr[1] = HERE", "MOVE p", "MOVES p", "APPRO p, 50", "APPROS p, -5",
+      "DEPART 20", "DEPARTS 20", "BREAK", "SPEED 50", "SPEED 50 ALWAYS", "speed.x = 3",
+      "ready.pos = 1", "TYPE \"x=\", x, /F8.3, 1/3, /S", "TYPE", "TYPE /C2, /X3, /I4, /D",
+      "FOR i = 1 TO 10", "FOR i = 10 TO 1 STEP -1", "END", "IF a <> b THEN", "IF a THEN",
+      "ELSE", "IF x =< 3 GOTO 10", "WHILE x > 0 DO", "WHILE x > 0", "DO", "UNTIL x",
+      "CALL sub(a, , 3 + 1)", "CALL foo", "CALL foo()", "CALL f(arr[])", "RETURN", "STOP",
+      "EXIT", "NEXT", "GOTO 10",
+      "z = ^B101 BOR ^HFF BAND ^17 BXOR 'A + .5 + 5. + 1e-3 + 1.5E+6",
+      "x = SIN(30) + COS(0) + TAN(1) + ATAN2(1,2) + SQRT(4) + ABS(-1) + INT(2.5) + MIN(1,2) + MAX(3)",
+      "x = a AND b OR c XOR d MOD 3", "x = (a + b) * c", "move p ; comment", "\tMOVE\tp",
+      "x = 1 == 2", "x = 1 >= 2 + (3 <= 4) + (5 => 6)", "x = DX(HERE) + DISTANCE(a, b)",
+  };
+  for (const char* line : lines) {
+    INFO(line);
+    const auto errors = errors_of(line);
+    CHECK(errors.empty());
+    for (const auto& e : errors) INFO(format_diagnostic(e));
+  }
+}
+
+TEST_CASE("the parser keeps the text's structure", "[parser]") {
+  const auto p = parse_source(".program Main(a, $b, #c, d[]) ; comment\n"
+                              "  ; only a comment\n"
+                              "10 n = n + 1\n"
+                              "  x = -2 * -3\n"
+                              "  speed 50 always\n"
+                              "  if x goto 10\n"
+                              ".end\n", "t.v2");
+  REQUIRE(p.errors.empty());
+  REQUIRE(p.lines.size() == 7);
+  const auto* h = statement_as<ast::ProgramHeader>(p, 0);
+  REQUIRE(h);
+  CHECK(h->name == "Main");
+  CHECK(h->params == std::vector<std::string>{"a", "$b", "#c", "d[]"});
+  CHECK(!p.lines[1].statement);
+  CHECK(!p.lines[1].label);
+  REQUIRE(p.lines[2].label.has_value());
+  CHECK(*p.lines[2].label == 10);
+  CHECK(p.lines[2].column == 4);
+  const auto* b = statement_as<ast::Binding>(p, 3);
+  REQUIRE(b);
+  CHECK(b->target.name == "x");
+  CHECK(b->value.rest.size() == 1);  // flat: the checker applies precedence
+  CHECK(b->value.rest[0].op == ast::Op::mul);
+  const auto* s = statement_as<ast::Instruction>(p, 4);
+  REQUIRE(s);
+  CHECK(s->kw == ast::Kw::speed);
+  CHECK(s->trailing == ast::Kw::always);
+  const auto* i = statement_as<ast::IfStmt>(p, 5);
+  REQUIRE(i);
+  REQUIRE(i->goto_label.has_value());
+  CHECK(*i->goto_label == 10);
+}
+
+TEST_CASE("CR LF line ends", "[parser]") {
+  const auto p = parse_source(".PROGRAM p()\r\n  x = 1\r\n.END\r\n", "t.v2");
+  CHECK(p.errors.empty());
+  CHECK(p.text[1] == "  x = 1");
+}
+
+TEST_CASE("syntax errors carry line, column and caret", "[parser][errors]") {
+  const auto p = parse_source(".PROGRAM pick()\n  total = (n + 2 * k\n.END\n", "pick.v2");
+  REQUIRE(p.errors.size() == 1);
+  const Diagnostic& d = p.errors[0];
+  CHECK(d.message == "*Syntax error*");
+  CHECK(d.detail == "expected \")\"");
+  CHECK(d.line == 2);
+  CHECK(d.column == 21);
+  CHECK(format_diagnostic(d) ==
+        "*Syntax error*  expected \")\"\n pick.v2:2:21\n      total = (n + 2 * k\n                        ^\n");
+}
+
+TEST_CASE("the caret copies tabs", "[parser][errors]") {
+  const auto p = parse_source(".PROGRAM p()\n\tx = 3 4\n.END\n", "t.v2");
+  REQUIRE(p.errors.size() == 1);
+  CHECK(p.errors[0].column == 8);
+  CHECK(format_diagnostic(p.errors[0]) == "*Syntax error*  unexpected text\n t.v2:2:8\n    \tx = 3 4\n    \t      ^\n");
+}
+
+TEST_CASE("all syntax errors of a file are reported, one per line", "[parser][errors]") {
+  const auto p = parse_source(".PROGRAM p()\n"
+                              "  x = (1\n"        // 2
+                              "  y = 2\n"
+                              "  IF a = b THEN\n" // 4
+                              "  FOR i = 1 10\n"  // 5
+                              "  TYPE \"abc\n"    // 6
+                              "  x = 1e999\n"     // 7
+                              "  + 3\n"           // 8
+                              "  MOVE p q\n"      // 9
+                              ".END\n", "t.v2");
+  REQUIRE(p.errors.size() == 7);
+  const int lines[] = {2, 4, 5, 6, 7, 8, 9};
+  for (std::size_t i = 0; i < 7; ++i) CHECK(p.errors[i].line == lines[i]);
+  CHECK(p.errors[1].detail == "\"=\" is not an operator; use \"==\" to compare");
+  CHECK(p.errors[1].column == 8);
+  CHECK(p.errors[2].detail == "expected TO");
+  CHECK(p.errors[2].column == 13);
+  CHECK(p.errors[3].detail == "expected closing \"");
+  CHECK(p.errors[5].detail == "expected a statement");
+  CHECK(p.errors[6].column == 10);
+  CHECK(p.lines[2].statement.has_value());  // line 3 still parsed
+}
+
+TEST_CASE("reserved words are not names, extended ones are", "[parser]") {
+  CHECK_FALSE(errors_of("move = 3").empty());
+  CHECK_FALSE(errors_of("x = to + 1").empty());
+  CHECK(errors_of("move.x = 3").empty());
+  CHECK(errors_of("to_go = 3").empty());
+  CHECK(errors_of("x = movex").empty());
+}
+
+TEST_CASE("non-ASCII bytes only in comments", "[parser]") {
+  CHECK(errors_of("x = 1 ; caf\xc3\xa9").empty());
+  CHECK_FALSE(errors_of("x = 1 + \xc3\xa9").empty());
+}
+
+TEST_CASE("names are lower case and 15 characters", "[parser]") {
+  CHECK(normalize_name("ABCdef") == "abcdef");
+  CHECK(normalize_name("a234567890123456789") == "a23456789012345");
+  CHECK(normalize_name("$Name") == "$name");
+  CHECK(normalize_name("#a234567890123456789") == "#a23456789012345");
+}
