@@ -251,6 +251,7 @@ MotionResult Simulator::start_joint_move(const robots::JointVector& target, Spee
   if (impl_->pending.active)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
   const auto& robot = impl_->cell.robot;
+  if (!(impl_->speed_factor(speed) > 0)) return error("*Illegal value*", "speed must be > 0");
   if (target.size() != robot.joint_count()) return error("*Illegal value*", "wrong number of joints");
   if (const int j = robots::first_limit_violation(robot, target); j >= 0)
     return error("*Joint limit exceeded*", fmt_limit(robot, j, target[j]));
@@ -262,6 +263,7 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
   Impl& s = *impl_;
   const auto& robot = s.cell.robot;
+  if (!(s.speed_factor(speed) > 0)) return error("*Illegal value*", "speed must be > 0");
   const Location flange = s.base.inverse() * target * s.tool.inverse();
   const robots::Configuration current = robots::configuration_of(robot, s.joints);
   if (!straight) {

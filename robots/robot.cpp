@@ -67,8 +67,9 @@ Pose flange_pose(const Robot& robot, const JointVector& display) {
 }
 
 int first_limit_violation(const Robot& robot, const JointVector& display) {
-  for (Eigen::Index i = 0; i < display.size(); ++i)
-    if (display[i] < robot.lower[i] - kLimitSlack || display[i] > robot.upper[i] + kLimitSlack) return static_cast<int>(i);
+  for (Eigen::Index i = 0; i < display.size(); ++i)  // written so that NaN fails
+    if (!(display[i] >= robot.lower[i] - kLimitSlack && display[i] <= robot.upper[i] + kLimitSlack))
+      return static_cast<int>(i);
   return -1;
 }
 

@@ -6,6 +6,7 @@
 #include "robots/puma560.hpp"
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <limits>
 
 using namespace asimov;
@@ -109,6 +110,12 @@ TEST_CASE("simulator: errors come before any pose is checked", "[simulator]") {
   // Straight line from READY: singular.
   r = sim.start_move(trans(0, 0, -100, 0, 0, 0) * sim.here(), true, {}, 4);
   CHECK(r.error.message == "*Singularity on straight-line path*");
+  // Non-finite targets and a zero speed are refused too.
+  CHECK(sim.start_joint_move(jv({0, -90, std::nan(""), 0, 0, 0}), {}, 5).error.message == "*Joint limit exceeded*");
+  Location bad = sim.here();
+  bad.translation().x() = std::nan("");
+  CHECK(sim.start_move(bad, false, {}, 6).error.message == "*Location out of reach*");
+  CHECK(sim.start_joint_move(jv({0, -90, 100, 0, 0, 0}), {0, 100, -1, 0}, 7).error.message == "*Illegal value*");
   CHECK_FALSE(sim.motion_pending());
   CHECK(sim.poses_checked() == 0);
   CHECK(sim.time_s() == 0);
