@@ -1,0 +1,149 @@
+// Programs that move the PUMA 560 in an empty cell: targets reach the simulator, forward
+// processing, HERE/DECOMPOSE, SPEED, motion errors, collisions.
+#include "interpreter_fixture.hpp"
+#include "motion/location.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using asimov::test::InterpreterFixture;
+using asimov::val::RunStatus;
+using Catch::Detail::Approx;
+
+namespace {
+
+double distance_mm(const asimov::motion::Location& a, const asimov::motion::Location& b) {
+  return (a.translation() - b.translation()).norm();
+}
+
+}  // namespace
+
+TEST_CASE("MOVE to a precision point reaches its joints", "[motion]") {
+  InterpreterFixture f;
+  const auto r = f.run(".PROGRAM main()\n  MOVE #PPOINT(10, -80, 100, 0, 20, 30)\n.END\n");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  const auto& j = f.sim.joints();
+  CHECK(j[0] == Approx(10).margin(1e-6));
+  CHECK(j[1] == Approx(-80).margin(1e-6));
+  CHECK(j[5] == Approx(30).margin(1e-6));
+  CHECK(f.sim.time_s() > 0);
+  CHECK_FALSE(f.sim.motion_pending());
+}
+
+TEST_CASE("SET, MOVE, MOVES, APPRO, DEPART, HERE and DECOMPOSE", "[motion]") {
+  InterpreterFixture f;
+  const auto r = f.run(R"(.PROGRAM main()
+  MOVE #PPOINT(10, -60, 150, 10, 40, 20)
+  BREAK
+  SET start = HERE
+  DECOMPOSE s[0] = start
+  SET pick = TRANS(s[0], s[1], s[2] - 100, s[3], s[4], s[5])
+  MOVE pick
+  BREAK
+  HERE p1
+  DECOMPOSE q[1] = p1
+  TYPE /F0.2, q[3] - s[2]
+  APPRO pick, 50
+  BREAK
+  TYPE /F0.2, DISTANCE(HERE, pick)
+  MOVES pick
+  DEPART 30
+  BREAK
+  TYPE /F0.2, DISTANCE(HERE, pick)
+  SET #j = #PPOINT(15, -60, 150, 10, 40, 20)
+  MOVES #j
+  HERE #before          ; forward processing: the motion has not run yet
+  BREAK
+  HERE #now
+  TYPE DISTANCE(#before, #now) > 1
+  DECOMPOSE jv[0] = #now
+  TYPE /F0.2, jv[1], jv[0]
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  const std::string out = f.out.str();
+  CHECK(out == "-100.00\n50.00\n30.00\n-1\n-60.0015.00\n");
+  CHECK(f.sim.joints()[0] == Approx(15).margin(1e-3));
+}
+
+TEST_CASE("DEPART takes HERE after the previous motion ended", "[motion]") {
+  InterpreterFixture f;
+  REQUIRE(f.run(".PROGRAM work()\n MOVE #PPOINT(10, -60, 150, 10, 40, 20)\n.END\n", "work").status == RunStatus::completed);
+  const auto ready = f.sim.here();
+  const auto r = f.run(R"(.PROGRAM main()
+  SET a = HERE:TRANS(0, 0, 80)
+  MOVE a
+  DEPART 80
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(distance_mm(f.sim.here(), ready) == Approx(0).margin(1e-3));
+}
+
+TEST_CASE("APPRO backs off along the target's tool Z", "[motion]") {
+  InterpreterFixture f;
+  REQUIRE(f.run(".PROGRAM work()\n MOVE #PPOINT(10, -60, 150, 10, 40, 20)\n.END\n", "work").status == RunStatus::completed);
+  const auto ready = f.sim.here();
+  const auto r = f.run(".PROGRAM main()\n  SET a = HERE\n  APPRO a, 40\n.END\n");
+  INFO(asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  const auto expected = ready * asimov::motion::trans(0, 0, -40, 0, 0, 0);
+  CHECK(distance_mm(f.sim.here(), expected) == Approx(0).margin(1e-3));
+}
+
+TEST_CASE("forward processing: the motion runs at the next motion, BREAK or the end", "[motion]") {
+  InterpreterFixture f;
+  REQUIRE(f.load(".PROGRAM main()\n  MOVE #PPOINT(20, -90, 90, 0, 0, 0)\n  TYPE DZ(HERE) > 0\n.END\n").empty());
+  const double t0 = f.sim.time_s();
+  const auto start = f.sim.here();
+  const auto r = f.interp.run("main");
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.sim.time_s() > t0);
+  CHECK(distance_mm(f.sim.here(), start) > 1);
+}
+
+TEST_CASE("SPEED applies to the next motion only unless ALWAYS", "[motion]") {
+  auto duration = [](const std::string& body) {
+    InterpreterFixture f;
+    const auto r = f.run(".PROGRAM main()\n" + body + "\n.END\n");
+    INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+    REQUIRE(r.status == RunStatus::completed);
+    return f.sim.time_s();
+  };
+  const std::string moves = "MOVE #PPOINT(60, -90, 90, 0, 0, 0)\nMOVE #PPOINT(0, -90, 90, 0, 0, 0)\n";
+  const double fast = duration(moves);
+  const double slow_once = duration("SPEED 20\n" + moves);
+  const double slow_always = duration("SPEED 20 ALWAYS\n" + moves);
+  CHECK(slow_once > fast);
+  CHECK(slow_always > slow_once);
+  // Each run starts with SPEED 100 ALWAYS.
+  InterpreterFixture f;
+  REQUIRE(f.load(".PROGRAM slow()\nSPEED 10 ALWAYS\n.END\n.PROGRAM main()\n" + moves + ".END\n").empty());
+  REQUIRE(f.interp.run("slow").status == RunStatus::completed);
+  const double t0 = f.sim.time_s();
+  REQUIRE(f.interp.run("main").status == RunStatus::completed);
+  CHECK(f.sim.time_s() - t0 == Approx(fast).epsilon(1e-6));
+}
+
+TEST_CASE("motion errors come from the simulator with the step", "[motion][errors]") {
+  InterpreterFixture f;
+  const auto r = f.run(".PROGRAM main()\n  x = 1\n  MOVE TRANS(5000, 0, 0)\n.END\n");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Location out of reach*");
+  CHECK(r.error.step == 2);
+  CHECK(r.error.line == 3);
+
+  InterpreterFixture g;
+  const auto s = g.run(".PROGRAM main()\n  MOVE 3\n.END\n");
+  REQUIRE(s.status == RunStatus::error);
+  CHECK(s.error.message == "*Illegal value*");
+
+  InterpreterFixture h;
+  const auto t = h.run(".PROGRAM main()\n  SET #p = #PPOINT(0,0,0,0,0,0)\n  SET q = #p:TRANS(1)\n.END\n");
+  REQUIRE(t.status == RunStatus::error);
+  CHECK(t.error.message == "*Illegal value*");
+}
