@@ -1,6 +1,7 @@
 // Programs that move the PUMA 560 in an empty cell: targets reach the simulator, forward
 // processing, HERE/DECOMPOSE, SPEED, motion errors, collisions.
 #include "interpreter_fixture.hpp"
+#include "collision/polyhedron.hpp"
 #include "motion/location.hpp"
 
 #include <catch2/catch.hpp>
@@ -146,4 +147,45 @@ TEST_CASE("motion errors come from the simulator with the step", "[motion][error
   const auto t = h.run(".PROGRAM main()\n  SET #p = #PPOINT(0,0,0,0,0,0)\n  SET q = #p:TRANS(1)\n.END\n");
   REQUIRE(t.status == RunStatus::error);
   CHECK(t.error.message == "*Illegal value*");
+}
+
+TEST_CASE("a collision ends the run and names the motion's step", "[motion][collision]") {
+  using namespace asimov;
+  // Find the tool point halfway through a J1 sweep and put a box there.
+  motion::Location work;
+  {
+    InterpreterFixture probe;
+    REQUIRE(probe.run(".PROGRAM work()\n MOVE #PPOINT(25, -60, 150, 10, 40, 20)\n.END\n", "work").status == RunStatus::completed);
+    work = probe.sim.here();
+  }
+  motion::Cell cell = test::empty_puma_cell();
+  motion::CellObject box;
+  box.name = "box";
+  box.mesh = collision::make_box(collision::Vec3(60, 60, 60));
+  box.pose = motion::Location::Identity();
+  box.pose.translation() = work.translation();
+  cell.objects.push_back(box);
+  motion::Simulator sim(cell);
+  std::ostringstream out;
+  val::Interpreter interp(sim, out);
+  REQUIRE(interp.load_source(R"(.PROGRAM main()
+  MOVE #PPOINT(10, -60, 150, 10, 40, 20)
+  SET #target = #PPOINT(40, -60, 150, 10, 40, 20)
+  MOVE #target
+  TYPE "typed before the motion runs"
+.END
+)", "hit.v2").empty());
+  const val::RunResult r = interp.run("main");
+  INFO(val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::collision);
+  CHECK(r.error.message == "*Collision*");
+  CHECK(r.error.detail.find("box") != std::string::npos);
+  CHECK(r.error.detail.find(" / ") != std::string::npos);
+  CHECK(r.error.program == "main");
+  CHECK(r.error.step == 3);  // MOVES, although the contact is found at the program's end
+  CHECK(r.error.line == 4);
+  CHECK(r.step == 3);
+  CHECK(r.collision.tag == 3);
+  CHECK((r.collision.body_a == "box" || r.collision.body_b == "box"));
+  CHECK(out.str() == "typed before the motion runs\n");
 }
