@@ -11,6 +11,13 @@
 #include <cstddef>
 #include <utility>
 
+// CMake builds this file with -ffp-contract=off; the pragmas keep that true for other
+// builds too (a fused a*b-c breaks Dekker's split and Shewchuk's bounds).
+#if defined(__clang__)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#endif
 #if defined(__FAST_MATH__)
 #error "predicates.cpp must not be built with -ffast-math: the error bounds need IEEE arithmetic"
 #endif
