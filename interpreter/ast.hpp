@@ -72,7 +72,7 @@ struct Call {
 enum class Kw : int {
   none, assign, set, decompose, here, move, moves, appro, appros, depart, departs, break_,
   speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,
-  dot_end, always, monitor, then, count
+  dot_end, always, monitor, then, auto_, local, global, count
 };
 
 // KEYWORD [ expression { "," expression } ] [ trailing_word ]
@@ -127,6 +127,12 @@ struct TypeStmt {
   std::vector<TypeItem> items;
 };
 
+// ( AUTO | LOCAL | GLOBAL ) [ REAL | DOUBLE | LOC ] variable { "," variable }
+struct Declaration {
+  Kw kw = Kw::auto_;
+  std::vector<VarRef> names;                          // array sizes are ignored
+};
+
 // .PROGRAM name [ "(" [ param { "," param } ] ")" ]
 struct ProgramHeader {
   std::string name;
@@ -134,7 +140,7 @@ struct ProgramHeader {
 };
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
-                               ProgramHeader> {
+                               ProgramHeader, Declaration> {
   using base_type::base_type;
   using base_type::operator=;
 };

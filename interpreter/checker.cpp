@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <map>
 
@@ -128,11 +129,11 @@ class Checker {
     for (const Program& other : out_.programs)
       if (other.name == prog_.name) error(fmt::format("program {} defined twice", prog_.name));
     in_program_ = true;
+    executable_seen_ = false;
     blocks_.clear();
     block_parent_.assign(1, -1);
     labels_.clear();
     gotos_.clear();
-    block_of_instr_.clear();
   }
 
   void end_program() {
@@ -290,13 +291,45 @@ class Checker {
         for (const ast::Expr& e : v.subscript) n.kids.push_back(expression(e));
       }
     }
+    // Lookup: parameters and AUTO, then LOCAL, then GLOBAL (dialect §2).
     for (std::size_t i = 0; i < prog_.params.size(); ++i)
       if (prog_.params[i].name == n.text) {
         n.ref = {Scope::param, static_cast<int>(i)};
         return n;
       }
+    for (std::size_t i = 0; i < prog_.autos.size(); ++i)
+      if (prog_.autos[i] == n.text) {
+        n.ref = {Scope::param, static_cast<int>(prog_.params.size() + i)};
+        return n;
+      }
+    for (const std::string& local : prog_.locals)
+      if (local == n.text) {
+        n.ref = {Scope::global, symbols_.global(n.text + "@" + prog_.name)};
+        return n;
+      }
     n.ref = {Scope::global, symbols_.global(n.text)};
     return n;
+  }
+
+  void declaration(const ast::Declaration& d) {
+    if (executable_seen_) {
+      error("declarations must precede the first executable statement");
+      return;
+    }
+    for (const ast::VarRef& v : d.names) {
+      const std::string name = normalize_name(v.name);
+      bool clash = false;
+      for (const Param& p : prog_.params) clash = clash || p.name == name;
+      if (d.kw == Kw::auto_ && clash) error(fmt::format("{} is a parameter", name));
+      auto declared = [&](const std::vector<std::string>& names) {
+        return std::find(names.begin(), names.end(), name) != names.end();
+      };
+      const bool in_auto = declared(prog_.autos), in_local = declared(prog_.locals);
+      if ((d.kw != Kw::auto_ && in_auto) || (d.kw != Kw::local && in_local) || (d.kw == Kw::global && clash))
+        error(fmt::format("{} declared with another class", name));
+      else if (d.kw == Kw::auto_ && !in_auto && !clash) prog_.autos.push_back(name);
+      else if (d.kw == Kw::local && !in_local) prog_.locals.push_back(name);
+    }
   }
 
   Node function(const ast::Call& call) {
@@ -355,7 +388,9 @@ class Checker {
       void operator()(const ast::CallStmt& call) const { c.call_statement(call); }
       void operator()(const ast::TypeStmt& t) const { c.type_statement(t); }
       void operator()(const ast::ProgramHeader&) const {}
+      void operator()(const ast::Declaration& d) const { c.declaration(d); }
     };
+    if (!boost::get<ast::Declaration>(&s)) executable_seen_ = true;
     boost::apply_visitor(Visitor{*this}, s);
   }
 
@@ -565,12 +600,12 @@ class Checker {
   std::shared_ptr<const std::vector<std::string>> text_;
   int line_ = 0, column_ = 1;
   bool in_program_ = false;
+  bool executable_seen_ = false;       // declarations must come first
   Program prog_;
   std::vector<Block> blocks_;
   std::vector<int> block_parent_;       // block id -> enclosing block id (0 = program level)
   std::map<unsigned, LabelInfo> labels_;
   std::vector<Goto> gotos_;
-  std::vector<int> block_of_instr_;
 };
 
 }  // namespace

@@ -13,7 +13,7 @@ enum class Scope : unsigned char { global, param };
 
 struct Ref {
   Scope scope = Scope::global;
-  int slot = -1;                // index into the globals or the frame's parameters
+  int slot = -1;                // index into the globals or the frame's slots (params, AUTO)
 };
 
 enum class NodeKind : unsigned char { number, string, variable, unary, binary, function, absent };
@@ -60,6 +60,8 @@ struct Program {
   std::string file;
   int line = 0;                    // line of .PROGRAM
   std::vector<Param> params;
+  std::vector<std::string> autos;  // AUTO variables: frame slots after the parameters
+  std::vector<std::string> locals; // LOCAL variables (global slots named "name@program")
   std::vector<Instr> code;
   int temps = 0;                   // frame temporaries (FOR limits and steps)
   std::shared_ptr<const std::vector<std::string>> text;  // the file's lines, for reports

@@ -94,7 +94,7 @@ RunResult Evaluator::run(int slot) {
     if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
     Frame top;
     top.program = program;
-    for (std::size_t i = 0; i < program->params.size(); ++i) {
+    for (std::size_t i = 0; i < program->params.size() + program->autos.size(); ++i) {
       top.owned.push_back(std::make_unique<Variable>());
       top.params.push_back(top.owned.back().get());
     }
@@ -262,6 +262,10 @@ void Evaluator::call(const Instr& in) {
     frame.params.push_back(owned.get());
     frame.owned.push_back(std::move(owned));
   }
+  for (std::size_t i = 0; i < program->autos.size(); ++i) {  // a fresh AUTO copy per call
+    frame.owned.push_back(std::make_unique<Variable>());
+    frame.params.push_back(frame.owned.back().get());
+  }
   frame.temps.resize(static_cast<std::size_t>(program->temps));
   stack_.push_back(std::move(frame));
 }
@@ -329,8 +333,11 @@ void Evaluator::type(const Instr& in) {
           text += format_number(x);
           after_number = true;
         } else {
-          text += mode.code == 'F' ? fmt::format("{:>{}.{}f}", x, mode.width, mode.decimals)
-                                   : fmt::format("{:>{}.0f}", std::round(x), mode.width);
+          // A value that rounds to zero prints without a sign (-0.00 -> 0.00).
+          const unsigned decimals = mode.code == 'F' ? std::min(mode.decimals, 15u) : 0u;
+          const double shown = std::fabs(x) < 0.5 * std::pow(10.0, -static_cast<double>(decimals)) ? 0.0 : x;
+          text += mode.code == 'F' ? fmt::format("{:>{}.{}f}", shown, mode.width, decimals)
+                                   : fmt::format("{:>{}.0f}", std::round(shown), mode.width);
           after_number = false;
         }
         break;

@@ -27,6 +27,7 @@ BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::CallStmt, name, args)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Format, code, width, decimals)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::TypeStmt, kw, items)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::ProgramHeader, name, params)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Declaration, kw, names)
 
 namespace asimov::val {
 
@@ -110,6 +111,14 @@ struct trailing_table : x3::symbols<Kw> {
   }
 } const trailing_words;
 
+struct declaration_table : x3::symbols<Kw> {
+  declaration_table() { add("auto", Kw::auto_)("local", Kw::local)("global", Kw::global); }
+} const declaration_words;
+
+struct type_word_table : x3::symbols<x3::unused_type> {
+  type_word_table() { add("real")("double")("loc"); }
+} const type_words;
+
 struct binding_table : x3::symbols<Kw> {
   binding_table() { add("set", Kw::set)("decompose", Kw::decompose); }
 } const binding_words;
@@ -159,6 +168,7 @@ x3::rule<class type_class, ast::TypeStmt> const type_stmt = "TYPE";
 x3::rule<class param_class, std::string> const param = "parameter";
 x3::rule<class header_class, ast::ProgramHeader> const program_header = ".PROGRAM";
 x3::rule<class statement_class, ast::Statement> const statement = "statement";
+x3::rule<class declaration_class, ast::Declaration> const declaration = "declaration";
 x3::rule<class to_class> const to_keyword = "TO";
 
 // name = letter { letter | digit | "." | "_" }
@@ -225,14 +235,17 @@ const auto type_stmt_def = x3::attr(Kw::type) >> kw("type") >> -(type_item % ','
 const auto param_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word >> -(x3::lit('[') >> ']')]];
 // program_header = ".PROGRAM" name [ "(" [ param { "," param } ] ")" ]
 const auto program_header_def = kw(".program") > word > -('(' > -(param % ',') > ')');
-// statement = program_header | type | for | if | call | instruction | assignment
-const auto statement_def =
-    program_header | type_stmt | for_stmt | if_stmt | call_stmt | instruction | binding;
+// declaration = ( AUTO | LOCAL | GLOBAL ) [ REAL | DOUBLE | LOC ] variable { "," variable }
+const auto declaration_def = word_of(declaration_words) >> x3::omit[-word_of(type_words)]
+    > (variable % ',');
+// statement = program_header | declaration | type | for | if | call | instruction | assignment
+const auto statement_def = program_header | declaration | type_stmt | for_stmt | if_stmt
+    | call_stmt | instruction | binding;
 
 BOOST_SPIRIT_DEFINE(word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
-                    program_header, statement, to_keyword)
+                    program_header, statement, to_keyword, declaration)
 
 // skipper = blank | ";" { any }
 const auto skipper = x3::blank | (';' >> *x3::char_);

@@ -142,3 +142,13 @@ TEST_CASE("names resolve to slots: parameters first, then globals", "[checker]")
   CHECK(symbols.globals[static_cast<std::size_t>(assign.args[0].ref.slot)] == "b");
   CHECK(symbols.programs.at(static_cast<std::size_t>(r.programs[0].code[1].program)) == "q");
 }
+
+TEST_CASE("declarations precede the first executable statement", "[checker]") {
+  CHECK(check(".PROGRAM p(a)\nAUTO b, $s, #q\nLOCAL c\nGLOBAL g\nb = 1\n.END\n").empty());
+  auto e = check(".PROGRAM p()\nx = 1\nAUTO b\n.END\n");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].line == 3);
+  CHECK(check(".PROGRAM p(a)\nAUTO a\n.END\n").size() == 1);       // a parameter
+  CHECK(check(".PROGRAM p()\nAUTO b\nLOCAL b\n.END\n").size() == 1);  // two classes
+  CHECK(check(".PROGRAM p()\nAUTO b\nAUTO b\n.END\n").empty());       // repeated [ext]
+}

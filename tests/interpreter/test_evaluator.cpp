@@ -244,3 +244,38 @@ TEST_CASE("globals keep their values between programs and runs", "[evaluator]") 
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "42\n");
 }
+
+TEST_CASE("AUTO gives each call its own copy, LOCAL is per program", "[evaluator][call]") {
+  InterpreterFixture f;
+  const auto r = f.run(R"(.PROGRAM main()
+  CALL fib(10, r)
+  TYPE r
+  CALL counter()
+  CALL counter()
+  count = 100
+  CALL counter()
+  TYPE count
+.END
+.PROGRAM fib(n, result)
+  AUTO REAL r1, r2
+  IF n < 2 THEN
+    result = n
+    RETURN
+  END
+  CALL fib(n - 1, r1)
+  CALL fib(n - 2, r2)
+  result = r1 + r2
+.END
+.PROGRAM counter()
+  LOCAL count
+  IF NOT DEFINED(count) THEN
+    count = 0
+  END
+  count = count + 1
+  TYPE count
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "55\n1\n2\n3\n100\n");
+}
