@@ -41,6 +41,7 @@ constexpr std::array<int, static_cast<std::size_t>(Op::count)> kPrecedence = {
 struct Block {
   Kw kind = Kw::none;         // if_ (Kw::then), while_, do_, for (Kw::next marks FOR)
   int line = 0;               // opening line
+  int column = 1;             // and column of its keyword
   int id = 0;
   int test = -1;              // instruction to patch (IF/WHILE jump_false, FOR init)
   int else_jump = -1;         // IF: the jump over the ELSE part
@@ -138,7 +139,7 @@ class Checker {
 
   void end_program() {
     for (auto it = blocks_.rbegin(); it != blocks_.rend(); ++it)
-      error_at(it->line, 1, fmt::format("{} without END", block_name(it->kind)));
+      error_at(it->line, it->column, fmt::format("{} without END", block_name(it->kind)));
     for (const Goto& g : gotos_) {
       auto found = labels_.find(g.label);
       if (found == labels_.end()) {
@@ -198,6 +199,7 @@ class Checker {
     Block b;
     b.kind = kind;
     b.line = line_;
+    b.column = column_;
     b.id = static_cast<int>(block_parent_.size());
     b.test = test;
     b.start = start;
@@ -614,6 +616,24 @@ int precedence(ast::Op op) { return kPrecedence[static_cast<std::size_t>(op)]; }
 
 CheckResult check_source(const ParsedSource& source, Symbols& symbols) {
   return Checker(source, symbols).run();
+}
+
+void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& diagnostics) {
+  for (Diagnostic& d : diagnostics) {
+    if (!d.program.empty() || d.line < 1) continue;
+    // The nearest .PROGRAM above the line, unless an .END closes it first.
+    for (int i = d.line - 2; i >= 0; --i) {
+      const auto& stmt = source.lines[static_cast<std::size_t>(i)].statement;
+      if (!stmt) continue;
+      if (const auto* h = boost::get<ast::ProgramHeader>(&*stmt)) {
+        d.program = normalize_name(h->name);
+        d.step = d.line - (i + 1);
+        break;
+      }
+      const auto* in = boost::get<ast::Instruction>(&*stmt);
+      if (in && in->kw == Kw::dot_end) break;
+    }
+  }
 }
 
 }  // namespace asimov::val

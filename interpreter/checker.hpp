@@ -30,6 +30,9 @@ struct CheckResult {
 
 CheckResult check_source(const ParsedSource& source, Symbols& symbols);
 
+// Adds program and step to syntax errors found by the parser (which parses line by line).
+void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& diagnostics);
+
 // Precedence level of a binary operator (dialect §3; higher binds tighter).
 int precedence(ast::Op op);
 

@@ -28,6 +28,7 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   ParsedSource parsed = parse_source(text, file_name);
   Memory& m = impl_->memory;
   CheckResult checked = check_source(parsed, m.symbols);
+  locate_in_programs(parsed, parsed.errors);
   // Syntax errors first, then checker errors, each group in line order; at most 20.
   std::vector<Diagnostic> all = std::move(parsed.errors);
   all.insert(all.end(), checked.errors.begin(), checked.errors.end());
