@@ -206,3 +206,29 @@ TEST_CASE("four steps equal brute force with a clearance", "[cross_check]") {
   CHECK(t.collisions > 300);
   REQUIRE(t.disagreements == 0);
 }
+
+TEST_CASE("four steps equal brute force at other scales and far from the origin", "[cross_check]") {
+  // The margins are relative: millimetre parts scaled to micrometres or to metres-as-mm, and
+  // parts placed 1e5 mm from the origin, must still agree with brute force exactly.
+  for (const auto& [scale, offset] : {std::pair{1e-3, 0.0}, std::pair{1e3, 0.0}, std::pair{1.0, 1e5}}) {
+    Pose s = Pose::Identity();
+    s.linear() *= scale;  // scaling the meshes once; poses below are rigid
+    auto scaled = [&](const Polyhedron& m) { return transformed(m, s); };
+    Scene sc({{scaled(test::make_merged_part()), 9}, {scaled(make_cylinder(10, 40, 16)), 6}, {scaled(make_box(Vec3(30, 12, 8))), 5}});
+    const double c = 0.5 * scale;
+    sc.engine.set_clearance(c);
+    std::mt19937_64 rng(1000);
+    Tally t;
+    for (int n = 0; n < 800; ++n) {
+      for (std::size_t i = 0; i < 3; ++i) {
+        Pose p = test::random_pose(rng, 35);
+        p.translation() = scale * p.translation() + Vec3::Constant(offset);
+        sc.set(i, p);
+      }
+      compare(sc, c, t);
+    }
+    INFO("scale " << scale << " offset " << offset << ": poses " << t.poses << ", colliding " << t.collisions);
+    CHECK(t.collisions > 150);
+    REQUIRE(t.disagreements == 0);
+  }
+}
