@@ -71,7 +71,6 @@ struct Engine::Impl {
   static void preprocess(Body& b) {
     if (b.grid) return;
     b.grid = build_voxel_grid(b.def.mesh, b.def.halvings);
-    b.closed = !b.grid->classes.empty();
     b.shells = shell_vertices(b.def.mesh);
   }
 
@@ -177,6 +176,7 @@ BodyId Engine::add_body(BodyDef def) {
   const auto id = static_cast<BodyId>(impl_->bodies.size());
   Body b;
   b.container = make_container(def.mesh.vertices);
+  b.closed = is_closed(def.mesh);
   b.def = std::move(def);
   impl_->bodies.push_back(std::move(b));
   impl_->participation.resize(impl_->bodies.size());
@@ -187,6 +187,7 @@ BodyId Engine::add_body(BodyDef def) {
 
 std::size_t Engine::body_count() const { return impl_->bodies.size(); }
 const std::string& Engine::body_name(BodyId id) const { return impl_->bodies.at(id).def.name; }
+bool Engine::body_closed(BodyId id) const { return impl_->bodies.at(id).closed; }
 
 void Engine::set_pair_enabled(BodyId a, BodyId b, bool enabled) {
   if (a == b || a >= body_count() || b >= body_count()) return;

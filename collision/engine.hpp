@@ -28,6 +28,9 @@ class Engine {
   BodyId add_body(BodyDef def);
   std::size_t body_count() const;
   const std::string& body_name(BodyId id) const;
+  // Closed mesh (every edge shared by two faces in opposite directions). Only closed bodies
+  // have an inside for the containment test (four-step.md §6.1); callers should warn on false.
+  bool body_closed(BodyId id) const;
 
   // Step 1, the participation matrix. All pairs of different groups start enabled.
   void set_pair_enabled(BodyId a, BodyId b, bool enabled);

@@ -49,6 +49,11 @@ TEST_CASE("step 1: default pairs, groups, static bodies, toggles", "[engine]") {
   const BodyId s2 = e.add_body({.name = "wall", .mesh = make_box(Vec3(1, 1, 1)), .is_static = true});
   CHECK(e.body_count() == 5);
   CHECK(e.body_name(s1) == "table");
+  CHECK(e.body_closed(a));
+  Polyhedron open = make_box(Vec3(1, 1, 1));
+  open.triangles.pop_back();
+  Engine o;
+  CHECK_FALSE(o.body_closed(o.add_body({.name = "open", .mesh = open})));
   CHECK_FALSE(e.pair_enabled(a, b));  // one rigid group
   CHECK(e.pair_enabled(a, c));
   CHECK(e.pair_enabled(c, a));
