@@ -239,6 +239,11 @@ class Checker {
       ++pos;
       while (pos < rest.size() && precedence(rest[pos].op) > p)
         rhs = climb(std::move(rhs), rest, pos, p + 1);
+      const StaticKind kl = static_kind(lhs), kr = static_kind(rhs);
+      if ((kl == StaticKind::string && kr == StaticKind::real) || (kl == StaticKind::real && kr == StaticKind::string))
+        error("a string and a number cannot be mixed");
+      else if ((kl == StaticKind::string || kr == StaticKind::string) && op != Op::add && !(op >= Op::eq && op <= Op::ge))
+        error("this operator does not apply to strings");
       Node bin;
       bin.kind = NodeKind::binary;
       bin.op = op;
@@ -247,6 +252,36 @@ class Checker {
       lhs = std::move(bin);
     }
     return lhs;
+  }
+
+  // What an expression yields when the syntax shows it (dialect §3: a visible mix of
+  // strings and numbers is a load-time error).
+  enum class StaticKind { unknown, real, string };
+  static StaticKind static_kind(const Node& n) {
+    switch (n.kind) {
+      case NodeKind::number: case NodeKind::unary: return StaticKind::real;
+      case NodeKind::string: return StaticKind::string;
+      case NodeKind::variable: return n.text[0] == '$' ? StaticKind::string : StaticKind::unknown;
+      case NodeKind::function: {
+        if (n.text.empty()) return StaticKind::unknown;
+        if (n.text[0] == '$') return StaticKind::string;
+        if (n.text[0] == '#') return StaticKind::unknown;
+        switch (n.func) {
+          case Func::here: case Func::dest: case Func::null: case Func::trans: case Func::inverse:
+          case Func::rx: case Func::ry: case Func::rz: case Func::shift: case Func::tool: case Func::base:
+            return StaticKind::unknown;
+          default: return StaticKind::real;
+        }
+      }
+      case NodeKind::binary: {
+        if (n.op == Op::compound) return StaticKind::unknown;
+        if (n.op != Op::add) return StaticKind::real;
+        const StaticKind a = static_kind(n.kids[0]), b = static_kind(n.kids[1]);
+        return a == b ? a : StaticKind::unknown;
+      }
+      case NodeKind::absent: break;
+    }
+    return StaticKind::unknown;
   }
 
   Node operand(const ast::Operand& o) {
@@ -273,6 +308,7 @@ class Checker {
         n.kind = NodeKind::unary;
         n.op = u.op;
         n.kids.push_back(c.operand(u.operand));
+        if (static_kind(n.kids[0]) == StaticKind::string) c.error("this operator does not apply to strings");
         return n;
       }
       Node operator()(const ast::Expr& e) const { return c.expression(e); }
@@ -399,9 +435,17 @@ class Checker {
   void binding(const ast::Binding& b) {
     Node target = variable(b.target, false);
     const Code code = b.kw == Kw::set ? Code::set : b.kw == Kw::decompose ? Code::decompose : Code::assign;
+    Node value = expression(b.value);
+    if (code == Code::assign) {
+      const StaticKind k = static_kind(value);
+      const bool string_target = target.text[0] == '$';
+      if ((string_target && k == StaticKind::real) || (!string_target && k == StaticKind::string))
+        error(string_target ? "a number cannot be put into a string variable"
+                            : "a string needs a $ variable");
+    }
     Instr& in = emit(code);
     in.target = std::move(target);
-    in.args.push_back(expression(b.value));
+    in.args.push_back(std::move(value));
   }
 
   void for_statement(const ast::ForStmt& f) {

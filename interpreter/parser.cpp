@@ -12,6 +12,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <string_view>
 
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::VarRef, name, subscript)
@@ -260,6 +261,14 @@ std::string expected_text(const std::string& which) {
   return "expected " + w;
 }
 
+// A numeric literal at `where` that does not fit a double gets its own detail.
+std::string refine(std::string::const_iterator where, std::string::const_iterator last, std::string detail) {
+  if (where == last || !(std::isdigit(static_cast<unsigned char>(*where)) || *where == '.')) return detail;
+  const std::string rest(where, last);
+  const double v = std::strtod(rest.c_str(), nullptr);
+  return std::isfinite(v) ? detail : "number out of range";
+}
+
 }  // namespace
 
 ParsedSource parse_source(const std::string& source, const std::string& file) {
@@ -324,7 +333,7 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       if (first != last) {
         std::string detail = line.statement ? "unexpected text" : "expected a statement";
         if (*first == '=') detail = "\"=\" is not an operator; use \"==\" to compare";
-        fail(first, detail);
+        fail(first, refine(first, last, detail));
       }
     } catch (const x3::expectation_failure<std::string::const_iterator>& e) {
       auto where = e.where();
@@ -332,7 +341,7 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       std::string detail = expected_text(e.which());
       if (where != last && *where == '=' && detail != "expected \"=\"")
         detail = "\"=\" is not an operator; use \"==\" to compare";
-      fail(where, detail);
+      fail(where, refine(where, last, detail));
     }
   }
   return out;

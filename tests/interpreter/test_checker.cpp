@@ -152,3 +152,13 @@ TEST_CASE("declarations precede the first executable statement", "[checker]") {
   CHECK(check(".PROGRAM p()\nAUTO b\nLOCAL b\n.END\n").size() == 1);  // two classes
   CHECK(check(".PROGRAM p()\nAUTO b\nAUTO b\n.END\n").empty());       // repeated [ext]
 }
+
+TEST_CASE("a visible mix of strings and numbers is a syntax error", "[checker]") {
+  CHECK(check(".PROGRAM p()\nx = \"a\" + 1\n.END\n").size() == 1);
+  CHECK(check(".PROGRAM p()\n$s = 3\n.END\n").size() == 1);
+  CHECK(check(".PROGRAM p()\nx = $s\n.END\n").size() == 1);
+  CHECK(check(".PROGRAM p()\nx = -$s\n.END\n").size() == 1);
+  CHECK(check(".PROGRAM p()\nx = $s * 2\n.END\n").size() == 1);
+  CHECK(check(".PROGRAM p()\nx = LEN($s) + 1\n$t = $s + \"x\"\nx = $s == \"a\"\n.END\n").empty());
+  CHECK(check(".PROGRAM p()\nx = y + 1\n$t = $CHR(65) + $s\n.END\n").empty());
+}

@@ -123,6 +123,7 @@ TEST_CASE("all syntax errors of a file are reported, one per line", "[parser][er
   CHECK(p.errors[2].detail == "expected TO");
   CHECK(p.errors[2].column == 13);
   CHECK(p.errors[3].detail == "expected closing \"");
+  CHECK(p.errors[4].detail == "number out of range");
   CHECK(p.errors[5].detail == "expected a statement");
   CHECK(p.errors[6].column == 10);
   CHECK(p.lines[2].statement.has_value());  // line 3 still parsed
