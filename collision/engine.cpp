@@ -130,7 +130,6 @@ struct Engine::Impl {
       face_pairs.start(*a.grid, *b.grid, voxel_pairs);
       const std::vector<Vec3>& wa = world(a);
       const std::vector<Vec3>& wb = world(b);
-      const double c2 = clearance * clearance;
       std::uint32_t fa = 0, fb = 0;
       while (face_pairs.next(fa, fb)) {
         ++res.counts.face_pairs;
@@ -141,14 +140,12 @@ struct Engine::Impl {
           res.contact = Contact{.body_a = ia, .body_b = ib, .face_a = fa, .face_b = fb, .point = contact_point(ta, tb)};
           return true;
         }
-        if (clearance > 0) {
-          Vec3 pa, pb;
-          if (const double d2 = triangle_closest_points(ta, tb, pa, pb); d2 <= c2) {
-            res.collided = true;
-            res.contact = Contact{.kind = ContactKind::clearance, .distance = std::sqrt(d2), .body_a = ia,
-                                  .body_b = ib, .face_a = fa, .face_b = fb, .point = 0.5 * (pa + pb)};
-            return true;
-          }
+        Vec3 pa, pb;
+        if (double d = 0; clearance > 0 && triangles_within(ta, tb, clearance, d, pa, pb)) {
+          res.collided = true;
+          res.contact = Contact{.kind = ContactKind::clearance, .distance = d, .body_a = ia, .body_b = ib,
+                                .face_a = fa, .face_b = fb, .point = 0.5 * (pa + pb)};
+          return true;
         }
       }
     }
@@ -224,13 +221,12 @@ bool brute_force_collides(const Polyhedron& a, const Pose& pose_a, const Polyhed
   std::vector<Vec3> wa, wb;
   transform_vertices(a.vertices, pose_a, wa);
   transform_vertices(b.vertices, pose_b, wb);
-  const double c2 = clearance * clearance;
   for (const Triangle& fa : a.triangles)
     for (const Triangle& fb : b.triangles) {
       const TriangleVerts ta = triangle_at(wa, fa), tb = triangle_at(wb, fb);
       if (triangles_intersect(ta, tb)) return true;
       Vec3 pa, pb;
-      if (clearance > 0 && triangle_closest_points(ta, tb, pa, pb) <= c2) return true;
+      if (double d = 0; clearance > 0 && triangles_within(ta, tb, clearance, d, pa, pb)) return true;
     }
   if (is_closed(a))
     for (const std::uint32_t v : shell_vertices(b))

@@ -1,6 +1,7 @@
 #include "collision/face_distance.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace asimov::collision {
 namespace {
@@ -91,6 +92,18 @@ double triangle_closest_points(const TriangleVerts& t1, const TriangleVerts& t2,
     keep((a - t2[i]).squaredNorm(), a, t2[i]);
   }
   return best;
+}
+
+bool triangles_within(const TriangleVerts& t1, const TriangleVerts& t2, double clearance, double& distance,
+                      Vec3& on1, Vec3& on2) {
+  for (int k = 0; k < 3; ++k) {
+    if (std::min({t1[0][k], t1[1][k], t1[2][k]}) > std::max({t2[0][k], t2[1][k], t2[2][k]}) + clearance) return false;
+    if (std::min({t2[0][k], t2[1][k], t2[2][k]}) > std::max({t1[0][k], t1[1][k], t1[2][k]}) + clearance) return false;
+  }
+  const double d2 = triangle_closest_points(t1, t2, on1, on2);
+  if (d2 > clearance * clearance) return false;
+  distance = std::sqrt(d2);
+  return true;
 }
 
 }  // namespace asimov::collision

@@ -16,4 +16,10 @@ Vec3 triangle_closest_point(const Vec3& p, const TriangleVerts& t);
 // This is the distance between the triangles when they do not intersect.
 double triangle_closest_points(const TriangleVerts& t1, const TriangleVerts& t2, Vec3& on1, Vec3& on2);
 
+// The clearance test of step 4 (used by the engine and by brute force alike): true when the
+// closest points found above are within `clearance`; bounding boxes farther apart than the
+// clearance on some axis are rejected first. Fills the distance and the closest points.
+bool triangles_within(const TriangleVerts& t1, const TriangleVerts& t2, double clearance, double& distance,
+                      Vec3& on1, Vec3& on2);
+
 }  // namespace asimov::collision

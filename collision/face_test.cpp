@@ -161,6 +161,12 @@ bool segment_intersects_triangle(const Vec3& s0, const Vec3& s1, const TriangleV
 }
 
 bool triangles_intersect(const TriangleVerts& t1, const TriangleVerts& t2) {
+  // Disjoint bounding boxes: min/max involve no rounding, so this rejection is exact, and it
+  // spares most of the orientation predicates in step 4.
+  for (int k = 0; k < 3; ++k) {
+    if (std::min({t1[0][k], t1[1][k], t1[2][k]}) > std::max({t2[0][k], t2[1][k], t2[2][k]})) return false;
+    if (std::min({t2[0][k], t2[1][k], t2[2][k]}) > std::max({t1[0][k], t1[1][k], t1[2][k]})) return false;
+  }
   const Vec3 &p1 = t1[0], &q1 = t1[1], &r1 = t1[2];
   const Vec3 &p2 = t2[0], &q2 = t2[1], &r2 = t2[2];
 
