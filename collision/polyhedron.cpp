@@ -1,5 +1,6 @@
 #include "collision/polyhedron.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -17,6 +18,7 @@ Polyhedron make_box(const Vec3& size) {
 }
 
 Polyhedron make_cylinder(double radius, double height, int segments) {
+  segments = std::max(segments, 3);  // fewer sides would not enclose a volume
   Polyhedron p;
   const double h = height / 2;
   for (int i = 0; i < segments; ++i) {
