@@ -63,6 +63,9 @@ inline bool is_whole_array(const VarRef& v) {
       && boost::get<Nil>(&v.subscript[0].first) != nullptr;
 }
 
+// An omitted argument (`DRAW , , 50`).
+inline bool is_omitted(const Expr& e) { return e.rest.empty() && boost::get<Nil>(&e.first) != nullptr; }
+
 struct Call {
   std::string name;                                   // with '#' or '$' prefix if written
   std::vector<boost::optional<Expr>> args;
@@ -72,14 +75,15 @@ struct Call {
 enum class Kw : int {
   none, assign, set, decompose, here, move, moves, appro, appros, depart, departs, break_,
   speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,
-  dot_end, always, monitor, then, auto_, local, global, count
+  dot_end, always, monitor, then, auto_, local, global, elseif, case_, of, value, any, tool,
+  base, ready, draw, righty, lefty, above, below, flip, noflip, single, multiple, count
 };
 
-// KEYWORD [ expression { "," expression } ] [ trailing_word ]
+// KEYWORD [ [expression] { "," [expression] } ] [ trailing_word ] [ ":" ]
 struct Instruction {
   Kw kw = Kw::none;
-  std::vector<Expr> args;
-  Kw trailing = Kw::none;                             // ALWAYS, MONITOR, DO, THEN
+  std::vector<Expr> args;                             // an omitted one holds a Nil operand
+  Kw trailing = Kw::none;                             // ALWAYS, MONITOR, DO, THEN, OF
 };
 
 // (SET | DECOMPOSE | <assign>) variable "=" expression

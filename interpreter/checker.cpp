@@ -43,8 +43,11 @@ struct Block {
   int line = 0;               // opening line
   int column = 1;             // and column of its keyword
   int id = 0;
-  int test = -1;              // instruction to patch (IF/WHILE jump_false, FOR init)
-  int else_jump = -1;         // IF: the jump over the ELSE part
+  int test = -1;              // instruction to patch (IF/WHILE jump_false, FOR init, VALUE test)
+  bool has_else = false;      // IF: ELSE seen; CASE: ANY seen
+  bool arm_open = false;      // CASE: a VALUE or ANY part is open
+  int temp = -1;              // CASE: the frame temporary holding the value
+  std::vector<int> end_jumps; // IF and CASE: jumps from the end of a part to END
   int start = -1;             // loop start (WHILE test, DO body, FOR body)
   std::vector<int> exits;     // EXIT jumps to patch
   std::vector<int> nexts;     // NEXT jumps to patch
@@ -162,6 +165,7 @@ class Checker {
       case Kw::while_: return "WHILE";
       case Kw::do_: return "DO";
       case kForBlock: return "FOR";
+      case Kw::case_: return "CASE";
       default: return "block";
     }
   }
@@ -209,7 +213,7 @@ class Checker {
 
   Block* innermost_loop() {
     for (auto it = blocks_.rbegin(); it != blocks_.rend(); ++it)
-      if (it->kind != kIfBlock) return &*it;
+      if (it->kind != kIfBlock && it->kind != Kw::case_) return &*it;  // CASE is not a loop
     return nullptr;
   }
 
@@ -508,13 +512,36 @@ class Checker {
     if (i.args.size() < lo || i.args.size() > hi) error(fmt::format("{} expects {}", what, lo == hi && lo == 0 ? "no argument" : "other arguments"));
   }
 
-  void instruction(const ast::Instruction& i) {
+  void instruction(const ast::Instruction& raw) {
+    ast::Instruction i = raw;
+    if (i.args.size() == 1 && ast::is_omitted(i.args[0])) i.args.clear();  // no arguments
     if (i.trailing != Kw::none) {
       const bool ok = (i.kw == Kw::speed && (i.trailing == Kw::always || i.trailing == Kw::monitor))
-          || (i.kw == Kw::while_ && i.trailing == Kw::do_);
+          || (i.kw == Kw::while_ && i.trailing == Kw::do_)
+          || (i.kw == Kw::elseif && i.trailing == Kw::then) || (i.kw == Kw::case_ && i.trailing == Kw::of);
       if (!ok) error("unexpected word at the end of the statement");
     }
     switch (i.kw) {
+      case Kw::elseif: return else_if(i);
+      case Kw::case_: {
+        expect_args(i, 1, 1, "CASE");
+        simple(i, Code::case_init);
+        prog_.code.back().temp = prog_.temps;
+        open_block(Kw::case_, -1, -1);
+        blocks_.back().temp = prog_.temps++;
+        return;
+      }
+      case Kw::value: case Kw::any: return case_part(i);
+      case Kw::tool: expect_args(i, 0, 1, "TOOL"); return simple(i, Code::tool);
+      case Kw::base: expect_args(i, 1, 4, "BASE"); return simple(i, Code::base);
+      case Kw::ready: expect_args(i, 0, 0, "READY"); return simple(i, Code::ready);
+      case Kw::draw: expect_args(i, 1, 3, "DRAW"); return simple(i, Code::draw);
+      case Kw::righty: case Kw::lefty: case Kw::above: case Kw::below: case Kw::flip:
+      case Kw::noflip: case Kw::single: case Kw::multiple:
+        expect_args(i, 0, 0, "a configuration word");
+        simple(i, Code::configure);
+        prog_.code.back().word = i.kw;
+        return;
       case Kw::here: {
         const ast::VarRef* v = i.args.size() == 1 ? plain_variable(i.args[0], true) : nullptr;
         if (!v) {
@@ -601,16 +628,54 @@ class Checker {
     for (int e : b.exits) at(e).jump = here();
   }
 
+  // Ends the open part of an IF or CASE: jump to END, and the pending test lands here.
+  void close_part(Block& b) {
+    b.end_jumps.push_back(here());
+    emit(Code::jump);
+    if (b.test >= 0) at(b.test).jump = here();
+    b.test = -1;
+  }
+
   void else_part(const ast::Instruction& i) {
     expect_args(i, 0, 0, "ELSE");
-    if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().else_jump >= 0) {
+    if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().has_else) {
       error("ELSE without IF ... THEN");
       return;
     }
+    close_part(blocks_.back());
+    blocks_.back().has_else = true;
+  }
+
+  // ELSEIF / ELIF cond [THEN]   [ext]
+  void else_if(const ast::Instruction& i) {
+    expect_args(i, 1, 1, "ELSEIF");
+    if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().has_else) {
+      error("ELSEIF without IF ... THEN");
+      return;
+    }
+    close_part(blocks_.back());
+    blocks_.back().test = here();
+    simple(i, Code::jump_false);
+  }
+
+  // VALUE e1, e2:  /  ANY
+  void case_part(const ast::Instruction& i) {
+    const bool any = i.kw == Kw::any;
+    expect_args(i, any ? 0 : 1, any ? 0 : 1000, any ? "ANY" : "VALUE");
+    if (blocks_.empty() || blocks_.back().kind != Kw::case_ || blocks_.back().has_else) {
+      error(fmt::format("{} outside CASE (or after ANY)", any ? "ANY" : "VALUE"));
+      return;
+    }
     Block& b = blocks_.back();
-    b.else_jump = here();
-    emit(Code::jump);
-    at(b.test).jump = here();
+    if (b.arm_open) close_part(b);
+    b.arm_open = true;
+    if (any) {
+      b.has_else = true;
+      return;
+    }
+    b.test = here();
+    simple(i, Code::case_test);
+    prog_.code.back().temp = b.temp;
   }
 
   void end_block(const ast::Instruction& i) {
@@ -621,8 +686,9 @@ class Checker {
     }
     Block b = std::move(blocks_.back());
     blocks_.pop_back();
-    if (b.kind == kIfBlock) {
-      at(b.else_jump >= 0 ? b.else_jump : b.test).jump = here();
+    if (b.kind == kIfBlock || b.kind == Kw::case_) {
+      if (b.test >= 0) at(b.test).jump = here();
+      for (int e : b.end_jumps) at(e).jump = here();
       return;
     }
     const int loop_end = here();

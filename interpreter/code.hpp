@@ -33,7 +33,8 @@ struct Node {
 
 enum class Code : unsigned char {
   assign, set, here, decompose, type, move, moves, appro, appros, depart, departs, break_,
-  speed, jump, jump_false, jump_true, for_init, for_next, call, return_, stop
+  speed, jump, jump_false, jump_true, for_init, for_next, call, return_, stop, case_init,
+  case_test, tool, base, configure, ready, draw
 };
 
 struct Instr {
@@ -43,11 +44,12 @@ struct Instr {
   std::vector<Node> args;          // operands in source order (FOR: from, to, step)
   std::vector<ast::Format> formats;  // TYPE: one per item; code 0 = the next of `args`
   int jump = -1;                   // jumps, FOR exit / FOR body start
-  int temp = -1;                   // FOR: first of two frame temporaries (limit, step)
+  int temp = -1;                   // FOR: two frame temporaries (limit, step); CASE: one
   bool always = false;             // SPEED ... ALWAYS
   bool monitor = false;            // SPEED ... MONITOR
   int program = -1;                // CALL: program slot
   std::vector<bool> by_ref;        // CALL: argument i passed by reference
+  ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE
 };
 
 struct Param {

@@ -194,8 +194,52 @@ void Evaluator::execute(const Instr& in) {
     }
     case Code::type: return type(in);
     case Code::move: case Code::moves: case Code::appro: case Code::appros:
-    case Code::depart: case Code::departs:
+    case Code::depart: case Code::departs: case Code::ready: case Code::draw:
       return motion(in);
+    case Code::case_init:
+      f.temps[static_cast<std::size_t>(in.temp)] = to_real(eval(in.args[0]), "CASE value");
+      return;
+    case Code::case_test: {
+      const double value = f.temps[static_cast<std::size_t>(in.temp)];
+      for (const Node& n : in.args)
+        if (to_real(eval(n), "VALUE") == value) return;
+      f.pc = in.jump;
+      return;
+    }
+    case Code::tool: {
+      if (in.args.empty()) sim_.set_tool(motion::Location::Identity());  // TOOL = TOOL NULL
+      else sim_.set_tool(as_transformation(eval(in.args[0])));
+      return;
+    }
+    case Code::base: {
+      if (in.args.size() == 1 && in.args[0].kind != NodeKind::absent) {
+        const Value v = eval(in.args[0]);
+        if (kind_of(v) != Kind::real) {
+          sim_.set_base(as_transformation(v));
+          return;
+        }
+      }
+      double x[4] = {0, 0, 0, 0};  // BASE dx, dy, dz, rz (omitted: 0)
+      for (std::size_t k = 0; k < in.args.size(); ++k)
+        if (in.args[k].kind != NodeKind::absent) x[k] = to_real(eval(in.args[k]), "BASE");
+      sim_.set_base(motion::trans(x[0], x[1], x[2], x[3], 0, 0));
+      return;
+    }
+    case Code::configure: {
+      robots::ConfigurationRequest& r = sim_.request();
+      switch (in.word) {
+        case ast::Kw::righty: r.righty = 1; break;
+        case ast::Kw::lefty: r.righty = 0; break;
+        case ast::Kw::above: r.above = 1; break;
+        case ast::Kw::below: r.above = 0; break;
+        case ast::Kw::noflip: r.noflip = 1; break;
+        case ast::Kw::flip: r.noflip = 0; break;
+        case ast::Kw::single: r.single = true; break;
+        case ast::Kw::multiple: r.single = false; break;
+        default: break;
+      }
+      return;
+    }
     case Code::break_: return finish_motion();
     case Code::speed: {
       const double s = to_real(eval(in.args[0]));
@@ -279,9 +323,26 @@ void Evaluator::finish_motion() {
 
 void Evaluator::motion(const Instr& in) {
   finish_motion();  // a motion instruction waits for the previous motion to end
-  const bool straight = in.code == Code::moves || in.code == Code::appros || in.code == Code::departs;
+  const bool straight = in.code == Code::moves || in.code == Code::appros || in.code == Code::departs
+      || in.code == Code::draw;
   std::optional<Value> target;
   switch (in.code) {
+    case Code::ready: {  // the arm straight up: #PPOINT(0,-90,90,0,0,0)
+      robots::JointVector j = robots::JointVector::Zero(sim_.robot().joint_count());
+      if (j.size() >= 3) {
+        j[1] = -90;
+        j[2] = 90;
+      }
+      target = j;
+      break;
+    }
+    case Code::draw: {  // SHIFT(HERE BY dx, dy, dz), HERE after the previous motion
+      motion::Location t = sim_.here();
+      for (std::size_t k = 0; k < in.args.size(); ++k)
+        if (in.args[k].kind != NodeKind::absent) t.translation()[static_cast<Eigen::Index>(k)] += to_real(eval(in.args[k]), "DRAW");
+      target = t;
+      break;
+    }
     case Code::move: case Code::moves: target = eval(in.args[0]); break;
     case Code::appro: case Code::appros: {
       const Value loc = eval(in.args[0]);
@@ -351,6 +412,11 @@ void Evaluator::type(const Instr& in) {
   }
   out_ << text;
   if (newline) out_ << '\n';
+}
+
+motion::Location Evaluator::as_transformation(const Value& v) {
+  if (const auto* t = std::get_if<motion::Location>(&v)) return *t;
+  raise(ErrorKind::illegal_value, fmt::format("transformation expected, not a {}", kind_name(kind_of(v))));
 }
 
 // --- expressions ----------------------------------------------------------------------------

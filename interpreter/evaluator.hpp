@@ -42,6 +42,7 @@ class Evaluator {
   void type(const Instr& in);
   void finish_motion();
 
+  motion::Location as_transformation(const Value& v);
   Value eval(const Node& n);
   Value binary(ast::Op op, const Value& a, const Value& b);
   Value function(const Node& n);

@@ -52,18 +52,19 @@ using ast::Kw;
 using ast::Op;
 
 // Reserved words: they never parse as variable names (dialect §1).
-constexpr std::array<std::string_view, 56> kReserved = {
+constexpr std::string_view kReserved[] = {
     "and", "or", "xor", "not", "mod", "band", "bor", "bxor", "to", "step", "then", "else",
     "end", "do", "until", "while", "for", "if", "goto", "call", "return", "stop", "set",
     "decompose", "here", "move", "moves", "appro", "appros", "depart", "departs", "break",
     "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
     "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
-    "auto", "local", "global"};
+    "auto", "local", "global", "elseif", "elif", "ready", "draw", "righty", "lefty", "above",
+    "below", "flip", "noflip", "single", "multiple"};
 
 bool is_reserved(const std::string& word) {
   std::string lower = word;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return std::find(kReserved.begin(), kReserved.end(), lower) != kReserved.end();
+  return std::find(std::begin(kReserved), std::end(kReserved), lower) != std::end(kReserved);
 }
 
 // Reals without "nan"/"inf" spellings, unsigned (the sign is a unary operator).
@@ -102,13 +103,17 @@ struct instruction_table : x3::symbols<Kw> {
        ("break", Kw::break_)("speed", Kw::speed)("goto", Kw::goto_)("return", Kw::return_)
        ("stop", Kw::stop)("end", Kw::end)("else", Kw::else_)("while", Kw::while_)
        ("do", Kw::do_)("until", Kw::until)("exit", Kw::exit)("next", Kw::next)
-       ("pause", Kw::pause)("halt", Kw::halt)(".end", Kw::dot_end);
+       ("pause", Kw::pause)("halt", Kw::halt)(".end", Kw::dot_end)("elseif", Kw::elseif)
+       ("elif", Kw::elseif)("case", Kw::case_)("value", Kw::value)("any", Kw::any)
+       ("tool", Kw::tool)("base", Kw::base)("ready", Kw::ready)("draw", Kw::draw)
+       ("righty", Kw::righty)("lefty", Kw::lefty)("above", Kw::above)("below", Kw::below)
+       ("flip", Kw::flip)("noflip", Kw::noflip)("single", Kw::single)("multiple", Kw::multiple);
   }
 } const instruction_words;
 
 struct trailing_table : x3::symbols<Kw> {
   trailing_table() {
-    add("always", Kw::always)("monitor", Kw::monitor)("do", Kw::do_)("then", Kw::then);
+    add("always", Kw::always)("monitor", Kw::monitor)("do", Kw::do_)("then", Kw::then)("of", Kw::of);
   }
 } const trailing_words;
 
@@ -169,6 +174,7 @@ x3::rule<class type_class, ast::TypeStmt> const type_stmt = "TYPE";
 x3::rule<class param_class, std::string> const param = "parameter";
 x3::rule<class header_class, ast::ProgramHeader> const program_header = ".PROGRAM";
 x3::rule<class statement_class, ast::Statement> const statement = "statement";
+x3::rule<class optional_expression_class, ast::Expr> const optional_expression = "expression";
 x3::rule<class declaration_class, ast::Declaration> const declaration = "declaration";
 x3::rule<class to_class> const to_keyword = "TO";
 
@@ -189,7 +195,8 @@ const auto string_literal_def = x3::lexeme['"' > *(x3::char_ - '"') > '"'];
 // expression = operand { binary_op operand }      (precedence: checker, dialect §3)
 const auto expression_def = operand >> *(binary_op > operand);
 // binary_op = "*" | "/" | "+" | "-" | ":" | relational | MOD | AND | BAND | OR | XOR | BOR | BXOR
-const auto binary_op_def = symbol_ops | word_of(word_ops);
+// (a ":" ending the line closes a CASE's VALUE list and is no operator)
+const auto binary_op_def = (symbol_ops - (x3::lit(':') >> x3::eoi)) | word_of(word_ops);
 // operand = ( "-" | "+" | NOT ) operand | primary
 const auto operand_def = unary | primary;
 const auto unary_def = (unary_sign | (kw("not") >> x3::attr(Op::not_))) > operand;
@@ -200,7 +207,8 @@ const auto function_name_def = x3::raw[x3::lexeme[-x3::char_("#$") >> word]];
 const auto call_def = (function_name >> '(' > arguments > ')')
     | (word_of(bare_function_words) >> x3::attr(std::vector<boost::optional<ast::Expr>>()));
 // arguments = [ expression ] { "," [ expression ] }
-const auto arguments_def = -expression % ',';
+//   (SHIFT(t BY dx, dy, dz): BY separates like a comma)
+const auto arguments_def = -expression % (x3::lit(',') | kw("by"));
 // variable = [ "$" | "#" ] identifier [ "[" [ expression { "," expression } ] "]" ]
 const auto var_name_def = x3::raw[x3::lexeme[(x3::char_("$#") >> word) | identifier]];
 const auto variable_def = var_name >> -subscript;
@@ -208,9 +216,12 @@ const auto variable_def = var_name >> -subscript;
 const auto mark_whole_array = [](auto& ctx) { x3::_val(ctx).resize(1); };
 const auto subscript_def = '[' > ((&x3::lit(']'))[mark_whole_array] | (expression % ',')) > ']';
 
-// instruction = KEYWORD [ expression { "," expression } ] [ ALWAYS | MONITOR | DO | THEN ]
-const auto instruction_def = word_of(instruction_words) >> -(expression % ',')
-    >> -word_of(trailing_words);
+// instruction = KEYWORD [ optional_expression { "," optional_expression } ]
+//               [ ALWAYS | MONITOR | DO | THEN | OF ] [ ":" ]
+const auto instruction_def = word_of(instruction_words) >> -(optional_expression % ',')
+    >> -word_of(trailing_words) >> x3::omit[-x3::lit(':')];
+// optional_expression = [ expression ]    (omitted: a Nil operand)
+const auto optional_expression_def = expression | x3::attr(ast::Expr());
 // assignment = ( SET | DECOMPOSE ) variable "=" expression | variable "=" expression
 const auto binding_def = (word_of(binding_words) > variable > '=' > expression)
     | (x3::attr(Kw::assign) >> variable >> '=' > expression);
@@ -246,7 +257,7 @@ const auto statement_def = program_header | declaration | type_stmt | for_stmt |
 BOOST_SPIRIT_DEFINE(word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
-                    program_header, statement, to_keyword, declaration)
+                    program_header, statement, to_keyword, declaration, optional_expression)
 
 // skipper = blank | ";" { any }
 const auto skipper = x3::blank | (';' >> *x3::char_);

@@ -279,3 +279,55 @@ TEST_CASE("AUTO gives each call its own copy, LOCAL is per program", "[evaluator
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "55\n1\n2\n3\n100\n");
 }
+
+TEST_CASE("CASE with VALUE lists and ANY", "[evaluator][control]") {
+  const std::string prog =
+      "FOR k = 0 TO 4\n"
+      "  CASE k OF\n"
+      "    VALUE 0:\n"
+      "      TYPE \"zero\"\n"
+      "    VALUE 1, 2:\n"
+      "      TYPE \"small\"\n"
+      "    VALUE 3\n"          // the colon is optional
+      "      TYPE \"three\"\n"
+      "    ANY\n"
+      "      TYPE \"other\"\n"
+      "  END\n"
+      "END\n"
+      "CASE 9 OF\n"
+      "  VALUE 1:\n"
+      "    TYPE \"no\"\n"
+      "END\n"
+      "TYPE \"after\"";
+  CHECK(output_of(prog) == "zero\nsmall\nsmall\nthree\nother\nafter\n");
+  // EXIT inside a CASE leaves the enclosing loop: CASE is not a loop.
+  CHECK(output_of("FOR i = 1 TO 5\nCASE i OF\nVALUE 3:\nEXIT\nEND\nEND\nTYPE i") == "3\n");
+}
+
+TEST_CASE("ELSEIF and ELIF", "[evaluator][control]") {
+  const std::string prog =
+      "FOR x = 1 TO 4\n"
+      "  IF x == 1 THEN\n"
+      "    TYPE \"one\"\n"
+      "  ELSEIF x == 2 THEN\n"
+      "    TYPE \"two\"\n"
+      "  ELIF x == 3\n"
+      "    TYPE \"three\"\n"
+      "  ELSE\n"
+      "    TYPE \"many\"\n"
+      "  END\n"
+      "END";
+  CHECK(output_of(prog) == "one\ntwo\nthree\nmany\n");
+  CHECK(output_of("IF 0 THEN\nTYPE 1\nELSEIF 0\nTYPE 2\nEND\nTYPE 3") == "3\n");
+}
+
+TEST_CASE("location functions", "[evaluator]") {
+  CHECK(output_of("SET a = SHIFT(TRANS(1, 2, 3) BY 10, 20, 30)\nTYPE DX(a), DY(a), DZ(a)") == "11 22 33\n");
+  CHECK(output_of("SET a = TRANS(,,300)\nTYPE DZ(a), DX(a)") == "300 0\n");
+  CHECK(output_of("SET a = TRANS(100, 0, 0, 90, 0, 0):TRANS(10)\nTYPE /F0.3, DX(a), DY(a)") == "100.00010.000\n");
+  CHECK(output_of("SET a = INVERSE(TRANS(1, 2, 3))\nTYPE DX(a), DY(a), DZ(a)") == "-1 -2 -3\n");
+  CHECK(output_of("SET a = RZ(90):TRANS(1)\nTYPE /F0.3, DX(a), DY(a)") == "0.0001.000\n");
+  CHECK(output_of("TYPE DISTANCE(TRANS(3, 4), NULL)") == "5\n");
+  CHECK(output_of("DECOMPOSE d[0] = TRANS(1, 2, 3, 10, 20, 30)\nTYPE d[0], d[1], d[2], d[3], d[4], d[5]") ==
+        "1 2 3 10 20 30\n");
+}

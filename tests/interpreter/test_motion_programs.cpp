@@ -189,3 +189,38 @@ TEST_CASE("a collision ends the run and names the motion's step", "[motion][coll
   CHECK((r.collision.body_a == "box" || r.collision.body_b == "box"));
   CHECK(out.str() == "typed before the motion runs\n");
 }
+
+TEST_CASE("READY, DRAW, TOOL, BASE and configuration words", "[motion]") {
+  InterpreterFixture f;
+  const auto r = f.run(R"(.PROGRAM main()
+  MOVE #PPOINT(10, -60, 150, 10, 40, 20)
+  BREAK
+  SET start = HERE
+  DRAW 0, , 30
+  BREAK
+  TYPE /F0.2, DZ(HERE) - DZ(start), DX(HERE) - DX(start)
+  TOOL TRANS(0, 0, 100)
+  TYPE /F0.2, DISTANCE(HERE, start) > 50
+  TOOL
+  BASE 0, 0, 100
+  TYPE /F0.2, DZ(BASE)
+  BASE NULL
+  LEFTY
+  BELOW
+  FLIP
+  MULTIPLE
+  RIGHTY
+  ABOVE
+  NOFLIP
+  SINGLE
+  READY
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "30.000.00\n-1.00\n100.00\n");
+  CHECK(f.sim.joints()[1] == Approx(-90).margin(1e-6));
+  CHECK(f.sim.joints()[2] == Approx(90).margin(1e-6));
+  CHECK(f.sim.request().righty == 1);
+  CHECK(f.sim.request().single);
+}
