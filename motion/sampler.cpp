@@ -1,6 +1,6 @@
 #include "motion/sampler.hpp"
 
-#include "robots/ik_puma.hpp"
+#include "robots/ik.hpp"
 
 #include <algorithm>
 #include <array>
@@ -45,6 +45,7 @@ LineStatus singular(LinePlan& plan, SingularityKind kind, double s) {
 
 // Margins at the flange pose of sample s.
 LineStatus check_margins(const LineContext& c, const Location& flange, double s, LinePlan& plan) {
+  if (!robots::is_puma_type(c.robot)) return LineStatus::ok;  // other arms: joint jumps only
   double sh, el;
   margins(c.robot, flange.translation(), sh, el);
   if (sh < kShoulderMarginMm) return singular(plan, SingularityKind::shoulder, s);
@@ -55,7 +56,7 @@ LineStatus check_margins(const LineContext& c, const Location& flange, double s,
 // Solves and checks one sample; `prev` is the joint reference (nearest equivalents, kept J4).
 LineStatus solve_sample(const LineContext& c, double s, const JointVector& prev, JointVector& out, LinePlan& plan) {
   const Location flange = c.base_inv * line_pose(c.req.path, s) * c.tool_inv;
-  const robots::IkResult ik = robots::solve_puma(c.robot, flange, prev, c.req.config, false);
+  const robots::IkResult ik = robots::solve_ik(c.robot, flange, prev, c.req.config, false);
   if (ik.status == robots::IkStatus::out_of_reach) return fail(plan, LineStatus::out_of_reach, s);
   if (check_margins(c, flange, s, plan) != LineStatus::ok) return plan.status;
   if (ik.status == robots::IkStatus::joint_limit) {

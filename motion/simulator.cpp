@@ -7,7 +7,7 @@
 #include "collision/engine.hpp"
 #include "motion/profile.hpp"
 #include "motion/sampler.hpp"
-#include "robots/ik_puma.hpp"
+#include "robots/ik.hpp"
 
 #include <algorithm>
 #include <array>
@@ -91,11 +91,7 @@ struct Simulator::Impl {
     if (cell.collision.enabled) build_engine();
   }
 
-  static JointVector ready(const robots::Robot& robot) {
-    JointVector j = JointVector::Zero(robot.joint_count());
-    if (robot.joint_count() >= 3) j[1] = -90, j[2] = 90;
-    return j;
-  }
+  static JointVector ready(const robots::Robot& robot) { return robots::ready_joints(robot); }
 
   Location here() const { return base * robots::flange_pose(cell.robot, joints) * tool; }
   Location here_at(const JointVector& q) const { return base * robots::flange_pose(cell.robot, q) * tool; }
@@ -268,7 +264,7 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   const robots::Configuration current = robots::configuration_of(robot, s.joints);
   if (!straight) {
     const robots::Configuration want = robots::requested_configuration(current, s.request);
-    const robots::IkResult ik = robots::solve_puma(robot, flange, s.joints, want, s.request.single);
+    const robots::IkResult ik = robots::solve_ik(robot, flange, s.joints, want, s.request.single);
     if (ik.status == robots::IkStatus::out_of_reach) return error("*Location out of reach*");
     if (ik.status == robots::IkStatus::joint_limit)
       return error("*Joint limit exceeded*", fmt_limit(robot, ik.joint, ik.value));
@@ -322,7 +318,7 @@ int Simulator::inrange(const Location& target) const {
   const auto& robot = s.cell.robot;
   const Location flange = s.base.inverse() * target * s.tool.inverse();
   const robots::Configuration want = robots::requested_configuration(robots::configuration_of(robot, s.joints), s.request);
-  const robots::IkResult ik = robots::solve_puma(robot, flange, s.joints, want, s.request.single);
+  const robots::IkResult ik = robots::solve_ik(robot, flange, s.joints, want, s.request.single);
   return ik.status == robots::IkStatus::ok ? 0 : ik.status == robots::IkStatus::out_of_reach ? 1 : 2;
 }
 

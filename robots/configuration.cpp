@@ -7,6 +7,7 @@
 namespace asimov::robots {
 
 Configuration configuration_of(const Robot& robot, const JointVector& display) {
+  if (!is_puma_type(robot)) return Configuration{};  // words are defined for PUMA-type arms only
   const JointVector q = display_to_dh(robot, display);
   std::vector<Pose> frames;
   frames.reserve(robot.dh.size() + 1);

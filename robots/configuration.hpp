@@ -18,6 +18,7 @@ struct ConfigurationRequest {
 };
 
 // Configuration actually reached by a PUMA-type arm at `display` joints (kinematics.md §6):
+// Other arms (numeric IK) have no configuration words: the default RIGHTY ABOVE NOFLIP.
 // RIGHTY iff V >= 0, ABOVE iff sigma_s * wrap(theta2 - atan2(pz, V)) >= 0, NOFLIP iff J5 >= 0.
 Configuration configuration_of(const Robot& robot, const JointVector& display);
 

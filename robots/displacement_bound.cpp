@@ -21,9 +21,13 @@ BodyReach body_reach(const Robot& robot, const collision::Polyhedron& mesh, int 
   }
   const double sphere = std::min(rho_origin, centre.norm() + rho_centre);
   const int n = std::min(link, robot.joint_count());
-  for (int j = 0; j < n; ++j) {  // joint j+1 turns about z_j through o_j
+  for (int j = 0; j < n; ++j) {  // joint j+1 turns about an axis through o_j (DH) or o_{j+1} (chain)
+    if (robot.prismatic(j)) {     // every point of the body moves by exactly |dq| [mm]
+      r.radius[static_cast<std::size_t>(j)] = 180 / std::numbers::pi;
+      continue;
+    }
     double chain = 0;            // |o_j - o_link| <= sum of the link offsets in between
-    for (int i = j; i < link; ++i) chain += std::hypot(robot.dh[static_cast<std::size_t>(i)].a, robot.dh[static_cast<std::size_t>(i)].d);
+    for (int i = j; i < link; ++i) chain += link_offset_bound(robot, i);
     r.radius[static_cast<std::size_t>(j)] = chain + sphere;
   }
   return r;

@@ -2,7 +2,9 @@
 // For body k on link k and joint j <= k, R_jk bounds the distance from axis j to any point of
 // the body, whatever the joint values: R_jk = sum_{i=j..k} sqrt(a_i^2 + d_i^2) + |s_k| + rho_k,
 // where (s_k, rho_k) is a bounding sphere of the body in frame k. Over a joint step dq [rad]
-// every point of the body moves at most sum_j |dq_j| * R_jk.
+// every point of the body moves at most sum_j |dq_j| * R_jk. For a chain robot the link offsets
+// are link_offset_bound(); a prismatic joint j gets R_jk = 180/pi, so that |dq_j| [mm] * pi/180 *
+// R_jk is its travel.
 #pragma once
 #include "robots/robot.hpp"
 #include <array>

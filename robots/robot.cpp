@@ -2,6 +2,9 @@
 // forward kinematics, link frames and the limit check.
 #include "robots/robot.hpp"
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -33,7 +36,8 @@ JointVector display_to_dh(const Robot& robot, const JointVector& display) {
   JointVector q(display.size());
   for (Eigen::Index i = 0; i < display.size(); ++i) {
     const auto& m = robot.mapping[static_cast<std::size_t>(i)];
-    q[i] = m.sign * display[i] * kDeg + m.offset;
+    const double unit = robot.prismatic(static_cast<int>(i)) ? 1.0 : kDeg;
+    q[i] = m.sign * display[i] * unit + m.offset;
   }
   return q;
 }
@@ -42,23 +46,66 @@ JointVector dh_to_display(const Robot& robot, const JointVector& dh) {
   JointVector d(dh.size());
   for (Eigen::Index i = 0; i < dh.size(); ++i) {
     const auto& m = robot.mapping[static_cast<std::size_t>(i)];
-    d[i] = (dh[i] - m.offset) / kDeg * m.sign;
+    const double unit = robot.prismatic(static_cast<int>(i)) ? 1.0 : kDeg;
+    d[i] = (dh[i] - m.offset) / unit * m.sign;
   }
   return d;
 }
 
+JointVector ready_joints(const Robot& robot) {
+  const int n = robot.joint_count();
+  if (robot.ready.size() == n) return robot.ready;
+  JointVector j = JointVector::Zero(n);
+  if (n >= 3) j[1] = -90, j[2] = 90;
+  return j;
+}
+
+bool is_puma_type(const Robot& robot) {
+  if (robot.is_chain() || robot.dh.size() != 6 || robot.mapping.size() != 6) return false;
+  constexpr double h = std::numbers::pi / 2, tol = 1e-12;
+  const double alpha[6] = {h, 0, -h, h, -h, 0};
+  for (std::size_t i = 0; i < 6; ++i)
+    if (std::abs(robot.dh[i].alpha - alpha[i]) > tol) return false;
+  const auto& d = robot.dh;
+  return d[0].d == 0 && d[0].a == 0 && d[1].d == 0 && d[3].a == 0 && d[4].a == 0 && d[4].d == 0;
+}
+
+double link_offset_bound(const Robot& robot, int k) {
+  const auto i = static_cast<std::size_t>(k);
+  if (!robot.is_chain()) return std::hypot(robot.dh[i].a, robot.dh[i].d);
+  const ChainJoint& j = robot.chain[i];
+  double b = j.origin.translation().norm();
+  if (j.type == JointType::prismatic) b += std::max(std::abs(robot.lower[k]), std::abs(robot.upper[k]));
+  if (k + 1 == robot.joint_count()) b += robot.flange_offset.translation().norm();
+  return b;
+}
+
+Pose joint_transform(const Robot& robot, int k, double q) {
+  const auto i = static_cast<std::size_t>(k);
+  if (!robot.is_chain()) return dh_transform(robot.dh[i], q);
+  const ChainJoint& j = robot.chain[i];
+  Pose t = j.origin;
+  if (j.type == JointType::revolute)
+    t.rotate(Eigen::AngleAxisd(q, j.axis));
+  else
+    t.translate(q * j.axis);
+  if (k + 1 == robot.joint_count()) t = t * robot.flange_offset;
+  return t;
+}
+
 void link_frames(const Robot& robot, const JointVector& display, std::vector<Pose>& frames) {
   const JointVector q = display_to_dh(robot, display);
-  frames.resize(robot.dh.size() + 1);
+  const auto n = static_cast<std::size_t>(robot.joint_count());
+  frames.resize(n + 1);
   frames[0] = Pose::Identity();
-  for (std::size_t k = 0; k < robot.dh.size(); ++k)
-    frames[k + 1] = frames[k] * dh_transform(robot.dh[k], q[static_cast<Eigen::Index>(k)]);
+  for (std::size_t k = 0; k < n; ++k)
+    frames[k + 1] = frames[k] * joint_transform(robot, static_cast<int>(k), q[static_cast<Eigen::Index>(k)]);
 }
 
 Pose flange_pose_dh(const Robot& robot, const JointVector& q) {
   Pose t = Pose::Identity();
-  for (std::size_t k = 0; k < robot.dh.size(); ++k)
-    t = t * dh_transform(robot.dh[k], q[static_cast<Eigen::Index>(k)]);
+  const int n = robot.joint_count();
+  for (int k = 0; k < n; ++k) t = t * joint_transform(robot, k, q[k]);
   return t;
 }
 

@@ -1,0 +1,17 @@
+// IK for any arm, as the simulator needs it: the closed form for a PUMA-type arm
+// (is_puma_type), the numeric solver seeded with the current joints otherwise.
+#pragma once
+#include "robots/ik_numeric.hpp"
+#include "robots/ik_puma.hpp"
+
+namespace asimov::robots {
+
+// PUMA-type: solve_puma(robot, flange, current, want, single). Other arms: configuration words
+// do not apply; solve_numeric from `current` (nearest solution first, then restarts), revolute
+// joints moved to the 2pi-equivalent nearest `current` inside the limits. When no solution
+// within limits is found, a solve without limits tells joint_limit (naming the first joint
+// outside, value as found) from out_of_reach.
+IkResult solve_ik(const Robot& robot, const Pose& flange, const JointVector& current, const Configuration& want,
+                  bool single, const NumericIkOptions& options = {});
+
+}  // namespace asimov::robots
