@@ -66,6 +66,13 @@ struct Simulator::Impl {
   std::vector<BodyPair> moving_pairs;        // enabled pairs of two moving bodies (indices into reach)
   std::vector<collision::Pose> frames;
   bool start_checked = false;
+  HandState hand = HandState::open;
+  std::optional<HandState> hand_request;
+
+  // The motion starts now: a pending OPEN/CLOSE/RELAX takes effect.
+  void motion_started() {
+    if (hand_request) hand = *hand_request, hand_request.reset();
+  }
 
   // The pending motion.
   struct Pending {
@@ -216,6 +223,7 @@ struct Simulator::Impl {
     pending.t0 = time;
     pending.tag = tag;
     dest = here_at(target);
+    motion_started();
     return {};
   }
 };
@@ -310,8 +318,22 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   s.pending.t0 = s.time;
   s.pending.tag = tag;
   s.dest = target;
+  s.motion_started();
   return {};
 }
+
+void Simulator::request_hand(HandState state) { impl_->hand_request = state; }
+
+MotionResult Simulator::hand_immediate(HandState state, double hand_time_s) {
+  if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
+  impl_->hand = state;
+  impl_->hand_request.reset();
+  if (hand_time_s > 0) impl_->time += hand_time_s;
+  return {};
+}
+
+HandState Simulator::hand() const { return impl_->hand; }
+bool Simulator::hand_pending() const { return impl_->hand_request.has_value(); }
 
 int Simulator::inrange(const Location& target) const {
   const Impl& s = *impl_;

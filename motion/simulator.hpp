@@ -48,6 +48,11 @@ struct SpeedSettings {
   double duration_s = 0; // DURATION: minimum motion time [s]; 0 = off
 };
 
+// Hand (dialect §5): OPEN / CLOSE / RELAX take effect when the next motion starts; OPENI /
+// CLOSEI / RELAXI wait for the current motion, set the hand, then wait HAND.TIME seconds.
+enum class HandState { open, closed, relaxed };
+constexpr double kDefaultHandTime = 0.05;  // PARAMETER HAND.TIME default [s]
+
 class Simulator {
  public:
   explicit Simulator(Cell cell);
@@ -75,6 +80,14 @@ class Simulator {
   MotionResult start_joint_move(const robots::JointVector& target_display, SpeedSettings speed, int tag);
   MotionResult start_move(const Location& target, bool straight, SpeedSettings speed, int tag);
   MotionResult finish_motion();  // carries out the pending motion, if any
+  // Hand. request_hand: OPEN/CLOSE/RELAX (pending until a motion starts; a later request
+  // replaces it). hand_immediate: OPENI/CLOSEI/RELAXI: finishes the pending motion (its result
+  // is returned, the hand untouched, when it fails), sets the hand (dropping a pending request)
+  // and advances the clock by hand_time_s (negative: 0).
+  void request_hand(HandState state);
+  MotionResult hand_immediate(HandState state, double hand_time_s = kDefaultHandTime);
+  HandState hand() const;
+  bool hand_pending() const;
   // INRANGE: 0 reachable within limits in the requested configuration, 1 out of reach, 2 a joint
   // limit in the way (same IK as a joint motion to `target`).
   int inrange(const Location& target) const;
