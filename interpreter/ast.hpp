@@ -76,7 +76,8 @@ enum class Kw : int {
   none, assign, set, decompose, here, move, moves, appro, appros, depart, departs, break_,
   speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,
   dot_end, always, monitor, then, auto_, local, global, elseif, case_, of, value, any, tool,
-  base, ready, draw, righty, lefty, above, below, flip, noflip, single, multiple, count
+  base, ready, draw, righty, lefty, above, below, flip, noflip, single, multiple,
+  dot_locations, dot_reals, dot_strings, count
 };
 
 // KEYWORD [ [expression] { "," [expression] } ] [ trailing_word ] [ ":" ]
@@ -149,10 +150,20 @@ struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, 
   using base_type::operator=;
 };
 
-// [ label ] [ statement ]   (comments and blanks are skipped)
+// A line of a .LOCATIONS, .REALS or .STRINGS section (dialect §8).
+// data_line = variable_name [ "[" int { "," int } "]" ] { [","] signed_number } [ string ]
+struct DataLine {
+  std::string name;                                   // with '$' or '#' prefix
+  std::vector<int> indices;
+  std::vector<double> values;
+  boost::optional<std::string> text;
+};
+
+// [ label ] [ statement ]   (comments and blanks are skipped), or a data line
 struct Line {
   boost::optional<unsigned> label;
   boost::optional<Statement> statement;
+  boost::optional<DataLine> data;                     // inside a data section
   int column = 1;                                     // 1-based column of the statement
 };
 

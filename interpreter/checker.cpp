@@ -1,5 +1,6 @@
 #include "interpreter/checker.hpp"
 
+#include "interpreter/data_section.hpp"
 #include "interpreter/limits.hpp"
 
 #include <fmt/format.h>
@@ -58,7 +59,8 @@ constexpr Kw kForBlock = Kw::next;
 
 class Checker {
  public:
-  Checker(const ParsedSource& src, Symbols& symbols) : src_(src), symbols_(symbols) {
+  Checker(const ParsedSource& src, Symbols& symbols, int joint_count)
+      : src_(src), symbols_(symbols), joint_count_(joint_count) {
     text_ = std::make_shared<const std::vector<std::string>>(src.text);
   }
 
@@ -67,6 +69,11 @@ class Checker {
       line_ = static_cast<int>(i) + 1;
       const ast::Line& l = src_.lines[i];
       column_ = l.column;
+      if (l.data) {
+        data_line(*l.data);
+        continue;
+      }
+      if (data_section(l)) continue;
       if (!l.statement) {
         if (l.label) {
           if (!in_program_) error("label outside .PROGRAM");
@@ -90,6 +97,7 @@ class Checker {
       error_at(prog_.line, 1, ".PROGRAM without .END");
       in_program_ = false;
     }
+    if (data_kind_ != Kw::none) error_at(data_start_, 1, "data section without .END");
     return std::move(out_);
   }
 
@@ -110,6 +118,31 @@ class Checker {
     out_.errors.push_back(std::move(d));
   }
   void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
+
+  // --- data sections (dialect §8) -------------------------------------------------------
+  // Handles .LOCATIONS/.REALS/.STRINGS and the .END closing them; false for anything else.
+  bool data_section(const ast::Line& l) {
+    const auto* in = l.statement ? boost::get<ast::Instruction>(&*l.statement) : nullptr;
+    if (!in) return false;
+    if (in->kw == Kw::dot_end && data_kind_ != Kw::none) {
+      data_kind_ = Kw::none;
+      return true;
+    }
+    if (in->kw != Kw::dot_locations && in->kw != Kw::dot_reals && in->kw != Kw::dot_strings) return false;
+    if (in_program_) error("a data section cannot be inside a program");
+    else if (l.label || in->args.size() > 1 || (in->args.size() == 1 && !ast::is_omitted(in->args[0]))
+             || in->trailing != Kw::none)
+      error("unexpected text");
+    data_kind_ = in->kw;
+    data_start_ = line_;
+    return true;
+  }
+
+  void data_line(const ast::DataLine& d) {
+    std::string why;
+    if (auto item = compile_data_line(d, data_kind_, joint_count_, symbols_, why)) out_.data.push_back(std::move(*item));
+    else error(why);
+  }
 
   // --- programs ------------------------------------------------------------------------
   void begin_program(const ast::ProgramHeader& h) {
@@ -256,36 +289,6 @@ class Checker {
       lhs = std::move(bin);
     }
     return lhs;
-  }
-
-  // What an expression yields when the syntax shows it (dialect §3: a visible mix of
-  // strings and numbers is a load-time error).
-  enum class StaticKind { unknown, real, string };
-  static StaticKind static_kind(const Node& n) {
-    switch (n.kind) {
-      case NodeKind::number: case NodeKind::unary: return StaticKind::real;
-      case NodeKind::string: return StaticKind::string;
-      case NodeKind::variable: return n.text[0] == '$' ? StaticKind::string : StaticKind::unknown;
-      case NodeKind::function: {
-        if (n.text.empty()) return StaticKind::unknown;
-        if (n.text[0] == '$') return StaticKind::string;
-        if (n.text[0] == '#') return StaticKind::unknown;
-        switch (n.func) {
-          case Func::here: case Func::dest: case Func::null: case Func::trans: case Func::inverse:
-          case Func::rx: case Func::ry: case Func::rz: case Func::shift: case Func::tool: case Func::base:
-            return StaticKind::unknown;
-          default: return StaticKind::real;
-        }
-      }
-      case NodeKind::binary: {
-        if (n.op == Op::compound) return StaticKind::unknown;
-        if (n.op != Op::add) return StaticKind::real;
-        const StaticKind a = static_kind(n.kids[0]), b = static_kind(n.kids[1]);
-        return a == b ? a : StaticKind::unknown;
-      }
-      case NodeKind::absent: break;
-    }
-    return StaticKind::unknown;
   }
 
   Node operand(const ast::Operand& o) {
@@ -711,6 +714,9 @@ class Checker {
   CheckResult out_;
   std::shared_ptr<const std::vector<std::string>> text_;
   int line_ = 0, column_ = 1;
+  int joint_count_ = 6;
+  Kw data_kind_ = Kw::none;             // the open data section, if any
+  int data_start_ = 0;                  // and its line
   bool in_program_ = false;
   bool executable_seen_ = false;       // declarations must come first
   Program prog_;
@@ -724,8 +730,8 @@ class Checker {
 
 int precedence(ast::Op op) { return kPrecedence[static_cast<std::size_t>(op)]; }
 
-CheckResult check_source(const ParsedSource& source, Symbols& symbols) {
-  return Checker(source, symbols).run();
+CheckResult check_source(const ParsedSource& source, Symbols& symbols, int joint_count) {
+  return Checker(source, symbols, joint_count).run();
 }
 
 void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& diagnostics) {

@@ -3,6 +3,7 @@
 // *Syntax error* diagnostics, all of them reported together.
 #pragma once
 #include "interpreter/code.hpp"
+#include "interpreter/data_section.hpp"
 #include "interpreter/interpreter.hpp"
 #include "interpreter/parser.hpp"
 #include <string>
@@ -25,10 +26,12 @@ struct Symbols {
 
 struct CheckResult {
   std::vector<Program> programs;                      // in file order
+  std::vector<DataItem> data;                         // data sections, in file order
   std::vector<Diagnostic> errors;
 };
 
-CheckResult check_source(const ParsedSource& source, Symbols& symbols);
+// `joint_count`: values of a precision point in a .LOCATIONS section.
+CheckResult check_source(const ParsedSource& source, Symbols& symbols, int joint_count = 6);
 
 // Adds program and step to syntax errors found by the parser (which parses line by line).
 void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& diagnostics);

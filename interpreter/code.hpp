@@ -52,6 +52,11 @@ struct Instr {
   ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE
 };
 
+// What an expression yields when the syntax shows it (dialect §3: a visible mix of
+// strings and numbers is a load-time error).
+enum class StaticKind { unknown, real, string };
+StaticKind static_kind(const Node& n);
+
 struct Param {
   std::string name;                // normalized, with prefix
   bool array = false;              // written a[]

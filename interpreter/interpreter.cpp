@@ -27,7 +27,7 @@ Interpreter::~Interpreter() = default;
 std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const std::string& file_name) {
   ParsedSource parsed = parse_source(text, file_name);
   Memory& m = impl_->memory;
-  CheckResult checked = check_source(parsed, m.symbols);
+  CheckResult checked = check_source(parsed, m.symbols, impl_->sim.robot().joint_count());
   locate_in_programs(parsed, parsed.errors);
   // Syntax errors first, then checker errors, each group in line order; at most 20.
   std::vector<Diagnostic> all = std::move(parsed.errors);
@@ -37,6 +37,17 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   if (!all.empty()) return all;  // nothing is loaded
   m.programs.resize(m.symbols.programs.size());
   m.globals.resize(m.symbols.globals.size());
+  for (DataItem& item : checked.data) {  // globals of the same name are replaced
+    Variable& v = m.globals[static_cast<std::size_t>(item.slot)];
+    if (item.subscripted) {
+      if (v.scalar) v = Variable{};
+      if (!v.elements.empty() && kind_of(v.elements.begin()->second) != kind_of(item.value)) v = Variable{};
+      v.elements[item.index] = std::move(item.value);
+    } else {
+      v = Variable{};
+      v.scalar = std::move(item.value);
+    }
+  }
   for (Program& p : checked.programs) {
     const int slot = m.symbols.program(p.name);
     m.programs.resize(m.symbols.programs.size());

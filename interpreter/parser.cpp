@@ -29,6 +29,7 @@ BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Format, code, width, decimals)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::TypeStmt, kw, items)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::ProgramHeader, name, params)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Declaration, kw, names)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::DataLine, name, indices, values, text)
 
 namespace asimov::val {
 
@@ -76,6 +77,14 @@ struct strict_real_policies : x3::ureal_policies<double> {
 };
 const x3::real_parser<double, strict_real_policies> real_literal;
 
+struct strict_signed_policies : x3::real_policies<double> {
+  template <typename It, typename Attr>
+  static bool parse_nan(It&, It const&, Attr&) { return false; }
+  template <typename It, typename Attr>
+  static bool parse_inf(It&, It const&, Attr&) { return false; }
+};
+const x3::real_parser<double, strict_signed_policies> signed_real;
+
 struct symbol_ops_table : x3::symbols<Op> {
   symbol_ops_table() {
     add("*", Op::mul)("/", Op::div)("+", Op::add)("-", Op::sub)("==", Op::eq)("<>", Op::ne)
@@ -107,7 +116,8 @@ struct instruction_table : x3::symbols<Kw> {
        ("elif", Kw::elseif)("case", Kw::case_)("value", Kw::value)("any", Kw::any)
        ("tool", Kw::tool)("base", Kw::base)("ready", Kw::ready)("draw", Kw::draw)
        ("righty", Kw::righty)("lefty", Kw::lefty)("above", Kw::above)("below", Kw::below)
-       ("flip", Kw::flip)("noflip", Kw::noflip)("single", Kw::single)("multiple", Kw::multiple);
+       ("flip", Kw::flip)("noflip", Kw::noflip)("single", Kw::single)("multiple", Kw::multiple)
+       (".locations", Kw::dot_locations)(".reals", Kw::dot_reals)(".strings", Kw::dot_strings);
   }
 } const instruction_words;
 
@@ -174,6 +184,7 @@ x3::rule<class type_class, ast::TypeStmt> const type_stmt = "TYPE";
 x3::rule<class param_class, std::string> const param = "parameter";
 x3::rule<class header_class, ast::ProgramHeader> const program_header = ".PROGRAM";
 x3::rule<class statement_class, ast::Statement> const statement = "statement";
+x3::rule<class data_line_class, ast::DataLine, true> const data_line = "data line";
 x3::rule<class optional_expression_class, ast::Expr> const optional_expression = "expression";
 x3::rule<class declaration_class, ast::Declaration> const declaration = "declaration";
 x3::rule<class to_class> const to_keyword = "TO";
@@ -254,7 +265,13 @@ const auto declaration_def = word_of(declaration_words) >> x3::omit[-word_of(typ
 const auto statement_def = program_header | declaration | type_stmt | for_stmt | if_stmt
     | call_stmt | instruction | binding;
 
-BOOST_SPIRIT_DEFINE(word, identifier, label, number, string_literal, expression, binary_op,
+// data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
+const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
+    >> -('[' > (x3::int_ % ',') > ']')
+    >> *(x3::omit[-x3::lit(',')] >> signed_real[check_finite])
+    >> -string_literal;
+
+BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
                     program_header, statement, to_keyword, declaration, optional_expression)
@@ -298,6 +315,7 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
   if (!out.text.empty() && out.text.back().empty()) out.text.pop_back();  // final newline
   out.lines.resize(out.text.size());
 
+  bool in_data = false;  // inside .LOCATIONS / .REALS / .STRINGS
   for (std::size_t i = 0; i < out.text.size(); ++i) {
     const std::string& text = out.text[i];
     auto first = text.begin();
@@ -335,11 +353,21 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       x3::phrase_parse(first, last, x3::eps, skipper);
       line.column = static_cast<int>(first - text.begin()) + 1;
       ast::Statement stmt;
+      ast::DataLine data;
       auto before = first;
-      if (first != last && x3::phrase_parse(first, last, statement, skipper, stmt))
+      if (first == last) {
+      } else if (in_data && !x3::phrase_parse(first, last, kw(".end"), skipper)) {
+        if (x3::phrase_parse(first, last, data_line, skipper, data)) line.data = std::move(data);
+        else first = before;
+      } else if (x3::phrase_parse(first = before, last, statement, skipper, stmt)) {
+        const auto* in = boost::get<ast::Instruction>(&stmt);
+        if (in && (in->kw == Kw::dot_locations || in->kw == Kw::dot_reals || in->kw == Kw::dot_strings))
+          in_data = true;
+        if (in && in->kw == Kw::dot_end) in_data = false;
         line.statement = std::move(stmt);
-      else
+      } else {
         first = before;
+      }
       x3::phrase_parse(first, last, x3::eps, skipper);
       if (first != last) {
         std::string detail = line.statement ? "unexpected text" : "expected a statement";

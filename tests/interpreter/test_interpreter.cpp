@@ -76,3 +76,60 @@ TEST_CASE("at most 20 load errors", "[interpreter]") {
   text += ".END\n";
   CHECK(f.load(text).size() == 20);
 }
+
+TEST_CASE("data sections assign globals when the load succeeds", "[interpreter][data]") {
+  InterpreterFixture f;
+  const auto r = f.run(R"(; data first, programs after, any order
+.LOCATIONS
+pick      300 200 50 0 180 0          ; transformation
+#safe     0, -90, 180, 0, 0, 0        ; precision point, commas allowed
+pal[2]    450 -120 12.5 90 90 0
+.END
+.REALS
+count  3
+m[1,2] -2.5e1
+.END
+.STRINGS
+$greeting "Hello; world"
+.END
+.PROGRAM main()
+  TYPE count, m[1,2], " ", $greeting
+  DECOMPOSE d[0] = pick
+  TYPE d[0], d[1], d[2], d[4]
+  DECOMPOSE j[0] = #safe
+  TYPE j[2]
+  TYPE DX(pal[2]), DZ(pal[2])
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "3 -25 Hello; world\n300 200 50 180\n180\n450 12.5\n");
+}
+
+TEST_CASE("data section errors", "[interpreter][data]") {
+  auto errors = [](const std::string& text) {
+    InterpreterFixture f;
+    return f.load(text);
+  };
+  auto d = errors(".LOCATIONS\n#p 1 2 3\n.END\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].line == 2);
+  CHECK(d[0].detail == "a precision point takes 6 joint values");
+  CHECK(errors(".LOCATIONS\np 1 2 3 4 5\n.END\n").size() == 1);
+  CHECK(errors(".REALS\nx 1 2\n.END\n").size() == 1);
+  CHECK(errors(".REALS\n$x \"a\"\n.END\n").size() == 1);
+  CHECK(errors(".STRINGS\n$x 3\n.END\n").size() == 1);
+  d = errors("\n.REALS\nx 1\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].detail == "data section without .END");
+  CHECK(d[0].line == 2);
+  CHECK(errors(".PROGRAM p()\n.REALS\n.END\n").size() >= 1);
+  CHECK(errors(".REALS\nx = 1\n.END\n").size() == 1);  // syntax error in a data line
+  // Nothing is assigned when the load fails.
+  InterpreterFixture f;
+  REQUIRE(f.load(".REALS\nkeep 1\n.END\n").empty());
+  REQUIRE(f.load(".REALS\nkeep 2\n.END\n.PROGRAM p()\nGOTO 5\n.END\n").size() == 1);
+  const auto r = f.run(".PROGRAM show()\nTYPE keep\n.END\n", "show");
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "1\n");
+}
