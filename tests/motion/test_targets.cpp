@@ -187,3 +187,38 @@ TEST_CASE("simulator: a URDF arm moves (numeric IK, straight lines, READY = zero
   CHECK(sim.inrange(trans(3000, 0, 0, 0, 0, 0)) == 1);
   CHECK(sim.inrange(above) == 0);
 }
+
+TEST_CASE("cells: the generic6 demo sequence completes without contact", "[targets][urdf][cell]") {
+  // Mirrors programs/cells/generic6_cell.yaml and programs/cells/generic6_demo.v2.
+  Cell cell;
+  cell.robot = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+  cell.start_joints = robots::ready_joints(cell.robot);
+  cell.tool = trans(0, 0, 150, 0, 0, 0);
+  cell.tool_shape = collision::transformed(collision::make_box({40, 60, 120}), trans(0, 0, 70, 0, 0, 0));
+  const auto object = [](const char* name, collision::Vec3 size, collision::Vec3 at) {
+    CellObject o;
+    o.name = name;
+    o.mesh = collision::make_box(size);
+    o.pose = trans(at.x(), at.y(), at.z(), 0, 0, 0);
+    return o;
+  };
+  cell.objects.push_back(object("table", {600, 1000, 40}, {750, 0, 380}));
+  cell.objects.push_back(object("crate", {150, 150, 200}, {700, 350, 500}));
+  Simulator sim(std::move(cell));
+  const Location down = trans(0, 0, 0, 0, 180, 0);
+  const Location points[] = {trans(650, -250, 500, 0, 0, 0) * down, trans(800, 0, 500, 0, 0, 0) * down,
+                             trans(550, 150, 520, 0, 0, 0) * down};
+  int tag = 0;
+  for (const auto& p : points) {
+    const MotionResult s = sim.start_move(p, false, {}, ++tag);
+    INFO("point " << tag << ": " << s.error.message << " " << s.error.detail);
+    REQUIRE(s.status == MotionStatus::ok);
+    const MotionResult f = sim.finish_motion();
+    INFO(f.collision.body_a << " / " << f.collision.body_b);
+    REQUIRE(f.status == MotionStatus::ok);
+    check_loc(sim.here(), p, 1e-6);
+  }
+  REQUIRE(sim.start_joint_move(JointVector::Zero(6), {}, ++tag).status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  WARN("generic6 demo: " << sim.poses_checked() << " poses checked, " << sim.time_s() << " s simulated");
+}
