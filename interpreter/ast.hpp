@@ -77,7 +77,7 @@ enum class Kw : int {
   speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,
   dot_end, always, monitor, then, auto_, local, global, elseif, case_, of, value, any, tool,
   base, ready, draw, righty, lefty, above, below, flip, noflip, single, multiple,
-  dot_locations, dot_reals, dot_strings, count
+  dot_locations, dot_reals, dot_strings, signal, count
 };
 
 // KEYWORD [ [expression] { "," [expression] } ] [ trailing_word ] [ ":" ]
@@ -138,6 +138,12 @@ struct Declaration {
   std::vector<VarRef> names;                          // array sizes are ignored
 };
 
+// TIMER expression "=" expression
+struct TimerStmt {
+  Expr number;
+  Expr value;
+};
+
 // .PROGRAM name [ "(" [ param { "," param } ] ")" ]
 struct ProgramHeader {
   std::string name;
@@ -145,7 +151,7 @@ struct ProgramHeader {
 };
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
-                               ProgramHeader, Declaration> {
+                               ProgramHeader, Declaration, TimerStmt> {
   using base_type::base_type;
   using base_type::operator=;
 };

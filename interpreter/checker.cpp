@@ -434,6 +434,11 @@ class Checker {
       void operator()(const ast::TypeStmt& t) const { c.type_statement(t); }
       void operator()(const ast::ProgramHeader&) const {}
       void operator()(const ast::Declaration& d) const { c.declaration(d); }
+      void operator()(const ast::TimerStmt& t) const {
+        Instr& in = c.emit(Code::timer);
+        in.args.push_back(c.expression(t.number));
+        in.args.push_back(c.expression(t.value));
+      }
     };
     if (!boost::get<ast::Declaration>(&s)) executable_seen_ = true;
     boost::apply_visitor(Visitor{*this}, s);
@@ -536,6 +541,7 @@ class Checker {
       }
       case Kw::value: case Kw::any: return case_part(i);
       case Kw::tool: expect_args(i, 0, 1, "TOOL"); return simple(i, Code::tool);
+      case Kw::signal: expect_args(i, 1, 1000, "SIGNAL"); return simple(i, Code::signal);
       case Kw::base: expect_args(i, 1, 4, "BASE"); return simple(i, Code::base);
       case Kw::ready: expect_args(i, 0, 0, "READY"); return simple(i, Code::ready);
       case Kw::draw: expect_args(i, 1, 3, "DRAW"); return simple(i, Code::draw);

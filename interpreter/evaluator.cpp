@@ -196,6 +196,19 @@ void Evaluator::execute(const Instr& in) {
     case Code::move: case Code::moves: case Code::appro: case Code::appros:
     case Code::depart: case Code::departs: case Code::ready: case Code::draw:
       return motion(in);
+    case Code::signal:  // SIGNAL n, ...: n > 0 on, n < 0 off, 0 ignored
+      for (const Node& n : in.args) {
+        const int k = signal_number(n, true);
+        if (k > 0) memory_.signals.insert(k);
+        if (k < 0) memory_.signals.erase(-k);
+      }
+      return;
+    case Code::timer: {
+      const int k = to_index(to_real(eval(in.args[0]), "timer number"));
+      if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));
+      memory_.timers[static_cast<std::size_t>(k)] = {to_real(eval(in.args[1]), "TIMER value"), sim_.time_s()};
+      return;
+    }
     case Code::case_init:
       f.temps[static_cast<std::size_t>(in.temp)] = to_real(eval(in.args[0]), "CASE value");
       return;
@@ -511,8 +524,33 @@ Value Evaluator::eval(const Node& n) {
   raise(ErrorKind::illegal_value, "bad expression");
 }
 
+// A signal number: outputs 1-512, inputs 1001-1512, soft signals 2001-2512 (negative: off).
+int Evaluator::signal_number(const Node& n, bool output) {
+  const int k = to_index(to_real(eval(n), "signal number"));
+  const int a = std::abs(k);
+  const bool out = a >= 1 && a <= 512, in = a >= 1001 && a <= 1512, soft = a >= 2001 && a <= 2512;
+  if (k != 0 && !out && !in && !soft) raise(ErrorKind::illegal_value, fmt::format("signal {}", k));
+  if (output && in) raise(ErrorKind::illegal_value, fmt::format("signal {} is an input", k));
+  if (!output && k == 0) raise(ErrorKind::illegal_value, "signal 0");
+  return k;
+}
+
 Value Evaluator::function(const Node& n) {
   if (n.func == Func::defined) return truth(defined(n.kids[0]));
+  if (n.func == Func::sig) {  // TRUE when every listed condition holds
+    bool all = true;
+    for (const Node& k : n.kids) {
+      const int s = signal_number(k, false);
+      all = all && (memory_.signals.count(std::abs(s)) > 0) == (s > 0);
+    }
+    return truth(all);
+  }
+  if (n.func == Func::timer) {
+    const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
+    if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));
+    const auto& [value, since] = memory_.timers[static_cast<std::size_t>(k)];
+    return value + (sim_.time_s() - since);
+  }
   std::vector<std::optional<Value>> args;
   args.reserve(n.kids.size());
   for (const Node& k : n.kids) {

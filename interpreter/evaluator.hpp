@@ -5,7 +5,10 @@
 #include "interpreter/code.hpp"
 #include "interpreter/interpreter.hpp"
 #include "interpreter/values.hpp"
+#include <array>
 #include <deque>
+#include <set>
+#include <utility>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -19,6 +22,8 @@ struct Memory {
   std::deque<Variable> globals;                            // by global slot
   std::vector<std::shared_ptr<const Program>> programs;    // by program slot; null if absent
   std::vector<std::string> load_order;                     // program names as first loaded
+  std::set<int> signals;                                   // digital signals that are on
+  std::array<std::pair<double, double>, 17> timers{};      // TIMER n: value set, clock then [s]
 };
 
 class Evaluator {
@@ -46,6 +51,7 @@ class Evaluator {
   Value eval(const Node& n);
   Value binary(ast::Op op, const Value& a, const Value& b);
   Value function(const Node& n);
+  int signal_number(const Node& n, bool output);
   Variable& variable(const Node& n);
   Index index(const Node& n);
   Value read(const Node& n);

@@ -12,7 +12,7 @@
 namespace asimov::val {
 namespace {
 
-constexpr std::array<FunctionInfo, 40> kFunctions = {{
+constexpr std::array<FunctionInfo, 43> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -23,6 +23,7 @@ constexpr std::array<FunctionInfo, 40> kFunctions = {{
     {"dx", 1, 1},       {"dy", 1, 1},       {"dz", 1, 1},      {"distance", 2, 2},
     {"shift", 4, 4},    {"tool", 0, 0},     {"base", 0, 0},    {"len", 1, 1},
     {"$chr", 1, 1},     {"asc", 1, 2},      {"val", 1, 1},     {"defined", 1, 1},
+    {"sig", 1, -1},     {"timer", 1, 1},    {"$mid", 3, 3},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
@@ -173,7 +174,16 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       if (used == 0 || !std::isfinite(v)) raise(ErrorKind::illegal_value, fmt::format("VAL(\"{}\")", s));
       return v;
     }
-    case Func::defined:  // handled by the evaluator (its argument is not evaluated)
+    case Func::mid: {  // $MID($s, i, n): 1-based
+      const std::string& s = to_string_value(arg(args, 0));
+      const int i = to_index(x(1)), n = to_index(x(2));
+      if (i < 1 || n < 0) raise(ErrorKind::illegal_value, fmt::format("$MID(, {}, {})", i, n));
+      if (static_cast<std::size_t>(i) > s.size()) return std::string();
+      return s.substr(static_cast<std::size_t>(i - 1), static_cast<std::size_t>(n));
+    }
+    case Func::defined:  // DEFINED, SIG, TIMER: the evaluator (they need its state)
+    case Func::sig:
+    case Func::timer:
     case Func::count: break;
   }
   raise(ErrorKind::illegal_value, "bad function");

@@ -29,6 +29,7 @@ BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Format, code, width, decimals)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::TypeStmt, kw, items)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::ProgramHeader, name, params)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Declaration, kw, names)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::TimerStmt, number, value)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::DataLine, name, indices, values, text)
 
 namespace asimov::val {
@@ -60,7 +61,7 @@ constexpr std::string_view kReserved[] = {
     "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
     "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
     "auto", "local", "global", "elseif", "elif", "ready", "draw", "righty", "lefty", "above",
-    "below", "flip", "noflip", "single", "multiple"};
+    "below", "flip", "noflip", "single", "multiple", "signal", "timer"};
 
 bool is_reserved(const std::string& word) {
   std::string lower = word;
@@ -117,7 +118,8 @@ struct instruction_table : x3::symbols<Kw> {
        ("tool", Kw::tool)("base", Kw::base)("ready", Kw::ready)("draw", Kw::draw)
        ("righty", Kw::righty)("lefty", Kw::lefty)("above", Kw::above)("below", Kw::below)
        ("flip", Kw::flip)("noflip", Kw::noflip)("single", Kw::single)("multiple", Kw::multiple)
-       (".locations", Kw::dot_locations)(".reals", Kw::dot_reals)(".strings", Kw::dot_strings);
+       (".locations", Kw::dot_locations)(".reals", Kw::dot_reals)(".strings", Kw::dot_strings)
+       ("signal", Kw::signal);
   }
 } const instruction_words;
 
@@ -187,6 +189,7 @@ x3::rule<class statement_class, ast::Statement> const statement = "statement";
 x3::rule<class data_line_class, ast::DataLine, true> const data_line = "data line";
 x3::rule<class optional_expression_class, ast::Expr> const optional_expression = "expression";
 x3::rule<class declaration_class, ast::Declaration> const declaration = "declaration";
+x3::rule<class timer_class, ast::TimerStmt> const timer_stmt = "TIMER";
 x3::rule<class to_class> const to_keyword = "TO";
 
 // name = letter { letter | digit | "." | "_" }
@@ -261,9 +264,12 @@ const auto program_header_def = kw(".program") > word > -('(' > -(param % ',') >
 // declaration = ( AUTO | LOCAL | GLOBAL ) [ REAL | DOUBLE | LOC ] variable { "," variable }
 const auto declaration_def = word_of(declaration_words) >> x3::omit[-word_of(type_words)]
     > (variable % ',');
-// statement = program_header | declaration | type | for | if | call | instruction | assignment
+// timer = TIMER expression "=" expression
+const auto timer_stmt_def = kw("timer") > expression > '=' > expression;
+// statement = program_header | declaration | type | for | if | call | timer | instruction
+//           | assignment
 const auto statement_def = program_header | declaration | type_stmt | for_stmt | if_stmt
-    | call_stmt | instruction | binding;
+    | call_stmt | timer_stmt | instruction | binding;
 
 // data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
 const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
@@ -274,7 +280,7 @@ const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
 BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
-                    program_header, statement, to_keyword, declaration, optional_expression)
+                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt)
 
 // skipper = blank | ";" { any }
 const auto skipper = x3::blank | (';' >> *x3::char_);

@@ -331,3 +331,38 @@ TEST_CASE("location functions", "[evaluator]") {
   CHECK(output_of("DECOMPOSE d[0] = TRANS(1, 2, 3, 10, 20, 30)\nTYPE d[0], d[1], d[2], d[3], d[4], d[5]") ==
         "1 2 3 10 20 30\n");
 }
+
+TEST_CASE("signals and SIG", "[evaluator][io]") {
+  CHECK(output_of("SIGNAL 1, -2, 2001\nTYPE SIG(1), SIG(-2), SIG(1, 2001), SIG(2), SIG(-1001)") == "-1 -1 -1 0 -1\n");
+  CHECK(output_of("SIGNAL 3\nSIGNAL -3, 0\nTYPE SIG(3)") == "0\n");
+  InterpreterFixture f;
+  auto r = f.run(".PROGRAM main()\nSIGNAL 1001\n.END\n");
+  CHECK(r.error.message == "*Illegal value*");  // programs may not set inputs
+  r = f.run(".PROGRAM bad()\nx = SIG(600)\n.END\n", "bad");
+  CHECK(r.error.message == "*Illegal value*");
+  r = f.run(".PROGRAM on()\nSIGNAL 5\n.END\n.PROGRAM show()\nTYPE SIG(5)\n.END\n", "on");
+  REQUIRE(r.status == RunStatus::completed);
+  REQUIRE(f.interp.run("show").status == RunStatus::completed);  // signals persist
+  CHECK(f.out.str() == "-1\n");
+}
+
+TEST_CASE("timers follow the simulated clock", "[evaluator][io]") {
+  InterpreterFixture f;
+  const auto r = f.run(R"(.PROGRAM main()
+  TIMER 2 = 10
+  TYPE TIMER(2)
+  MOVE #PPOINT(20, -90, 90, 0, 0, 0)
+  BREAK
+  TYPE TIMER(2) > 10
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "10\n-1\n");
+  InterpreterFixture g;
+  CHECK(g.run(".PROGRAM main()\nTIMER 17 = 1\n.END\n").error.message == "*Illegal value*");
+}
+
+TEST_CASE("$MID", "[evaluator]") {
+  CHECK(output_of("TYPE $MID(\"abcdef\", 2, 3), $MID(\"abc\", 3, 9), \"|\", $MID(\"abc\", 5, 1), \"|\"") == "bcdc||\n");
+}
