@@ -5,6 +5,8 @@
 #include "robots/puma560.hpp"
 
 #include <catch2/catch.hpp>
+#include <Eigen/Geometry>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -63,28 +65,53 @@ TEST_CASE("the 8 IK solutions of the test pose", "[ik]") {
   }
 }
 
+// Declared singular band of the round trip: |J5| < 0.01 deg (wrist), wrist centre within 0.01 mm
+// of the shoulder cylinder r = d3, elbow within 1e-6 of full stretch / fold (|cos psi| > 1 - 1e-6).
+bool in_singular_band(const Robot& r, const JointVector& display) {
+  if (std::abs(display[4]) < 0.01) return true;
+  std::vector<Pose> f;
+  link_frames(r, display, f);
+  const asimov::collision::Vec3 p = f[4].translation();
+  const double a2 = r.dh[1].a, d3 = r.dh[2].d, a3 = r.dh[2].a, d4 = r.dh[3].d;
+  const double rr = std::hypot(p.x(), p.y());
+  if (rr - d3 < 0.01) return true;
+  const double rho2 = rr * rr - d3 * d3 + p.z() * p.z();
+  const double c = (a2 * a2 - d4 * d4 - a3 * a3 + rho2) / (2 * a2 * std::sqrt(rho2));
+  return std::abs(c) > 1 - 1e-6;
+}
+
 TEST_CASE("FK(IK(T)) round trips over random poses", "[ik][random]") {
   const Robot r = puma560();
   std::mt19937 rng(20261128);
   std::uniform_real_distribution<double> u(0, 1);
-  double max_p = 0, max_r = 0, max_back = 0;
-  int tested = 0, recovered = 0, mislabelled = 0;
-  const int n = 4000;
+  double max_p = 0, max_r = 0, max_r_angle = 0, max_back = 0;
+  int tested = 0, recovered = 0, mislabelled = 0, in_band = 0;
+  std::array<int, 8> per_branch{};
+  const int n = 110000;  // >= 100,000 poses outside the band, all 8 solutions each
   const auto t0 = std::chrono::steady_clock::now();
   for (int k = 0; k < n; ++k) {
     JointVector d(6);
     for (int i = 0; i < 6; ++i) d[i] = r.lower[i] + u(rng) * (r.upper[i] - r.lower[i]);
-    if (std::abs(d[4]) < 0.01) continue;  // declared wrist band
+    if (in_singular_band(r, d)) {
+      ++in_band;
+      continue;
+    }
     const JointVector q = display_to_dh(r, d);
     const Pose t = flange_pose_dh(r, q);
     IkCandidates c;
-    if (puma_ik_all(r, t, q[3], c) != IkStatus::ok) continue;  // shoulder/elbow band
+    REQUIRE(puma_ik_all(r, t, q[3], c) == IkStatus::ok);
     ++tested;
     bool back = false;
-    for (const auto& cand : c) {
+    for (std::size_t b = 0; b < c.size(); ++b) {
+      const auto& cand = c[b];
+      REQUIRE(cand.valid);
+      REQUIRE(cand.dh.allFinite());
       const auto [ep, er] = fk_error(r, cand.dh, t);
+      const Pose f = flange_pose_dh(r, cand.dh);
+      max_r_angle = std::max(max_r_angle, Eigen::AngleAxisd(f.linear() * t.linear().transpose()).angle());
       max_p = std::max(max_p, ep);
       max_r = std::max(max_r, er);
+      per_branch[b] += ep <= 1e-9 && er <= 1e-12;
       if (same_dh(cand.dh, q / kDeg, 1e-6)) back = true;
       if (!(configuration_of(r, dh_to_display(r, cand.dh)) == cand.config)) ++mislabelled;
     }
@@ -94,16 +121,110 @@ TEST_CASE("FK(IK(T)) round trips over random poses", "[ik][random]") {
     REQUIRE(res.status == IkStatus::ok);
     max_back = std::max(max_back, (res.joints - d).cwiseAbs().maxCoeff());
   }
-  const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-  WARN("IK round trips: " << tested << " poses x 8, max position error " << max_p << " mm, max rotation error "
-                          << max_r << ", max joint recovery error " << max_back << " deg, " << us / tested
-                          << " us per pose (all 8 + select)");
-  CHECK(tested > n * 9 / 10);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  WARN("IK round trips: " << tested << " poses x 8 (" << in_band << " in the declared band), max position error "
+                          << max_p << " mm, max rotation error " << max_r << " (Frobenius), " << max_r_angle
+                          << " rad (angle), max joint recovery error " << max_back << " deg, " << s << " s");
+  CHECK(tested >= 100000);
   CHECK(recovered == tested);
   CHECK(mislabelled == 0);  // every branch label agrees with configuration_of (§6)
-  CHECK(max_p < 1e-9);
-  CHECK(max_r < 1e-12);
+  for (int b : per_branch) CHECK(b == tested);  // all 8 configurations
+  CHECK(max_p <= 1e-9);
+  CHECK(max_r <= 1e-12);
+  CHECK(max_r_angle <= 1e-12);
   CHECK(max_back < 1e-9);
+}
+
+TEST_CASE("IK at the shoulder, elbow and wrist singularities: finite, FK exact, branches merge", "[ik][singular]") {
+  const Robot r = puma560();
+  const double a2 = r.dh[1].a, d3 = r.dh[2].d, a3 = r.dh[2].a, d4 = r.dh[3].d;
+  const double L = std::hypot(a3, d4);
+  const auto check_all = [&](const Pose& t, double theta4) {
+    IkCandidates c;
+    REQUIRE(puma_ik_all(r, t, theta4, c) == IkStatus::ok);
+    for (const auto& cand : c) {
+      REQUIRE(cand.valid);
+      REQUIRE(cand.dh.allFinite());
+      const auto [ep, er] = fk_error(r, cand.dh, t);
+      CHECK(ep < 1e-6);
+      CHECK(er < 1e-9);
+    }
+    return c;
+  };
+  SECTION("shoulder: wrist centre on the cylinder r = d3, both shoulders give the same J1") {
+    // Wrist centre at (0, d3, 300), tool down: theta1 = phi +- asin(1) meet.
+    Pose t = Pose::Identity();
+    t.translation() = asimov::collision::Vec3(0, d3, 300);
+    const IkCandidates c = check_all(t, 0);
+    CHECK(std::abs(wrap_deg((c[0].dh[0] - c[4].dh[0]) / kDeg)) < 1e-6);  // phi + alpha = phi + 180 - alpha
+  }
+  SECTION("elbow: full stretch, ABOVE and BELOW coincide") {
+    const double rho = a2 + L;  // wrist centre at full reach in the J1 = 0 plane
+    Pose t = Pose::Identity();
+    t.translation() = asimov::collision::Vec3(rho * std::cos(0.3), d3, rho * std::sin(0.3));
+    const IkCandidates c = check_all(t, 0);
+    CHECK(std::abs(c[0].dh[1] - c[2].dh[1]) < 1e-6);  // theta2 of ABOVE and BELOW
+    CHECK(std::abs(c[0].dh[2] - c[2].dh[2]) < 1e-6);
+    // Just beyond: out of reach, no NaN anywhere.
+    t.translation() *= 1.0001;
+    IkCandidates out;
+    CHECK(puma_ik_all(r, t, 0, out) == IkStatus::out_of_reach);
+    for (const auto& cand : out) CHECK_FALSE(cand.valid);
+  }
+  SECTION("elbow: folded (rho = |a2 - L|) is reachable and finite") {
+    const double rho = std::abs(a2 - L) + 1e-9;
+    Pose t = Pose::Identity();
+    t.translation() = asimov::collision::Vec3(rho, d3, 0);
+    check_all(t, 0);
+  }
+  SECTION("wrist: theta5 = 0 exactly, theta4 kept, both flips the same") {
+    const JointVector q = jv({10, -80, 120, 15, 0, 40});
+    const Pose t = flange_pose(r, q);
+    const IkCandidates c = check_all(t, 0.5);
+    const Configuration own = configuration_of(r, q);
+    for (const auto& cand : c) {
+      if (cand.config.righty != own.righty || cand.config.above != own.above) continue;  // other arms: regular wrist
+      CHECK(cand.wrist_singular);
+      CHECK(cand.dh[3] == 0.5);
+      CHECK(cand.dh[4] == 0);
+    }
+  }
+}
+
+TEST_CASE("every joint at each of its limits: accepted on it, refused past it", "[ik][limits]") {
+  const Robot r = puma560();
+  const JointVector mid = jv({20, -60, 120, 30, 40, 50});
+  for (int j = 0; j < 6; ++j) {
+    for (int side = 0; side < 2; ++side) {
+      const double limit = side == 0 ? r.lower[j] : r.upper[j];
+      JointVector on = mid;
+      on[j] = limit;
+      INFO("J" << j + 1 << (side == 0 ? " lower " : " upper ") << limit);
+      CHECK(first_limit_violation(r, on) == -1);
+      // IK of the pose on the limit, from a nearby current pose, returns the limit itself.
+      JointVector near = on;
+      near[j] += side == 0 ? 2 : -2;
+      const Configuration c = configuration_of(r, on);
+      const IkResult res = solve_puma(r, flange_pose(r, on), near, c, false);
+      if (std::abs(on[4]) > 1e-9) {  // J5 on a limit is never 0 here
+        REQUIRE(res.status == IkStatus::ok);
+        CHECK(std::abs(res.joints[j] - limit) < 1e-9);
+      }
+      // One degree past the limit.
+      JointVector past = on;
+      past[j] += side == 0 ? -1 : 1;
+      CHECK(first_limit_violation(r, past) == j);
+      const IkResult bad = solve_puma(r, flange_pose(r, past), near, configuration_of(r, past), false);
+      if (j == 5) {
+        // J6 spans 532 deg: an in-range equivalent always exists (past - 360 or + 360).
+        REQUIRE(bad.status == IkStatus::ok);
+        CHECK(std::abs(std::abs(bad.joints[5] - past[5]) - 360) < 1e-9);
+      } else {
+        CHECK(bad.status == IkStatus::joint_limit);
+        CHECK(bad.joint == j);
+      }
+    }
+  }
 }
 
 TEST_CASE("configuration selection", "[ik][configuration]") {
