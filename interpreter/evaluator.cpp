@@ -331,7 +331,11 @@ void Evaluator::finish_motion() {
   if (!sim_.motion_pending()) return;
   const motion::MotionResult r = sim_.finish_motion();
   if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
-  if (r.status == motion::MotionStatus::error) raise_text(r.error.message, r.error.detail);
+  if (r.status == motion::MotionStatus::error) {
+    current_program_ = motion_program_;  // reported at the motion instruction
+    current_line_ = motion_line_;
+    raise_text(r.error.message, r.error.detail);
+  }
 }
 
 void Evaluator::motion(const Instr& in) {

@@ -205,7 +205,7 @@ const auto number_def = real_literal[check_finite]
     | x3::lexeme[x3::lit('^') >> x3::oct]
     | x3::lexeme[x3::lit('\'') >> x3::char_("\x20-\x7e")];
 // string = '"' { character - '"' } '"'
-const auto string_literal_def = x3::lexeme['"' > *(x3::char_ - '"') > '"'];
+const auto string_literal_def = x3::lexeme['"' > *(x3::char_("\x20-\x7e") - '"') > '"'];
 // expression = operand { binary_op operand }      (precedence: checker, dialect §3)
 const auto expression_def = operand >> *(binary_op > operand);
 // binary_op = "*" | "/" | "+" | "-" | ":" | relational | MOD | AND | BAND | OR | XOR | BOR | BXOR
@@ -377,7 +377,14 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       x3::phrase_parse(first, last, x3::eps, skipper);
       if (first != last) {
         std::string detail = line.statement ? "unexpected text" : "expected a statement";
-        if (*first == '=') detail = "\"=\" is not an operator; use \"==\" to compare";
+        const auto* keyword = line.statement ? boost::get<ast::Instruction>(&*line.statement) : nullptr;
+        if (*first == '=' && keyword && keyword->args.size() <= 1)
+          detail = "\"" + text.substr(static_cast<std::size_t>(line.column - 1),
+                                      text.find_first_of(" \t=", static_cast<std::size_t>(line.column - 1)) -
+                                          static_cast<std::size_t>(line.column - 1)) +
+                   "\" is a keyword, not a variable";
+        else if (*first == '=')
+          detail = "\"=\" is not an operator; use \"==\" to compare";
         fail(first, refine(first, last, detail));
       }
     } catch (const x3::expectation_failure<std::string::const_iterator>& e) {

@@ -130,7 +130,9 @@ TEST_CASE("all syntax errors of a file are reported, one per line", "[parser][er
 }
 
 TEST_CASE("reserved words are not names, extended ones are", "[parser]") {
-  CHECK_FALSE(errors_of("move = 3").empty());
+  REQUIRE(errors_of("move = 3").size() == 1);
+  CHECK(errors_of("move = 3")[0].detail == "\"move\" is a keyword, not a variable");
+  CHECK(errors_of("x = \"tab\there\"").size() == 1);  // strings hold ASCII 32-126
   CHECK_FALSE(errors_of("x = to + 1").empty());
   CHECK(errors_of("move.x = 3").empty());
   CHECK(errors_of("to_go = 3").empty());
