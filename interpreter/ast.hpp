@@ -12,6 +12,7 @@ namespace asimov::val::ast {
 namespace x3 = boost::spirit::x3;
 
 // Operators, shared by the parser (symbols) and the checker (precedence, code).
+// ORDER: kPrecedence in checker.cpp, kText in evaluator.cpp (both static_assert'ed).
 enum class Op : int {
   neg, plus, not_,                        // unary
   mul, div, mod,                          // level 3
@@ -71,7 +72,7 @@ struct Call {
   std::vector<boost::optional<Expr>> args;
 };
 
-// Keywords that start an instruction, and trailing words. ORDER: kKeywordNames in parser.cpp.
+// Keywords that start an instruction, and trailing words (spelled in parser.cpp's symbol tables).
 enum class Kw : int {
   none, assign, set, decompose, here, move, moves, appro, appros, depart, departs, break_,
   speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,

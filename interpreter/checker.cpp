@@ -29,7 +29,7 @@ using ast::Kw;
 using ast::Op;
 
 // Binary operator levels of dialect §3 (7 = weakest). ':' binds tighter than '*' [assumption].
-constexpr std::array<int, static_cast<std::size_t>(Op::count)> kPrecedence = {
+constexpr int kPrecedence[] = {
     0, 0, 0,           // unary: never binary
     5, 5, 5,           // * / MOD
     4, 4,              // + -
@@ -38,6 +38,7 @@ constexpr std::array<int, static_cast<std::size_t>(Op::count)> kPrecedence = {
     1, 1, 1, 1,        // OR XOR BOR BXOR
     6,                 // :
 };
+static_assert(std::size(kPrecedence) == static_cast<std::size_t>(Op::count));
 
 struct Block {
   Kw kind = Kw::none;         // if_ (Kw::then), while_, do_, for (Kw::next marks FOR)

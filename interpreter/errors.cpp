@@ -1,5 +1,9 @@
 #include "interpreter/errors.hpp"
 
+#include "interpreter/interpreter.hpp"
+
+#include <fmt/format.h>
+
 #include <array>
 
 namespace asimov::val {
@@ -29,6 +33,34 @@ void raise(ErrorKind kind, std::string detail) {
 
 void raise_text(std::string message, std::string detail) {
   throw RuntimeError{std::move(message), std::move(detail)};
+}
+
+// The report of dialect §10 (declared in interpreter.hpp, the public face).
+std::string format_diagnostic(const Diagnostic& d) {
+  std::string out = d.message;
+  if (!d.detail.empty()) out += "  " + d.detail;
+  out += '\n';
+  const bool syntax = d.column > 0;
+  if (syntax) {
+    out += fmt::format(" {}:{}:{}", d.file, d.line, d.column);
+    if (!d.program.empty()) out += fmt::format("  ({}, step {})", d.program, d.step);
+    out += '\n';
+  } else if (!d.program.empty()) {
+    out += fmt::format(" {}, step {} ({}:{})\n", d.program, d.step, d.file, d.line);
+  } else if (!d.file.empty()) {
+    out += d.line > 0 ? fmt::format(" {}:{}\n", d.file, d.line) : fmt::format(" {}\n", d.file);
+  }
+  if (!d.source_line.empty()) {
+    out += "    " + d.source_line + '\n';
+    if (syntax) {
+      // Caret under the 1-based column; tabs copied so it lines up with the source.
+      std::string pad = "    ";
+      for (int i = 0; i + 1 < d.column && i < static_cast<int>(d.source_line.size()); ++i)
+        pad += d.source_line[static_cast<std::size_t>(i)] == '\t' ? '\t' : ' ';
+      out += pad + "^\n";
+    }
+  }
+  return out;
 }
 
 }  // namespace asimov::val

@@ -1,5 +1,6 @@
 // Runtime error kinds and their VAL texts (dialect §10), and the one raise point. The
 // evaluator's run loop is the one protected boundary that turns a raise into a Diagnostic.
+// errors.cpp also formats reports (format_diagnostic, declared in interpreter.hpp).
 #pragma once
 #include <string>
 #include <string_view>
