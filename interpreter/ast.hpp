@@ -78,7 +78,7 @@ enum class Kw : int {
   speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,
   dot_end, always, monitor, then, auto_, local, global, elseif, case_, of, value, any, tool,
   base, ready, draw, righty, lefty, above, below, flip, noflip, single, multiple,
-  dot_locations, dot_reals, dot_strings, signal, count
+  dot_locations, dot_reals, dot_strings, signal, align, drive, count
 };
 
 // KEYWORD [ [expression] { "," [expression] } ] [ trailing_word ] [ ":" ]

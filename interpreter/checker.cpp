@@ -546,6 +546,8 @@ class Checker {
       case Kw::base: expect_args(i, 1, 4, "BASE"); return simple(i, Code::base);
       case Kw::ready: expect_args(i, 0, 0, "READY"); return simple(i, Code::ready);
       case Kw::draw: expect_args(i, 1, 3, "DRAW"); return simple(i, Code::draw);
+      case Kw::align: expect_args(i, 0, 0, "ALIGN"); return simple(i, Code::align);
+      case Kw::drive: expect_args(i, 3, 3, "DRIVE"); return simple(i, Code::drive);
       case Kw::righty: case Kw::lefty: case Kw::above: case Kw::below: case Kw::flip:
       case Kw::noflip: case Kw::single: case Kw::multiple:
         expect_args(i, 0, 0, "a configuration word");

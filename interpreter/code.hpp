@@ -34,7 +34,7 @@ struct Node {
 enum class Code : unsigned char {
   assign, set, here, decompose, type, move, moves, appro, appros, depart, departs, break_,
   speed, jump, jump_false, jump_true, for_init, for_next, call, return_, stop, case_init,
-  case_test, tool, base, configure, ready, draw, signal, timer
+  case_test, tool, base, configure, ready, draw, signal, timer, align, drive
 };
 
 struct Instr {

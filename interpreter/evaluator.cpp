@@ -194,7 +194,8 @@ void Evaluator::execute(const Instr& in) {
     }
     case Code::type: return type(in);
     case Code::move: case Code::moves: case Code::appro: case Code::appros:
-    case Code::depart: case Code::departs: case Code::ready: case Code::draw:
+    case Code::depart: case Code::departs: case Code::ready: case Code::draw: case Code::align:
+    case Code::drive:
       return motion(in);
     case Code::signal:  // SIGNAL n, ...: n > 0 on, n < 0 off, 0 ignored
       for (const Node& n : in.args) {
@@ -352,6 +353,34 @@ void Evaluator::motion(const Instr& in) {
       }
       target = j;
       break;
+    }
+    case Code::align: {  // tool Z onto the nearest world axis (ties: Z, X, Y), smallest rotation
+      motion::Location t = sim_.here();
+      const Eigen::Vector3d z = t.linear().col(2);
+      int axis = 2;
+      if (std::fabs(z.x()) > std::fabs(z[axis])) axis = 0;
+      if (std::fabs(z.y()) > std::fabs(z[axis])) axis = 1;
+      const Eigen::Vector3d goal = Eigen::Vector3d::Unit(axis) * (z[axis] < 0 ? -1.0 : 1.0);
+      const Eigen::Vector3d v = z.cross(goal);
+      if (v.norm() > 1e-12)
+        t.linear() = Eigen::AngleAxisd(std::atan2(v.norm(), z.dot(goal)), v.normalized()).toRotationMatrix() * t.linear();
+      target = t;
+      break;
+    }
+    case Code::drive: {  // DRIVE j, change, speed: one joint, relative, at speed % of its maximum
+      const int j = to_index(to_real(eval(in.args[0]), "joint"));
+      const double change = to_real(eval(in.args[1]), "DRIVE change");
+      const double s = to_real(eval(in.args[2]), "DRIVE speed");
+      if (j < 1 || j > sim_.robot().joint_count()) raise(ErrorKind::illegal_value, fmt::format("joint {}", j));
+      if (!(s >= 1 && s <= 100)) raise(ErrorKind::illegal_value, fmt::format("DRIVE speed {}", format_number(s)));
+      robots::JointVector q = sim_.joints();
+      q[j - 1] += change;
+      const motion::MotionResult r = sim_.start_joint_move(q, {speed_monitor_, s}, in.line - current_program_->line);
+      motion_program_ = current_program_;
+      motion_line_ = in.line;
+      if (r.status == motion::MotionStatus::error) raise_text(r.error.message, r.error.detail);
+      if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
+      return;  // the program speed does not apply and is not consumed
     }
     case Code::draw: {  // SHIFT(HERE BY dx, dy, dz), HERE after the previous motion
       motion::Location t = sim_.here();

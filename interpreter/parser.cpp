@@ -61,7 +61,7 @@ constexpr std::string_view kReserved[] = {
     "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
     "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
     "auto", "local", "global", "elseif", "elif", "ready", "draw", "righty", "lefty", "above",
-    "below", "flip", "noflip", "single", "multiple", "signal", "timer"};
+    "below", "flip", "noflip", "single", "multiple", "signal", "timer", "align", "drive"};
 
 bool is_reserved(const std::string& word) {
   std::string lower = word;
@@ -119,7 +119,7 @@ struct instruction_table : x3::symbols<Kw> {
        ("righty", Kw::righty)("lefty", Kw::lefty)("above", Kw::above)("below", Kw::below)
        ("flip", Kw::flip)("noflip", Kw::noflip)("single", Kw::single)("multiple", Kw::multiple)
        (".locations", Kw::dot_locations)(".reals", Kw::dot_reals)(".strings", Kw::dot_strings)
-       ("signal", Kw::signal);
+       ("signal", Kw::signal)("align", Kw::align)("drive", Kw::drive);
   }
 } const instruction_words;
 

@@ -224,3 +224,30 @@ TEST_CASE("READY, DRAW, TOOL, BASE and configuration words", "[motion]") {
   CHECK(f.sim.request().righty == 1);
   CHECK(f.sim.request().single);
 }
+
+TEST_CASE("ALIGN turns tool Z onto the nearest world axis, DRIVE moves one joint", "[motion]") {
+  InterpreterFixture f;
+  const auto r = f.run(R"(.PROGRAM main()
+  MOVE #PPOINT(10, -60, 150, 10, 40, 20)
+  BREAK
+  SET before = HERE
+  ALIGN
+  BREAK
+  SET after = HERE
+  TYPE /F0.3, DISTANCE(before, after)
+.END
+)");
+  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "0.000\n");  // the tool point stays
+  const Eigen::Vector3d z = f.sim.here().linear().col(2);
+  CHECK(z.cwiseAbs().maxCoeff() == Approx(1).margin(1e-6));
+  const double j1 = f.sim.joints()[0], j2 = f.sim.joints()[1];
+  REQUIRE(f.run(".PROGRAM turn()\n  DRIVE 1, -15, 50\n.END\n", "turn").status == RunStatus::completed);
+  CHECK(f.sim.joints()[0] == Approx(j1 - 15).margin(1e-9));
+  CHECK(f.sim.joints()[1] == Approx(j2).margin(1e-9));
+
+  InterpreterFixture g;
+  const auto s = g.run(".PROGRAM main()\n  DRIVE 7, 10, 50\n.END\n");
+  CHECK(s.error.message == "*Illegal value*");
+}
