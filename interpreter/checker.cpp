@@ -401,13 +401,13 @@ class Checker {
         n.kids.emplace_back();  // omitted
         continue;
       }
-      if (*f == Func::defined) {
+      if (*f == Func::defined || *f == Func::last) {
         const ast::VarRef* v = plain_variable(*call.args[i], true);
-        if (!v) {
-          error("DEFINED needs a variable");
+        if (!v || (*f == Func::last && !ast::is_whole_array(*v))) {
+          error(*f == Func::last ? "LAST needs an array a[]" : "DEFINED needs a variable");
           return n;
         }
-        n.kids.push_back(variable(*v, false));
+        n.kids.push_back(variable(*v, *f == Func::last));
       } else {
         n.kids.push_back(expression(*call.args[i]));
       }

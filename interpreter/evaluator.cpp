@@ -578,6 +578,10 @@ Value Evaluator::function(const Node& n) {
     }
     return truth(all);
   }
+  if (n.func == Func::last) {  // the highest assigned first index, or -1
+    const Variable& v = variable(n.kids[0]);
+    return v.elements.empty() ? -1.0 : static_cast<double>(v.elements.rbegin()->first[0]);
+  }
   if (n.func == Func::timer) {
     const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
     if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));

@@ -12,7 +12,7 @@
 namespace asimov::val {
 namespace {
 
-constexpr std::array<FunctionInfo, 43> kFunctions = {{
+constexpr std::array<FunctionInfo, 45> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -23,7 +23,8 @@ constexpr std::array<FunctionInfo, 43> kFunctions = {{
     {"dx", 1, 1},       {"dy", 1, 1},       {"dz", 1, 1},      {"distance", 2, 2},
     {"shift", 4, 4},    {"tool", 0, 0},     {"base", 0, 0},    {"len", 1, 1},
     {"$chr", 1, 1},     {"asc", 1, 2},      {"val", 1, 1},     {"defined", 1, 1},
-    {"sig", 1, -1},     {"timer", 1, 1},    {"$mid", 3, 3},
+    {"sig", 1, -1},     {"timer", 1, 1},    {"$mid", 3, 3},    {"last", 1, 1},
+    {"frame", 4, 4},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
@@ -181,7 +182,25 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       if (static_cast<std::size_t>(i) > s.size()) return std::string();
       return s.substr(static_cast<std::size_t>(i - 1), static_cast<std::size_t>(n));
     }
-    case Func::defined:  // DEFINED, SIG, TIMER: the evaluator (they need its state)
+    case Func::frame: {
+      const Eigen::Vector3d a = as_pose(arg(args, 0), sim).translation();
+      const Eigen::Vector3d b = as_pose(arg(args, 1), sim).translation();
+      const Eigen::Vector3d c = as_pose(arg(args, 2), sim).translation();
+      const Eigen::Vector3d x_axis = b - a;
+      if (x_axis.norm() < 1e-9) raise(ErrorKind::illegal_value, "FRAME: a and b coincide");
+      const Eigen::Vector3d x_hat = x_axis.normalized();
+      const Eigen::Vector3d y_part = (c - a) - (c - a).dot(x_hat) * x_hat;
+      if (y_part.norm() < 1e-9) raise(ErrorKind::illegal_value, "FRAME: c is on the line a-b");
+      const Eigen::Vector3d y_hat = y_part.normalized();
+      motion::Location t = motion::Location::Identity();
+      t.linear().col(0) = x_hat;
+      t.linear().col(1) = y_hat;
+      t.linear().col(2) = x_hat.cross(y_hat);
+      t.translation() = as_pose(arg(args, 3), sim).translation();
+      return t;
+    }
+    case Func::defined:  // DEFINED, SIG, TIMER, LAST: the evaluator (they need its state)
+    case Func::last:
     case Func::sig:
     case Func::timer:
     case Func::count: break;

@@ -13,7 +13,7 @@ namespace asimov::val {
 enum class Func : int {
   sin, cos, tan, asin, acos, atan2, sqrt, sqr, abs, int_, fract, sign, max, min, pi, true_,
   false_, random, bmask, here, dest, null, trans, ppoint, inverse, rx, ry, rz, dx, dy, dz,
-  distance, shift, tool, base, len, chr, asc, val, defined, sig, timer, mid, count
+  distance, shift, tool, base, len, chr, asc, val, defined, sig, timer, mid, last, frame, count
 };
 
 struct FunctionInfo {

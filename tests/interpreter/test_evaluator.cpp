@@ -328,6 +328,10 @@ TEST_CASE("location functions", "[evaluator]") {
   CHECK(output_of("SET a = INVERSE(TRANS(1, 2, 3))\nTYPE DX(a), DY(a), DZ(a)") == "-1 -2 -3\n");
   CHECK(output_of("SET a = RZ(90):TRANS(1)\nTYPE /F0.3, DX(a), DY(a)") == "0.0001.000\n");
   CHECK(output_of("TYPE DISTANCE(TRANS(3, 4), NULL)") == "5\n");
+  CHECK(output_of("SET f = FRAME(TRANS(1), TRANS(2), TRANS(1, 5), TRANS(7, 8, 9))\n"
+                  "DECOMPOSE d[0] = f\nTYPE d[0], d[1], d[2], d[3], d[4], d[5]") == "7 8 9 0 0 0\n");
+  CHECK(output_of("SET f = FRAME(NULL, TRANS(0, 1), TRANS(-1), NULL)\nTYPE DX(f:TRANS(1)), DY(f:TRANS(1))") == "0 1\n");
+  CHECK(output_of("TYPE LAST(a[])\na[3] = 1\na[7] = 1\nTYPE LAST(a[])") == "-1\n7\n");
   CHECK(output_of("DECOMPOSE d[0] = TRANS(1, 2, 3, 10, 20, 30)\nTYPE d[0], d[1], d[2], d[3], d[4], d[5]") ==
         "1 2 3 10 20 30\n");
 }
