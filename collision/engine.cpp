@@ -20,6 +20,11 @@
 namespace asimov::collision {
 namespace {
 
+struct WorldFace {
+  TriangleVerts t;  // world vertices (transform_vertex of the local ones)
+  Vec3 lo, hi;      // their bounding box
+};
+
 struct Body {
   BodyDef def;
   Pose pose = Pose::Identity();
@@ -28,8 +33,12 @@ struct Body {
   bool closed = false;              // containment applies (§6.1)
   std::vector<std::uint32_t> shells;// one vertex per shell
   std::optional<VoxelGrid> grid;    // step 3, built on first use
-  std::vector<Vec3> world;          // world vertices, valid when world_version == version
-  std::uint64_t world_version = 0;
+  std::vector<Vec3> world;          // world vertices: all valid when world_version == version,
+  std::uint64_t world_version = 0;  //   else vertex i valid when vertex_version[i] == version
+  std::vector<std::uint64_t> vertex_version;
+  std::vector<WorldFace> faces;     // world triangle + box of face f, valid when
+  std::vector<std::uint64_t> face_version;  //   face_version[f] == version (step 4 cache)
+  int halvings = 9;                 // M in use (resolved from def.halvings, kAutoHalvings = cost model)
   Box box;                          // world minimax box, valid when box_version == version
   std::uint64_t box_version = 0;
 };
@@ -47,8 +56,9 @@ struct Engine::Impl {
   std::vector<Body> bodies;
   Participation participation;
   double clearance = 0;
-  std::vector<VoxelPair> voxel_pairs;    // step 3 buffer, reused
-  FacePairs face_pairs;                  // step 4 list, buffers reused
+  std::vector<std::uint32_t> a_faces;    // A faces met by the current B voxel, reused
+  std::vector<std::uint32_t> mark;       // per A face: stamp of the last B voxel that listed it
+  std::uint32_t stamp = 0;
 
   static bool never_tested(const Body& a, const Body& b) {
     return (a.def.group >= 0 && a.def.group == b.def.group) || (a.def.is_static && b.def.is_static);
@@ -68,9 +78,44 @@ struct Engine::Impl {
     }
     return b.world;
   }
+  // One world vertex, mapped on first use in this pose: step 4 touches few of a large mesh's
+  // vertices, and mapping them all was 50 us per query at 50,000 faces.
+  static const Vec3& world_vertex(Body& b, std::uint32_t i) {
+    if (b.world_version != b.version && b.vertex_version[i] != b.version) {
+      b.world[i] = transform_vertex(b.pose, b.def.mesh.vertices[i]);
+      b.vertex_version[i] = b.version;
+    }
+    return b.world[i];
+  }
+  static TriangleVerts world_triangle(Body& b, std::uint32_t f) {
+    const Triangle& t = b.def.mesh.triangles[f];
+    return {world_vertex(b, t[0]), world_vertex(b, t[1]), world_vertex(b, t[2])};
+  }
+  static const WorldFace& world_face(Body& b, std::uint32_t f) {
+    WorldFace& w = b.faces[f];
+    if (b.face_version[f] != b.version) {
+      w.t = world_triangle(b, f);
+      w.lo = w.t[0].cwiseMin(w.t[1]).cwiseMin(w.t[2]);
+      w.hi = w.t[0].cwiseMax(w.t[1]).cwiseMax(w.t[2]);
+      b.face_version[f] = b.version;
+    }
+    return w;
+  }
+  static bool boxes_disjoint(const WorldFace& x, const WorldFace& y) {
+    return x.lo.x() > y.hi.x() || y.lo.x() > x.hi.x() || x.lo.y() > y.hi.y() || y.lo.y() > x.hi.y() ||
+           x.lo.z() > y.hi.z() || y.lo.z() > x.hi.z();
+  }
+  void next_stamp() {
+    if (++stamp == 0) {  // wrapped: forget every old stamp
+      std::fill(mark.begin(), mark.end(), 0);
+      stamp = 1;
+    }
+  }
   static void preprocess(Body& b) {
     if (b.grid) return;
-    b.grid = build_voxel_grid(b.def.mesh, b.def.halvings);
+    b.faces.resize(b.def.mesh.triangles.size());
+    b.face_version.assign(b.def.mesh.triangles.size(), 0);
+    b.grid = build_voxel_grid(b.def.mesh, b.halvings);
     b.shells = shell_vertices(b.def.mesh);
   }
 
@@ -99,7 +144,7 @@ struct Engine::Impl {
       Body& in = bodies[inner];
       if (!o.closed) continue;
       for (const std::uint32_t v : in.shells) {
-        const Vec3& w = world(in)[v];
+        const Vec3 w = world_vertex(in, v);
         if (inside(o, w, margin)) {
           c = Contact{.kind = ContactKind::containment, .body_a = ia, .body_b = ib, .point = w};
           return true;
@@ -118,36 +163,68 @@ struct Engine::Impl {
     if (separated(world_box(a), world_box(b), grow)) return false;
     ++res.counts.pairs_after_minimax;
 
-    // Step 3: voxel pairs.
+    // Steps 3 and 4, streamed: for each non-empty voxel of B's sub-matrix (index order), the
+    // A faces of the non-empty A voxels it overlaps (unique per B voxel, by stamp), then each
+    // face of the B voxel against them; the first hit ends the query. A face pair shared by
+    // several voxel pairs may be tested again (same answer); de-duplicating every pair before
+    // the first test made a colliding query wait for the whole buffer.
     preprocess(a);
     preprocess(b);
-    collect_voxel_pairs(*a.grid, a.pose, *b.grid, b.pose, grow, voxel_pairs);
-    if (!voxel_pairs.empty()) {
-      ++res.counts.pairs_after_voxels;
-      res.counts.voxel_pairs += voxel_pairs.size();
-
-      // Step 4: unique face pairs, tested in key order in world coordinates.
-      face_pairs.start(*a.grid, *b.grid, voxel_pairs);
-      const std::vector<Vec3>& wa = world(a);
-      const std::vector<Vec3>& wb = world(b);
-      std::uint32_t fa = 0, fb = 0;
-      while (face_pairs.next(fa, fb)) {
-        ++res.counts.face_pairs;
-        const TriangleVerts ta = triangle_at(wa, a.def.mesh.triangles[fa]);
-        const TriangleVerts tb = triangle_at(wb, b.def.mesh.triangles[fb]);
-        if (triangles_intersect(ta, tb)) {
-          res.collided = true;
-          res.contact = Contact{.body_a = ia, .body_b = ib, .face_a = fa, .face_b = fb, .point = contact_point(ta, tb)};
-          return true;
-        }
-        Vec3 pa, pb;
-        if (double d = 0; clearance > 0 && triangles_within(ta, tb, clearance, d, pa, pb)) {
-          res.collided = true;
-          res.contact = Contact{.kind = ContactKind::clearance, .distance = d, .body_a = ia, .body_b = ib,
-                                .face_a = fa, .face_b = fb, .point = 0.5 * (pa + pb)};
-          return true;
-        }
-      }
+    const VoxelGrid& ga = *a.grid;
+    const VoxelGrid& gb = *b.grid;
+    const VoxelMapping vm = map_voxels(ga, a.pose, gb, b.pose, grow);
+    if (!vm.empty()) {
+      bool any_pair = false;
+      if (mark.size() < ga.face_count) mark.resize(ga.face_count, 0);
+      for (int k = vm.sub.b.lo[2]; k <= vm.sub.b.hi[2]; ++k)
+        for (int j = vm.sub.b.lo[1]; j <= vm.sub.b.hi[1]; ++j)
+          for (int i = vm.sub.b.lo[0]; i <= vm.sub.b.hi[0]; ++i) {
+            const std::size_t vb = gb.index(i, j, k);
+            if (gb.voxel_empty(vb)) continue;
+            const CellRange ra = vm.a_cells(ga, i, j, k);
+            if (ra.empty()) continue;
+            next_stamp();
+            a_faces.clear();
+            for (int kk = ra.lo[2]; kk <= ra.hi[2]; ++kk)
+              for (int jj = ra.lo[1]; jj <= ra.hi[1]; ++jj)
+                for (int ii = ra.lo[0]; ii <= ra.hi[0]; ++ii) {
+                  const std::size_t va = ga.index(ii, jj, kk);
+                  if (ga.voxel_empty(va)) continue;
+                  ++res.counts.voxel_pairs;
+                  for (const std::uint32_t fa : ga.faces_in(va))
+                    if (mark[fa] != stamp) {
+                      mark[fa] = stamp;
+                      a_faces.push_back(fa);
+                    }
+                }
+            if (a_faces.empty()) continue;
+            if (!any_pair) {
+              any_pair = true;
+              ++res.counts.pairs_after_voxels;
+            }
+            for (const std::uint32_t fb : gb.faces_in(vb)) {
+              const WorldFace& wb = world_face(b, fb);
+              for (const std::uint32_t fa : a_faces) {
+                const WorldFace& wa = world_face(a, fa);
+                ++res.counts.face_pairs;
+                // Disjoint bounding boxes: triangles_intersect would say no (min/max are exact).
+                if (clearance == 0 && boxes_disjoint(wa, wb)) continue;
+                if (triangles_intersect(wa.t, wb.t)) {
+                  res.collided = true;
+                  res.contact = Contact{.body_a = ia, .body_b = ib, .face_a = fa, .face_b = fb,
+                                        .point = contact_point(wa.t, wb.t)};
+                  return true;
+                }
+                Vec3 pa, pb;
+                if (double d = 0; clearance > 0 && triangles_within(wa.t, wb.t, clearance, d, pa, pb)) {
+                  res.collided = true;
+                  res.contact = Contact{.kind = ContactKind::clearance, .distance = d, .body_a = ia, .body_b = ib,
+                                        .face_a = fa, .face_b = fb, .point = 0.5 * (pa + pb)};
+                  return true;
+                }
+              }
+            }
+          }
     }
     // §6.1: no faces meet, but one body may lie inside the other.
     if (contained(ia, ib, margin, res.contact)) {
@@ -174,6 +251,9 @@ BodyId Engine::add_body(BodyDef def) {
   Body b;
   b.container = make_container(def.mesh.vertices);
   b.closed = is_closed(def.mesh);
+  b.halvings = def.halvings == kAutoHalvings ? auto_halvings(def.mesh) : std::clamp(def.halvings, 0, kMaxHalvings);
+  b.world.resize(def.mesh.vertices.size());
+  b.vertex_version.assign(def.mesh.vertices.size(), 0);
   b.def = std::move(def);
   impl_->bodies.push_back(std::move(b));
   impl_->participation.resize(impl_->bodies.size());
@@ -185,6 +265,9 @@ BodyId Engine::add_body(BodyDef def) {
 std::size_t Engine::body_count() const { return impl_->bodies.size(); }
 const std::string& Engine::body_name(BodyId id) const { return impl_->bodies.at(id).def.name; }
 bool Engine::body_closed(BodyId id) const { return impl_->bodies.at(id).closed; }
+int Engine::body_halvings(BodyId id) const { return impl_->bodies.at(id).halvings; }
+bool Engine::body_preprocessed(BodyId id) const { return impl_->bodies.at(id).grid.has_value(); }
+std::span<const BodyPair> Engine::enabled_pairs() const { return impl_->participation.pairs(); }
 
 void Engine::set_pair_enabled(BodyId a, BodyId b, bool enabled) {
   if (a == b || a >= body_count() || b >= body_count()) return;
@@ -206,6 +289,17 @@ void Engine::set_pose(BodyId id, const Pose& local_to_world) {
 QueryResult Engine::check() {
   QueryResult res;
   for (const BodyPair& p : impl_->participation.pairs()) {
+    ++res.counts.pairs_enabled;
+    if (impl_->test_pair(p.a, p.b, res)) return res;
+  }
+  return res;
+}
+
+QueryResult Engine::check_pairs(std::span<const BodyPair> pairs) {
+  QueryResult res;
+  for (BodyPair p : pairs) {
+    if (p.a > p.b) std::swap(p.a, p.b);
+    if (p.a == p.b || p.b >= body_count() || !impl_->participation.enabled(p.a, p.b)) continue;
     ++res.counts.pairs_enabled;
     if (impl_->test_pair(p.a, p.b, res)) return res;
   }

@@ -10,26 +10,38 @@ SubMatrices interference_sub_matrices(const VoxelGrid& ga, const Pose& pose_a, c
           cell_range(gb, grown(minimax_box(ga.container, b_from_a), grow))};
 }
 
+VoxelMapping map_voxels(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb, const Pose& pose_b,
+                        double grow) {
+  VoxelMapping m;
+  m.sub = interference_sub_matrices(ga, pose_a, gb, pose_b, grow);
+  if (m.empty()) return m;
+  const Pose a_from_b = pose_a.inverse(Eigen::Isometry) * pose_b;
+  const Mat3 r = a_from_b.linear();
+  m.dx = r.col(0) * gb.cell.x();
+  m.dy = r.col(1) * gb.cell.y();
+  m.dz = r.col(2) * gb.cell.z();
+  m.lo_off = m.dx.cwiseMin(0.0) + m.dy.cwiseMin(0.0) + m.dz.cwiseMin(0.0) - Vec3::Constant(grow);
+  m.hi_off = m.dx.cwiseMax(0.0) + m.dy.cwiseMax(0.0) + m.dz.cwiseMax(0.0) + Vec3::Constant(grow);
+  m.base = a_from_b * gb.container.origin;
+  return m;
+}
+
+CellRange VoxelMapping::a_cells(const VoxelGrid& ga, int i, int j, int k) const {
+  const Vec3 corner = base + static_cast<double>(i) * dx + static_cast<double>(j) * dy + static_cast<double>(k) * dz;
+  return intersect(cell_range(ga, Box{corner + lo_off, corner + hi_off}), sub.a);
+}
+
 void collect_voxel_pairs(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb, const Pose& pose_b,
                          double grow, std::vector<VoxelPair>& out) {
   out.clear();
-  const SubMatrices sub = interference_sub_matrices(ga, pose_a, gb, pose_b, grow);
-  if (sub.a.empty() || sub.b.empty()) return;
-  const Pose a_from_b = pose_a.inverse(Eigen::Isometry) * pose_b;
-  const Mat3 r = a_from_b.linear();
-  // B's voxel edges in A's frame are the same for every voxel: the minimax offsets of one
-  // voxel are computed once, and each voxel's corner is base + i dx + j dy + k dz.
-  const Vec3 dx = r.col(0) * gb.cell.x(), dy = r.col(1) * gb.cell.y(), dz = r.col(2) * gb.cell.z();
-  const Vec3 lo_off = dx.cwiseMin(0.0) + dy.cwiseMin(0.0) + dz.cwiseMin(0.0) - Vec3::Constant(grow);
-  const Vec3 hi_off = dx.cwiseMax(0.0) + dy.cwiseMax(0.0) + dz.cwiseMax(0.0) + Vec3::Constant(grow);
-  const Vec3 base = a_from_b * gb.container.origin;
-  for (int k = sub.b.lo[2]; k <= sub.b.hi[2]; ++k)
-    for (int j = sub.b.lo[1]; j <= sub.b.hi[1]; ++j)
-      for (int i = sub.b.lo[0]; i <= sub.b.hi[0]; ++i) {
+  const VoxelMapping m = map_voxels(ga, pose_a, gb, pose_b, grow);
+  if (m.empty()) return;
+  for (int k = m.sub.b.lo[2]; k <= m.sub.b.hi[2]; ++k)
+    for (int j = m.sub.b.lo[1]; j <= m.sub.b.hi[1]; ++j)
+      for (int i = m.sub.b.lo[0]; i <= m.sub.b.hi[0]; ++i) {
         const std::size_t vb = gb.index(i, j, k);
         if (gb.voxel_empty(vb)) continue;
-        const Vec3 corner = base + static_cast<double>(i) * dx + static_cast<double>(j) * dy + static_cast<double>(k) * dz;
-        const CellRange ra = intersect(cell_range(ga, Box{corner + lo_off, corner + hi_off}), sub.a);
+        const CellRange ra = m.a_cells(ga, i, j, k);
         for (int kk = ra.lo[2]; kk <= ra.hi[2]; ++kk)
           for (int jj = ra.lo[1]; jj <= ra.hi[1]; ++jj)
             for (int ii = ra.lo[0]; ii <= ra.hi[0]; ++ii) {

@@ -58,7 +58,16 @@ Polyhedron merged(const Polyhedron& a, const Polyhedron& b) {
 
 void transform_vertices(const std::vector<Vec3>& vertices, const Pose& pose, std::vector<Vec3>& out) {
   out.resize(vertices.size());
-  for (std::size_t i = 0; i < vertices.size(); ++i) out[i] = pose * vertices[i];
+  for (std::size_t i = 0; i < vertices.size(); ++i) out[i] = transform_vertex(pose, vertices[i]);
+}
+
+Vec3 transform_vertex(const Pose& pose, const Vec3& v) {
+  const Mat3 r = pose.linear();
+  const Vec3& t = pose.translation();
+  // Written out so the rounding is fixed: ((r0 x + r1 y) + r2 z) + t, no contraction.
+  return Vec3(((r(0, 0) * v.x() + r(0, 1) * v.y()) + r(0, 2) * v.z()) + t.x(),
+              ((r(1, 0) * v.x() + r(1, 1) * v.y()) + r(1, 2) * v.z()) + t.y(),
+              ((r(2, 0) * v.x() + r(2, 1) * v.y()) + r(2, 2) * v.z()) + t.z());
 }
 
 }  // namespace asimov::collision

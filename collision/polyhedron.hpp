@@ -21,5 +21,8 @@ Polyhedron merged(const Polyhedron& a, const Polyhedron& b);
 // out[i] = pose * vertices[i]. The one place local vertices become world vertices, so the
 // engine and the brute-force reference test bit-identical coordinates.
 void transform_vertices(const std::vector<Vec3>& vertices, const Pose& pose, std::vector<Vec3>& out);
+// pose * v, bit-identical to the elements transform_vertices writes (the engine maps only the
+// vertices step 4 touches, one at a time, and must agree with brute force to the bit).
+Vec3 transform_vertex(const Pose& pose, const Vec3& v);
 
 }  // namespace asimov::collision

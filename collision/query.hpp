@@ -8,8 +8,9 @@ struct StepCounts {
   std::uint64_t pairs_enabled = 0;      // pairs entering step 2
   std::uint64_t pairs_after_minimax = 0;// pairs whose world minimax boxes overlap
   std::uint64_t pairs_after_voxels = 0; // pairs with a non-empty voxel-pair buffer
-  std::uint64_t voxel_pairs = 0;        // entries pushed into voxel-pair buffers
-  std::uint64_t face_pairs = 0;         // unique face pairs given to the exact test (up to the first hit)
+  std::uint64_t voxel_pairs = 0;        // (A voxel, B voxel) pairs visited (up to the first hit)
+  std::uint64_t face_pairs = 0;         // face pairs given to step 4 (up to the first hit; a pair
+                                        //   met in several voxel pairs counts each time)
 };
 
 enum class ContactKind : std::uint8_t {

@@ -71,6 +71,25 @@ Box VoxelGrid::voxel_box(int i, int j, int k) const {
   return {lo, lo + cell};
 }
 
+int auto_halvings(const Polyhedron& mesh) {
+  const std::size_t f = mesh.triangles.size();
+  if (f < 2) return 3;
+  int m = static_cast<int>(std::lround(std::log2(static_cast<double>(f)))) - 1;
+  // Size: cells no smaller than the mean longest edge (volume / edge^3 cells at most).
+  double edge = 0;
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    edge += std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+  }
+  edge /= static_cast<double>(f);
+  const Container c = make_container(mesh.vertices);
+  if (edge > 0) {
+    const double cells = c.size.prod() / (edge * edge * edge);
+    if (cells >= 1) m = std::min(m, static_cast<int>(std::floor(std::log2(cells))) + 1);
+  }
+  return std::clamp(m, 3, 18);
+}
+
 std::array<int, 3> halve_cells(const Vec3& size, int halvings) {
   std::array<int, 3> n{1, 1, 1};
   for (int m = 0; m < halvings; ++m) {
@@ -85,7 +104,7 @@ std::array<int, 3> halve_cells(const Vec3& size, int halvings) {
 VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
   VoxelGrid g;
   g.container = make_container(mesh.vertices);
-  g.cells = halve_cells(g.container.size, std::clamp(halvings, 0, 24));
+  g.cells = halve_cells(g.container.size, std::clamp(halvings, 0, kMaxHalvings));
   g.cell = g.container.size.cwiseQuotient(Vec3(g.cells[0], g.cells[1], g.cells[2]));
   // Covers the rounding of voxel corners and of the separating-axis arithmetic.
   g.margin = 64 * DBL_EPSILON * (g.container.scale + g.container.size.maxCoeff());

@@ -47,6 +47,14 @@ struct VoxelGrid {
   Box voxel_box(int i, int j, int k) const;  // local, not grown
 };
 
+constexpr int kAutoHalvings = -1;  // BodyDef::halvings: let the cost model choose M
+constexpr int kMaxHalvings = 24;
+
+// M for a body from a cost model of its face count and size (bench/bench_m_sweep.cpp,
+// docs/collision.md): about two faces per voxel, M = round(log2 F) - 1, but no voxel much
+// smaller than the mean face (finer cells only repeat faces in more voxels); within [3, 18].
+int auto_halvings(const Polyhedron& mesh);
+
 // Cells per axis after M halvings, each doubling the axis whose cells are longest (ties x, y, z).
 std::array<int, 3> halve_cells(const Vec3& size, int halvings);
 
