@@ -139,6 +139,12 @@ struct Declaration {
   std::vector<VarRef> names;                          // array sizes are ignored
 };
 
+// A V+ construct that loads but is not simulated (dialect §7): KEYWORD { any }
+struct Unsupported {
+  std::string keyword;
+  std::string rest;                                   // the rest of the line, as written
+};
+
 // TIMER expression "=" expression
 struct TimerStmt {
   Expr number;
@@ -152,7 +158,7 @@ struct ProgramHeader {
 };
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
-                               ProgramHeader, Declaration, TimerStmt> {
+                               ProgramHeader, Declaration, TimerStmt, Unsupported> {
   using base_type::base_type;
   using base_type::operator=;
 };

@@ -435,6 +435,7 @@ class Checker {
       void operator()(const ast::TypeStmt& t) const { c.type_statement(t); }
       void operator()(const ast::ProgramHeader&) const {}
       void operator()(const ast::Declaration& d) const { c.declaration(d); }
+      void operator()(const ast::Unsupported& u) const { c.unsupported(u); }
       void operator()(const ast::TimerStmt& t) const {
         Instr& in = c.emit(Code::timer);
         in.args.push_back(c.expression(t.number));
@@ -443,6 +444,18 @@ class Checker {
     };
     if (!boost::get<ast::Declaration>(&s)) executable_seen_ = true;
     boost::apply_visitor(Visitor{*this}, s);
+  }
+
+  // Dialect §7: robot ATTACH ()/DETACH (), SELECT ROBOT = 1 and ACCEL only warn.
+  void unsupported(const ast::Unsupported& u) {
+    Instr& in = emit(Code::unsupported);
+    for (char c : u.keyword) in.target.text += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    std::string rest;
+    for (char c : u.rest.substr(0, u.rest.find(';')))
+      if (c != ' ' && c != '\t') rest += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const std::string& k = in.target.text;
+    in.always = k == "ACCEL" || ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0)
+        || (k == "SELECT" && rest == "ROBOT=1");
   }
 
   void binding(const ast::Binding& b) {

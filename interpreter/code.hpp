@@ -34,7 +34,7 @@ struct Node {
 enum class Code : unsigned char {
   assign, set, here, decompose, type, move, moves, appro, appros, depart, departs, break_,
   speed, jump, jump_false, jump_true, for_init, for_next, call, return_, stop, case_init,
-  case_test, tool, base, configure, ready, draw, signal, timer, align, drive
+  case_test, tool, base, configure, ready, draw, signal, timer, align, drive, unsupported
 };
 
 struct Instr {
@@ -45,7 +45,7 @@ struct Instr {
   std::vector<ast::Format> formats;  // TYPE: one per item; code 0 = the next of `args`
   int jump = -1;                   // jumps, FOR exit / FOR body start
   int temp = -1;                   // FOR: two frame temporaries (limit, step); CASE: one
-  bool always = false;             // SPEED ... ALWAYS
+  bool always = false;             // SPEED ... ALWAYS; unsupported: only warn
   bool monitor = false;            // SPEED ... MONITOR
   int program = -1;                // CALL: program slot
   std::vector<bool> by_ref;        // CALL: argument i passed by reference

@@ -9,7 +9,7 @@
 namespace asimov::val {
 namespace {
 
-constexpr std::array<std::string_view, 8> kErrorMessages = {
+constexpr std::array<std::string_view, 9> kErrorMessages = {
     "*Syntax error*",
     "*Undefined program or variable name*",
     "*Undefined value*",
@@ -18,6 +18,7 @@ constexpr std::array<std::string_view, 8> kErrorMessages = {
     "*Too many nested calls*",
     "*Too many statements*",  // our limit on executed statements (runaway programs)
     "*Motion error*",         // replaced by the simulator's own text
+    "*Not supported in simulation*",
 };
 static_assert(kErrorMessages.size() == static_cast<std::size_t>(ErrorKind::count));
 

@@ -63,6 +63,7 @@ RunResult Evaluator::run(int slot) {
   speed_always_ = 100;  // each execution starts with SPEED 100 ALWAYS
   speed_next_.reset();
   statements_ = 0;
+  warnings_.clear();
   current_program_ = nullptr;
   current_line_ = 0;
   motion_program_ = nullptr;
@@ -136,6 +137,8 @@ RunResult Evaluator::run(int slot) {
     result.line = result.step = 0;
   }
   stack_.clear();
+  result.warnings = std::move(warnings_);
+  warnings_.clear();
   return result;
 }
 
@@ -208,6 +211,22 @@ void Evaluator::execute(const Instr& in) {
       const int k = to_index(to_real(eval(in.args[0]), "timer number"));
       if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));
       memory_.timers[static_cast<std::size_t>(k)] = {to_real(eval(in.args[1]), "TIMER value"), sim_.time_s()};
+      return;
+    }
+    case Code::unsupported: {
+      if (!in.always) raise(ErrorKind::not_supported, in.target.text);
+      for (const Diagnostic& w : warnings_)
+        if (w.detail == in.target.text) return;  // once per execution
+      Diagnostic w;
+      w.message = std::string(error_message(ErrorKind::not_supported));
+      w.detail = in.target.text;
+      w.warning = true;
+      w.program = current_program_->name;
+      w.file = current_program_->file;
+      w.line = in.line;
+      w.step = in.line - current_program_->line;
+      w.source_line = (*current_program_->text)[static_cast<std::size_t>(in.line - 1)];
+      warnings_.push_back(std::move(w));
       return;
     }
     case Code::case_init:

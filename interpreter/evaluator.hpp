@@ -71,6 +71,7 @@ class Evaluator {
   std::optional<double> speed_next_;          // SPEED for the next motion only
   double speed_monitor_ = 100;
   std::uint64_t statements_ = 0;
+  std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
 };
 
 }  // namespace asimov::val

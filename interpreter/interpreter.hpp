@@ -34,6 +34,7 @@ struct RunResult {
   int step = 0;
   Diagnostic error;               // status == error (also filled for collision: "*Collision*")
   motion::CollisionReport collision;  // status == collision
+  std::vector<Diagnostic> warnings;   // V+ constructs ignored with a warning (dialect §7), once each
 };
 
 struct Limits {

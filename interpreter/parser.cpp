@@ -30,6 +30,7 @@ BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::TypeStmt, kw, items)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::ProgramHeader, name, params)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Declaration, kw, names)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::TimerStmt, number, value)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Unsupported, keyword, rest)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::DataLine, name, indices, values, text)
 
 namespace asimov::val {
@@ -137,6 +138,17 @@ struct type_word_table : x3::symbols<x3::unused_type> {
   type_word_table() { add("real")("double")("loc"); }
 } const type_words;
 
+// Dialect §7: V+ constructs that load but stop the program (or warn) when they run.
+struct unsupported_table : x3::symbols<x3::unused_type> {
+  unsupported_table() {
+    for (const char* w : {"attach", "detach", "fopen", "fclose", "fcmnd", "read", "write", "select",
+                          "wait.event", "set.event", "clear.event", "execute", "abort", "kill",
+                          "cycle.end", "lock", "priority", "react", "reacti", "reacte", "ignore",
+                          "teach", "calls", "accel"})
+      add(w);
+  }
+} const unsupported_words;
+
 struct binding_table : x3::symbols<Kw> {
   binding_table() { add("set", Kw::set)("decompose", Kw::decompose); }
 } const binding_words;
@@ -190,6 +202,7 @@ x3::rule<class data_line_class, ast::DataLine, true> const data_line = "data lin
 x3::rule<class optional_expression_class, ast::Expr> const optional_expression = "expression";
 x3::rule<class declaration_class, ast::Declaration> const declaration = "declaration";
 x3::rule<class timer_class, ast::TimerStmt> const timer_stmt = "TIMER";
+x3::rule<class unsupported_class, ast::Unsupported> const unsupported = "statement";
 x3::rule<class to_class> const to_keyword = "TO";
 
 // name = letter { letter | digit | "." | "_" }
@@ -266,10 +279,13 @@ const auto declaration_def = word_of(declaration_words) >> x3::omit[-word_of(typ
     > (variable % ',');
 // timer = TIMER expression "=" expression
 const auto timer_stmt_def = kw("timer") > expression > '=' > expression;
+// unsupported = V+_KEYWORD { any }     (not followed by "=": `read = 1` is an assignment)
+const auto unsupported_def = x3::raw[word_of(unsupported_words)] >> !x3::lit('=')
+    >> x3::raw[x3::lexeme[*x3::char_]];
 // statement = program_header | declaration | type | for | if | call | timer | instruction
-//           | assignment
+//           | unsupported | assignment
 const auto statement_def = program_header | declaration | type_stmt | for_stmt | if_stmt
-    | call_stmt | timer_stmt | instruction | binding;
+    | call_stmt | timer_stmt | instruction | unsupported | binding;
 
 // data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
 const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
@@ -280,7 +296,7 @@ const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
 BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
-                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt)
+                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported)
 
 // skipper = blank | ";" { any }
 const auto skipper = x3::blank | (';' >> *x3::char_);

@@ -370,3 +370,30 @@ TEST_CASE("timers follow the simulated clock", "[evaluator][io]") {
 TEST_CASE("$MID", "[evaluator]") {
   CHECK(output_of("TYPE $MID(\"abcdef\", 2, 3), $MID(\"abc\", 3, 9), \"|\", $MID(\"abc\", 5, 1), \"|\"") == "bcdc||\n");
 }
+
+TEST_CASE("V+ constructs that load but are not simulated", "[evaluator][vplus]") {
+  InterpreterFixture f;
+  auto r = f.run(R"(.PROGRAM main()
+  ACCEL 50, 50
+  ATTACH ()
+  SELECT ROBOT = 1
+  ACCEL 100
+  TYPE "still running"
+  ATTACH (lun, 4) "SERIAL:1"
+  TYPE "never"
+.END
+)");
+  INFO(f.load_report);
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Not supported in simulation*");
+  CHECK(r.error.detail == "ATTACH");
+  CHECK(r.error.step == 6);
+  CHECK(f.out.str() == "still running\n");
+  REQUIRE(r.warnings.size() == 3);  // ACCEL once, ATTACH (), SELECT
+  CHECK(r.warnings[0].detail == "ACCEL");
+  CHECK(r.warnings[0].warning);
+  CHECK(r.warnings[0].step == 1);
+  InterpreterFixture g;
+  r = g.run(".PROGRAM main()\n  read = 2\n  TYPE read\n.END\n");  // not followed by "=": a name
+  CHECK(r.status == RunStatus::completed);
+}
