@@ -1,11 +1,13 @@
 #include "app/cell_loader.hpp"
 
 #include "robots/puma560.hpp"
+#include "robots/urdf_loader.hpp"
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -27,7 +29,8 @@ collision: {halvings: 9, step_mm: 1.0, clearance_mm: 0}
 
 class Reader {
  public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
+  Reader(std::string source, std::filesystem::path base_dir)
+      : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
 
   [[noreturn]] void fail(const YAML::Node& node, const std::string& what) const {
     const auto mark = node.Mark();
@@ -101,18 +104,30 @@ class Reader {
     }
   }
 
+  // `robot: puma560` (built in) or a URDF file, relative to the cell file's folder.
+  robots::Robot robot(const YAML::Node& node) const {
+    if (!node) return robots::puma560();
+    if (!node.IsScalar()) fail(node, "robot must be puma560 or a .urdf file");
+    const auto name = node.Scalar();
+    if (name == "puma560") return robots::puma560();
+    if (!name.ends_with(".urdf")) fail(node, fmt::format("unknown robot '{}' (puma560 or a .urdf file)", name));
+    const auto path = (base_dir_ / name).lexically_normal();
+    try {
+      return robots::load_urdf(path.string());
+    } catch (const robots::UrdfError& e) {
+      fail(node, fmt::format("robot: {}", e.what()));
+    }
+  }
+
   motion::Cell cell(const YAML::Node& root) const {
     if (!root.IsMap()) fail(root, "a cell file is a YAML map (see docs/cell-format.md)");
     expect_keys(root, {"robot", "base", "tool", "tool_shape", "objects", "collision", "start"}, "the cell");
     motion::Cell cell;
-    const std::string robot = root["robot"] ? root["robot"].as<std::string>() : "puma560";
-    if (robot != "puma560") fail(root["robot"], fmt::format("unknown robot '{}' (available: puma560)", robot));
-    cell.robot = robots::puma560();
+    cell.robot = robot(root["robot"]);
     cell.base = pose(root["base"], "base");
     cell.tool = pose(root["tool"], "tool");
     const int n = cell.robot.joint_count();
-    cell.start_joints = robots::JointVector(n);
-    cell.start_joints << 0, -90, 90, 0, 0, 0;  // READY
+    cell.start_joints = robots::ready_joints(cell.robot);
     if (const auto start = root["start"]) {
       const auto v = numbers(start, static_cast<std::size_t>(n), "start (joint values in degrees)");
       for (int i = 0; i < n; ++i) cell.start_joints[i] = v[static_cast<std::size_t>(i)];
@@ -171,6 +186,7 @@ class Reader {
 
  private:
   std::string source_;
+  std::filesystem::path base_dir_;  // relative file names in the cell resolve here
 };
 
 }  // namespace
@@ -180,8 +196,9 @@ std::string CellError::format() const {
   return fmt::format("{}: {}", file, what());
 }
 
-motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name) {
-  Reader reader(source_name);
+motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name,
+                           const std::string& base_dir) {
+  Reader reader(source_name, base_dir);
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
@@ -201,7 +218,7 @@ motion::Cell load_cell_file(const std::string& path) {
   if (!in) throw CellError("cannot read cell file", path, 0, 0);
   std::ostringstream text;
   text << in.rdbuf();
-  return load_cell_text(text.str(), path);
+  return load_cell_text(text.str(), path, std::filesystem::path(path).parent_path().string());
 }
 
 const std::string& default_cell_yaml() {

@@ -16,7 +16,9 @@ struct CellError : std::runtime_error {
   std::string format() const;  // "file:line:column: message"
 };
 
-motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name);
+// `base_dir` resolves relative file names in the cell (URDF robots, meshes).
+motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name,
+                           const std::string& base_dir = ".");
 motion::Cell load_cell_file(const std::string& path);
 motion::Cell default_cell();
 const std::string& default_cell_yaml();

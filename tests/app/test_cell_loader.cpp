@@ -103,3 +103,20 @@ TEST_CASE("bad cells are rejected with file, line and column") {
   e = error_of("objects:\n  - {name: a}\n");
   CHECK(std::string(e.what()).find("needs a shape") != std::string::npos);
 }
+
+TEST_CASE("robot: a URDF file relative to the cell file") {
+  const auto cell = app::load_cell_file(std::string(ASIMOV_SOURCE_DIR) + "/programs/cells/generic6_cell.yaml");
+  CHECK(cell.robot.is_chain());
+  CHECK(cell.robot.joint_count() == 6);
+  CHECK(cell.objects.size() == 2);
+  // The default start is the arm's READY, inside its limits.
+  CHECK(robots::first_limit_violation(cell.robot, cell.start_joints) == -1);
+}
+
+TEST_CASE("robot: a missing or non-URDF robot is a cell error at the robot key") {
+  auto e = error_of("objects: []\nrobot: nowhere/arm.urdf\n");
+  CHECK(e.line == 2);
+  CHECK(std::string(e.what()).find("arm.urdf") != std::string::npos);
+  e = error_of("robot: [1, 2]\n");
+  CHECK(std::string(e.what()).find("puma560 or a .urdf") != std::string::npos);
+}

@@ -171,3 +171,11 @@ TEST_CASE("a cell with collision disabled never uses the engine") {
   CHECK(doc["collision_engine"]["used"] == false);
   CHECK(doc["collision_engine"]["face_pairs"] == 0);
 }
+
+TEST_CASE("run: a URDF arm from a cell file completes its demo") {
+  const auto r = run_cli("run " + source_path("programs/cells/generic6_demo.v2") + " --cell " +
+                         source_path("programs/cells/generic6_cell.yaml"));
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("done") != std::string::npos);
+}
