@@ -161,6 +161,7 @@ struct Engine::Impl {
     const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
     const double grow = clearance + margin;
     if (separated(world_box(a), world_box(b), grow)) return false;
+    if (containers_separated(a.container, a.pose, b.container, b.pose, grow)) return false;
     ++res.counts.pairs_after_minimax;
 
     // Steps 3 and 4, streamed: for each non-empty voxel of B's sub-matrix (index order), the

@@ -55,6 +55,34 @@ bool separated(const Box& a, const Box& b, double margin) {
   return false;
 }
 
+bool containers_separated(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b, double grow) {
+  const Vec3 ha = 0.5 * a.size, hb = 0.5 * b.size;
+  const Vec3 ca = pose_a * (a.origin + ha), cb = pose_b * (b.origin + hb);
+  const Mat3 ra = pose_a.linear(), rb = pose_b.linear();
+  const Mat3 r = ra.transpose() * rb;  // B's axes in A's frame
+  const Vec3 t = ra.transpose() * (cb - ca);
+  Mat3 ar = r.cwiseAbs();
+  // Rounding slack: a few ulps of every magnitude in play (centres, half sizes), with room.
+  const double mag = ca.cwiseAbs().maxCoeff() + cb.cwiseAbs().maxCoeff() + ha.maxCoeff() + hb.maxCoeff();
+  const double slack = grow + 256 * DBL_EPSILON * mag;
+  ar.array() += 256 * DBL_EPSILON;
+  for (int i = 0; i < 3; ++i)  // A's axes
+    if (std::fabs(t[i]) > ha[i] + ar.row(i).dot(hb) + slack) return true;
+  for (int j = 0; j < 3; ++j)  // B's axes
+    if (std::fabs(r.col(j).dot(t)) > ar.col(j).dot(ha) + hb[j] + slack) return true;
+  for (int i = 0; i < 3; ++i)  // A_i x B_j
+    for (int j = 0; j < 3; ++j) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const double d = std::fabs(t[i2] * r(i1, j) - t[i1] * r(i2, j));
+      const double ra_ = ha[i1] * ar(i2, j) + ha[i2] * ar(i1, j);
+      const double rb_ = hb[j1] * ar(i, j2) + hb[j2] * ar(i, j1);
+      // The axis has length sin(angle) <= 1: compare unnormalised, slack scaled the same way
+      // (for a near-zero axis both sides vanish and the test cannot separate).
+      if (d > ra_ + rb_ + slack) return true;
+    }
+  return false;
+}
+
 double box_gap(const Box& a, const Box& b) {
   double gap = 0;
   for (int k = 0; k < 3; ++k) gap = std::max({gap, a.lo[k] - b.hi[k], b.lo[k] - a.hi[k]});
