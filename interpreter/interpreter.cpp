@@ -17,10 +17,11 @@ struct Interpreter::Impl {
   std::ostream& out;
   Memory memory;
   Limits limits;
+  std::unique_ptr<Evaluator> evaluator;  // kept between runs: the monitor speed persists
 };
 
 Interpreter::Interpreter(motion::Simulator& sim, std::ostream& out)
-    : impl_(std::make_unique<Impl>(Impl{sim, out, {}, {}})) {}
+    : impl_(std::make_unique<Impl>(Impl{sim, out, {}, {}, {}})) {}
 
 Interpreter::~Interpreter() = default;
 
@@ -83,10 +84,12 @@ RunResult Interpreter::run(const std::string& name) {
   Memory& m = impl_->memory;
   const int slot = m.symbols.program(normalize_name(name));
   m.programs.resize(m.symbols.programs.size());
-  Evaluator evaluator(impl_->sim, impl_->out, m, impl_->limits);
-  return evaluator.run(slot);
+  if (!impl_->evaluator) impl_->evaluator = std::make_unique<Evaluator>(impl_->sim, impl_->out, m, impl_->limits);
+  return impl_->evaluator->run(slot);
 }
 
 Limits& Interpreter::limits() { return impl_->limits; }
+
+Memory& Interpreter::memory() { return impl_->memory; }
 
 }  // namespace asimov::val

@@ -9,6 +9,8 @@
 
 namespace asimov::val {
 
+struct Memory;  // evaluator.hpp: symbols, globals, programs
+
 // One problem found in a source (load/check time) or raised while running.
 struct Diagnostic {
   std::string message;      // "*Syntax error*", "*Undefined value*", ...
@@ -60,6 +62,9 @@ class Interpreter {
   RunResult run(const std::string& name);
 
   Limits& limits();
+
+  // For the monitor (monitor.cpp): what LOAD put in memory, read and changed in place.
+  Memory& memory();
 
  private:
   struct Impl;
