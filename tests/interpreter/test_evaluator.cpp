@@ -397,3 +397,19 @@ TEST_CASE("V+ constructs that load but are not simulated", "[evaluator][vplus]")
   r = g.run(".PROGRAM main()\n  read = 2\n  TYPE read\n.END\n");  // not followed by "=": a name
   CHECK(r.status == RunStatus::completed);
 }
+
+TEST_CASE("no short-circuit: both operands are evaluated [assumption]", "[evaluator][errors]") {
+  InterpreterFixture f;
+  auto r = f.run(".PROGRAM main()\nx = 0 AND 1 / 0\n.END\n");
+  CHECK(r.error.message == "*Division by zero*");
+  r = f.run(".PROGRAM b()\nIF 1 OR undefined.q THEN\nEND\n.END\n", "b");
+  CHECK(r.error.message == "*Undefined value*");
+}
+
+TEST_CASE("RANDOM is uniform in [0, 1)", "[evaluator]") {
+  InterpreterFixture f;
+  const auto r = f.run(".PROGRAM main()\nok = TRUE\nFOR i = 1 TO 1000\nx = RANDOM\n"
+                       "IF x < 0 OR x >= 1 THEN\nok = FALSE\nEND\nEND\nTYPE ok\n.END\n");
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "-1\n");
+}
