@@ -74,12 +74,13 @@ Box VoxelGrid::voxel_box(int i, int j, int k) const {
 int auto_halvings(const Polyhedron& mesh) {
   const std::size_t f = mesh.triangles.size();
   if (f < 2) return 3;
-  int m = static_cast<int>(std::lround(std::log2(static_cast<double>(f)))) - 1;
-  // Size: cells no smaller than the mean longest edge (volume / edge^3 cells at most).
+  int m = static_cast<int>(std::lround(std::log2(static_cast<double>(f))));
+  // Size: cells no smaller than the mean face size sqrt(2 area) (volume / size^3 cells at
+  // most). Not the longest edge: a cylinder's long slivers still part well across.
   double edge = 0;
   for (const Triangle& t : mesh.triangles) {
     const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-    edge += std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    edge += std::sqrt((b - a).cross(c - a).norm());
   }
   edge /= static_cast<double>(f);
   const Container c = make_container(mesh.vertices);

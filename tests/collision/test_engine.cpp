@@ -267,3 +267,66 @@ TEST_CASE("no heap allocation per pose after warm-up", "[engine]") {
   CHECK(again == warm);
   CHECK(allocations == 0);
 }
+
+TEST_CASE("halvings: explicit M kept, kAutoHalvings resolved by the cost model", "[engine]") {
+  Engine e;
+  const Polyhedron small = make_cylinder(10, 20, 12);   // 48 faces
+  const Polyhedron large = make_cylinder(100, 300, 500);  // 2,000 faces
+  const BodyId nine = e.add_body({.name = "nine", .mesh = large, .halvings = 9});
+  const BodyId a = e.add_body({.name = "auto small", .mesh = small, .halvings = kAutoHalvings});
+  const BodyId b = e.add_body({.name = "auto large", .mesh = large, .halvings = kAutoHalvings});
+  CHECK(e.body_halvings(nine) == 9);
+  CHECK(e.body_halvings(a) == auto_halvings(small));
+  CHECK(e.body_halvings(b) == auto_halvings(large));
+  CHECK(e.body_halvings(a) >= 3);
+  CHECK(e.body_halvings(b) <= 18);
+  CHECK(e.body_halvings(a) < e.body_halvings(b));  // more faces, finer grid
+  // About one face per voxel (2^round(log2 F) cells), but no cell much smaller than a face.
+  CHECK(auto_halvings(large) == 11);
+  CHECK(auto_halvings(make_box(Vec3(10, 10, 10))) == 3);
+}
+
+TEST_CASE("voxel grids are built lazily, only for bodies of an enabled pair that reach step 3", "[engine]") {
+  Engine e;
+  const BodyId a = e.add_body({.name = "a", .mesh = make_box(Vec3(10, 10, 10))});
+  const BodyId b = e.add_body({.name = "b", .mesh = make_box(Vec3(10, 10, 10))});
+  const BodyId far = e.add_body({.name = "far", .mesh = make_box(Vec3(10, 10, 10))});
+  const BodyId off = e.add_body({.name = "off", .mesh = make_box(Vec3(10, 10, 10))});
+  for (const BodyId x : {a, b, far}) e.set_pair_enabled(x, off, false);
+  e.set_pose(a, at(0, 0, 0));
+  e.set_pose(b, at(5, 5, 5));
+  e.set_pose(far, at(500, 0, 0));
+  e.set_pose(off, at(0, 0, 0));  // overlaps a and b, but all its pairs are disabled
+  for (const BodyId x : {a, b, far, off}) CHECK_FALSE(e.body_preprocessed(x));
+  const QueryResult r = e.check();
+  CHECK(r.collided);
+  CHECK(e.body_preprocessed(a));
+  CHECK(e.body_preprocessed(b));
+  CHECK_FALSE(e.body_preprocessed(far));  // step 2 rejected every pair it is in
+  CHECK_FALSE(e.body_preprocessed(off));  // in no enabled pair
+}
+
+TEST_CASE("check_pairs tests only the given enabled pairs, in the order given", "[engine]") {
+  Engine e;
+  const BodyId a = e.add_body({.name = "a", .mesh = make_box(Vec3(10, 10, 10))});
+  const BodyId b = e.add_body({.name = "b", .mesh = make_box(Vec3(10, 10, 10))});
+  const BodyId c = e.add_body({.name = "c", .mesh = make_box(Vec3(10, 10, 10))});
+  e.set_pose(a, at(0, 0, 0));
+  e.set_pose(b, at(8, 0, 0));    // a-b overlap
+  e.set_pose(c, at(100, 0, 0));  // c is free
+  const BodyPair ac{a, c}, ca{c, a}, ab{a, b};
+  CHECK_FALSE(e.check_pairs(std::span(&ac, 1)).collided);
+  CHECK_FALSE(e.check_pairs(std::span(&ca, 1)).collided);  // either order
+  QueryResult r = e.check_pairs(std::span(&ab, 1));
+  CHECK(r.collided);
+  CHECK(r.counts.pairs_enabled == 1);
+  const std::array<BodyPair, 2> both{ac, BodyPair{b, a}};
+  r = e.check_pairs(both);
+  CHECK(r.collided);
+  CHECK(r.counts.pairs_enabled == 2);
+  CHECK((r.contact.body_a == a && r.contact.body_b == b));
+  e.set_pair_enabled(a, b, false);
+  CHECK_FALSE(e.check_pairs(std::span(&ab, 1)).collided);  // disabled pairs are skipped
+  CHECK(e.check_pairs(std::span(&ab, 1)).counts.pairs_enabled == 0);
+  CHECK(e.check_pairs({}).counts.pairs_enabled == 0);
+}
