@@ -306,15 +306,28 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   }
   const double f = s.speed_factor(speed);
   const double fr = (speed.rotation < 0 ? speed.program : speed.rotation) / 100 * speed.monitor / 100;
-  const std::array<ProfileAxis, 2> axes{{{req.path.length, robot.max_tool_speed * f, robot.max_tool_accel},
-                                          {req.path.angle_deg(), robot.max_tool_rot_speed * fr, robot.max_tool_rot_accel}}};
+  // Axes: tool translation and rotation, and every joint with "distance" max |dq_j / dsigma|
+  // along the solved samples, so that its speed S_j * sigma'(t) stays within V_j (and S_j *
+  // sigma'' within A_j; the curvature term d2q/dsigma2 * sigma'^2 is not bounded).
+  std::array<ProfileAxis, 2 + robots::kMaxJoints> axes{};
+  axes[0] = {req.path.length, robot.max_tool_speed * f, robot.max_tool_accel};
+  axes[1] = {req.path.angle_deg(), robot.max_tool_rot_speed * fr, robot.max_tool_rot_accel};
+  const int n = robot.joint_count();
+  for (int j = 0; j < n; ++j) {
+    double slope = 0;
+    for (std::size_t i = 1; i < plan.samples.size(); ++i) {
+      const double ds = plan.samples[i].s - plan.samples[i - 1].s;
+      if (ds > 0) slope = std::max(slope, std::abs(plan.samples[i].joints[j] - plan.samples[i - 1].joints[j]) / ds);
+    }
+    axes[static_cast<std::size_t>(2 + j)] = {slope, robot.max_velocity[j] * f, robot.max_acceleration[j]};
+  }
   s.pending = Impl::Pending{};
   s.pending.active = true;
   s.pending.straight = true;
   s.pending.from = s.joints;
   s.pending.to = plan.samples.back().joints;
   s.pending.line = std::move(plan);
-  s.pending.profile = plan_profile(axes, speed.duration_s);
+  s.pending.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(2 + n)), speed.duration_s);
   s.pending.t0 = s.time;
   s.pending.tag = tag;
   s.dest = target;

@@ -92,3 +92,32 @@ TEST_CASE("joint moves: every joint past each limit is refused naming it", "[sim
       sim.finish_motion();
     }
 }
+
+TEST_CASE("straight lines: every joint's speed stays within its limit", "[simulator][profile]") {
+  // Near the wrist singularity (J5 = 3 deg) a sideways line turns J4 and J6 fast: the joints,
+  // not the tool speed, set the duration.
+  Cell c = cell_at(jv({0, -60, 150, 0, 3, 0}));
+  c.collision.enabled = false;
+  Simulator sim(std::move(c));
+  sim.set_trace(true);
+  const Location target = trans(0, 60, 0, 0, 0, 0) * sim.here();
+  const MotionResult r = sim.start_move(target, true, {}, 1);
+  INFO(r.error.message << " " << r.error.detail);
+  REQUIRE(r.status == MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == MotionStatus::ok);
+  const auto& trace = sim.trace();
+  REQUIRE(trace.size() > 10);
+  double worst = 0;  // largest secant speed / limit over all joints and samples
+  for (std::size_t i = 1; i < trace.size(); ++i) {
+    const double dt = trace[i].time_s - trace[i - 1].time_s;
+    if (dt <= 0) continue;
+    for (int j = 0; j < 6; ++j)
+      worst = std::max(worst, std::abs(trace[i].joints[j] - trace[i - 1].joints[j]) / dt / sim.robot().max_velocity[j]);
+  }
+  CHECK(worst <= 1 + 1e-9);
+  CHECK(worst > 0.8);  // the joint limit is what binds
+  const double tool_only = 60.0 / 500 + 500.0 / 2000;  // T = D/V + V/A if the tool speed bound
+  CHECK(sim.time_s() > 1.5 * tool_only);
+  WARN("wrist-near line: " << sim.time_s() << " s (tool-speed bound alone " << tool_only << " s), worst joint speed "
+                           << worst << " of its limit");
+}
