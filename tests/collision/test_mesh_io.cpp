@@ -1,0 +1,187 @@
+// Mesh input: STL (ASCII, binary), OBJ (polygons, negative indices), scale, tessellated
+// primitives, and validation messages naming file and face. Files are written to a temp dir.
+#include "collision/containment.hpp"
+#include "collision/engine.hpp"
+#include "collision/mesh_io.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+using namespace asimov::collision;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("asimov_mesh_io_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const fs::path p = temp_dir() / name;
+  std::ofstream(p, std::ios::binary) << text;
+  return p.string();
+}
+
+// The 12 faces of a unit cube [0,1]^3 as vertex triples, outward.
+std::vector<std::array<Vec3, 3>> cube_faces() {
+  const Polyhedron b = make_box(Vec3(1, 1, 1));
+  std::vector<std::array<Vec3, 3>> f;
+  for (const Triangle& t : b.triangles)
+    f.push_back({b.vertices[t[0]] + Vec3::Constant(0.5), b.vertices[t[1]] + Vec3::Constant(0.5),
+                 b.vertices[t[2]] + Vec3::Constant(0.5)});
+  return f;
+}
+
+std::string ascii_stl(const std::vector<std::array<Vec3, 3>>& faces) {
+  std::string s = "solid cube\n";
+  for (const auto& f : faces) {
+    s += "  facet normal 0 0 0\n    outer loop\n";
+    for (const Vec3& v : f)
+      s += "      vertex " + std::to_string(v.x()) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
+    s += "    endloop\n  endfacet\n";
+  }
+  return s + "endsolid cube\n";
+}
+
+std::string binary_stl(const std::vector<std::array<Vec3, 3>>& faces) {
+  std::string s(80, ' ');
+  s.replace(0, 5, "solid");  // a binary file whose header starts like ASCII
+  const auto n = static_cast<std::uint32_t>(faces.size());
+  s.append(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& f : faces) {
+    float rec[12] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) rec[3 + 3 * k + c] = static_cast<float>(f[static_cast<std::size_t>(k)][c]);
+    s.append(reinterpret_cast<const char*>(rec), sizeof rec);
+    s.append(2, '\0');
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("STL ASCII and binary give the same welded, closed cube; scale applies", "[mesh_io]") {
+  const std::string a = write("cube_ascii.stl", ascii_stl(cube_faces()));
+  const std::string b = write("cube_binary.STL", binary_stl(cube_faces()));
+  const LoadedMesh ma = read_stl(a), mb = read_mesh(b);
+  CHECK(ma.mesh.triangles.size() == 12);
+  CHECK(ma.mesh.vertices.size() == 8);  // welded
+  CHECK(mb.mesh.vertices.size() == 8);
+  CHECK(ma.closed);
+  CHECK(mb.closed);
+  CHECK(ma.warnings.empty());
+  CHECK(is_closed(ma.mesh));
+  const LoadedMesh ms = read_stl(a, Vec3::Constant(1000));  // metres -> mm
+  Vec3 hi = Vec3::Zero();
+  for (const Vec3& v : ms.mesh.vertices) hi = hi.cwiseMax(v);
+  CHECK(hi == Vec3(1000, 1000, 1000));
+}
+
+TEST_CASE("OBJ: quads fan-triangulated, negative indices, v/vt/vn forms, scale", "[mesh_io]") {
+  const std::string obj = write("cube.obj",
+                                "# cube\no cube\n"
+                                "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                                "vn 0 0 1\nvt 0 0\n"
+                                "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2/1 3/1 7/1 6/1\n"
+                                "f 3//1 4//1 8//1 7//1\nf -4 -1 -5 -8\n");  // last: 5 8 4 1, relative
+  const LoadedMesh m = read_obj(obj, Vec3(2, 2, 2));
+  CHECK(m.mesh.triangles.size() == 12);
+  CHECK(m.mesh.vertices.size() == 8);
+  CHECK(m.closed);
+  Engine e;
+  const BodyId big = e.add_body({.name = "cube", .mesh = m.mesh});
+  const BodyId small = e.add_body({.name = "dot", .mesh = make_box(Vec3(0.1, 0.1, 0.1))});
+  Pose p = Pose::Identity();
+  p.translation() = Vec3(1, 1, 1);  // inside the scaled cube [0, 2]^3: containment
+  e.set_pose(big, Pose::Identity());
+  e.set_pose(small, p);
+  CHECK(e.check().contact.kind == ContactKind::containment);
+}
+
+TEST_CASE("validation: non-finite rejected, zero-area dropped, open meshes warned", "[mesh_io]") {
+  auto faces = cube_faces();
+  SECTION("NaN and infinity are rejected with file and face") {
+    std::string s = ascii_stl(faces);
+    const auto at = s.find("vertex", s.find("facet", s.find("facet") + 1));  // face 2
+    s.replace(at, 6, "vertex nan 0 0 #");
+    const std::string path = write("nan.stl", s);
+    try {
+      (void)read_stl(path);
+      FAIL("no error");
+    } catch (const MeshError& e) {
+      CHECK_THAT(e.what(), Catch::Contains("nan.stl") && Catch::Contains("face 2") && Catch::Contains("non-finite"));
+    }
+    faces[4][1].x() = INFINITY;
+    CHECK_THROWS_WITH(read_stl(write("inf.stl", binary_stl(faces))), Catch::Contains("face 5"));
+    CHECK_THROWS_WITH(read_obj(write("inf.obj", "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n")),
+                      Catch::Contains("inf.obj") && Catch::Contains("non-finite"));
+  }
+  SECTION("zero-area faces are dropped with a warning naming them") {
+    faces.push_back({Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5), Vec3(1, 1, 1)});  // collinear: face 13
+    faces.push_back({Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1, 0, 0)});        // repeated: face 14
+    const LoadedMesh m = read_stl(write("degenerate.stl", binary_stl(faces)));
+    CHECK(m.mesh.triangles.size() == 12);
+    REQUIRE(m.warnings.size() == 2);
+    CHECK_THAT(m.warnings[0], Catch::Contains("degenerate.stl: face 13: zero area"));
+    CHECK_THAT(m.warnings[1], Catch::Contains("face 14: zero area"));
+    CHECK(m.closed);
+  }
+  SECTION("an open mesh is accepted, warned, and has no inside") {
+    faces.pop_back();  // face 12 gone: a hole
+    const LoadedMesh m = read_stl(write("open.stl", ascii_stl(faces)));
+    CHECK_FALSE(m.closed);
+    REQUIRE(m.warnings.size() == 1);
+    CHECK_THAT(m.warnings[0], Catch::Contains("open.stl: face") && Catch::Contains("open mesh") &&
+                                  Catch::Contains("containment"));
+    Engine e;
+    const BodyId id = e.add_body({.name = "open", .mesh = m.mesh});
+    CHECK_FALSE(e.body_closed(id));
+  }
+  SECTION("non-manifold: an edge shared by four faces") {
+    Polyhedron two = merged(make_box(Vec3(1, 1, 1)), transformed(make_box(Vec3(1, 1, 1)), Pose(Eigen::Translation3d(1, 1, 0))));
+    const LoadedMesh m = validate_mesh(two, "object 'pair'");  // boxes touch along an edge, not welded here
+    CHECK(m.closed);  // two separate closed shells: still closed
+    Polyhedron welded = two;  // weld the shared edge's vertices: now four faces meet there
+    for (Triangle& t : welded.triangles)
+      for (std::uint32_t& v : t)
+        for (std::uint32_t u = 0; u < 8; ++u)
+          if (v >= 8 && welded.vertices[v] == welded.vertices[u]) v = u;
+    const LoadedMesh w = validate_mesh(welded, "object 'pair'");
+    CHECK_FALSE(w.closed);
+    REQUIRE_FALSE(w.warnings.empty());
+    CHECK_THAT(w.warnings[0], Catch::Contains("object 'pair': face"));
+  }
+  SECTION("unreadable and unknown") {
+    CHECK_THROWS_AS(read_mesh((temp_dir() / "missing.stl").string()), MeshError);
+    CHECK_THROWS_WITH(read_mesh(write("x.ply", "ply\n")), Catch::Contains("unknown mesh format"));
+    CHECK_THROWS_WITH(read_obj(write("bad.obj", "v 0 0 0\nf 1 2 3\n")), Catch::Contains("bad.obj:2") && Catch::Contains("out of range"));
+    CHECK_THROWS_AS(read_stl(write("junk.stl", "hello")), MeshError);
+  }
+}
+
+TEST_CASE("primitives tessellated to a chordal tolerance", "[mesh_io]") {
+  for (const double tol : {1.0, 0.1, 0.01}) {
+    const double r = 50;
+    const int n = segments_for_tolerance(r, tol);
+    CHECK(r * (1 - std::cos(std::numbers::pi / n)) <= tol);
+    CHECK(r * (1 - std::cos(std::numbers::pi / (n - 1))) > tol);  // the fewest that do
+    const Polyhedron s = make_sphere(r, tol);
+    CHECK(validate_mesh(s, "sphere").closed);
+    CHECK(validate_mesh(s, "sphere").warnings.empty());
+    for (const Vec3& v : s.vertices) CHECK(std::fabs(v.norm() - r) < 1e-9);
+    // Every face lies within tol of the sphere: its plane is at least r - tol from the centre.
+    for (const Triangle& t : s.triangles) {
+      const Vec3 a = s.vertices[t[0]], b = s.vertices[t[1]], c = s.vertices[t[2]];
+      const Vec3 nrm = (b - a).cross(c - a).normalized();
+      CHECK(nrm.dot(a) >= r - tol - 1e-9);  // also outward
+    }
+    CHECK(validate_mesh(make_cylinder_tol(r, 10, tol), "cylinder").closed);
+  }
+}
