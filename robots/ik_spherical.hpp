@@ -1,0 +1,33 @@
+// Closed-form IK of 6R arms with J1 perpendicular to J2, J2 parallel to J3 and a spherical
+// wrist (axes 4, 5, 6 meet in one point), the common industrial geometry (PUMA, generic6, most
+// 6-axis arms with shoulder offsets), by Paden-Kahan subproblems on the product of
+// exponentials FK(q) = exp(xi1 q1) ... exp(xi6 q6) M taken at the zero pose. Up to 8 solutions.
+#pragma once
+#include "robots/robot.hpp"
+#include <array>
+
+namespace asimov::robots {
+
+// Joint axes at the zero pose (robot frame), the wrist centre and the flange at zero.
+struct SphericalWristModel {
+  std::array<Vec3, 6> axis;   // unit directions
+  std::array<Vec3, 6> point;  // a point on each axis [mm]
+  Vec3 wrist = Vec3::Zero();  // where axes 4, 5, 6 meet [mm]
+  Pose zero_flange = Pose::Identity();
+};
+
+// True (and `out` filled) when the robot has 6 revolute joints in this geometry (tolerances:
+// 1e-9 on direction products, 1e-6 mm on the wrist intersection).
+bool spherical_wrist_model(const Robot& robot, SphericalWristModel& out);
+
+struct SphericalIkSolutions {
+  std::array<JointVector, 8> q;  // internal values [rad]
+  std::array<bool, 8> wrist_singular{};
+  int count = 0;
+};
+
+// All solutions for `flange` (robot frame). At the wrist singularity (axes 4 and 6 aligned) q4
+// is `q4_keep` [rad, internal] and q6 takes the rest. count = 0: out of reach.
+void spherical_ik_all(const SphericalWristModel& model, const Pose& flange, double q4_keep, SphericalIkSolutions& out);
+
+}  // namespace asimov::robots
