@@ -2,6 +2,7 @@
 #pragma once
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace asimov::app {
 
@@ -13,7 +14,15 @@ struct RunOptions {
   std::string trace;        // --trace path, optional
 };
 
+struct MonitorOptions {
+  std::string cell;                 // CELL.yaml; empty: the built-in default cell
+  std::vector<std::string> files;   // loaded first, as LOAD does
+  bool strict = false;              // the first failed command ends the session (exit 2)
+};
+
 int run_command(const RunOptions& options, std::ostream& out, std::ostream& err);
 int check_command(const std::string& file, std::ostream& out, std::ostream& err);
+// The VAL monitor (cmd_monitor.cpp): interactive with libedit when stdin is a terminal.
+int monitor_command(const MonitorOptions& options, std::istream& in, std::ostream& out, std::ostream& err);
 
 }  // namespace asimov::app

@@ -1,5 +1,6 @@
 // asimov: runs VAL II programs in simulation and halts them the instant the arm touches
-// something. Subcommands: run, check (README.md has the contract).
+// something. Subcommands: run, check, monitor; no subcommand starts the monitor (README.md
+// has the contract).
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 
@@ -10,7 +11,7 @@
 int main(int argc, char** argv) {
   using namespace asimov::app;
   CLI::App cli{"asimov: VAL II programs in simulation, halted on contact"};
-  cli.require_subcommand(1);
+  cli.require_subcommand(0, 1);  // none: the monitor
 
   RunOptions run;
   auto* run_cmd = cli.add_subcommand("run", "load FILE.v2 and run a program in the cell");
@@ -24,6 +25,12 @@ int main(int argc, char** argv) {
   auto* check_cmd = cli.add_subcommand("check", "load and check FILE.v2; nothing runs");
   check_cmd->add_option("file", check_file, "the .v2 file")->required();
 
+  MonitorOptions monitor;
+  auto* monitor_cmd = cli.add_subcommand("monitor", "the VAL monitor: commands from the terminal or stdin");
+  monitor_cmd->add_option("files", monitor.files, "FILE.v2 files to load first");
+  monitor_cmd->add_option("--cell", monitor.cell, "cell file (YAML); default: the built-in cell");
+  monitor_cmd->add_flag("--strict", monitor.strict, "the first failed command ends the session with exit code 2");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -36,6 +43,7 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) return run_command(run, std::cout, std::cerr);
     if (*check_cmd) return check_command(check_file, std::cout, std::cerr);
+    return monitor_command(monitor, std::cin, std::cout, std::cerr);  // `monitor` or no subcommand
   } catch (const std::exception& e) {
     // The layers report problems as values; anything reaching here is a defect, still no crash.
     std::cerr << "*Internal error*  " << e.what() << '\n';

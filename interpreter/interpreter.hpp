@@ -2,6 +2,7 @@
 // against a motion::Simulator. Errors never escape as exceptions from these calls.
 #pragma once
 #include "motion/simulator.hpp"
+#include <atomic>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -42,6 +43,7 @@ struct RunResult {
 struct Limits {
   std::uint64_t max_statements = 100'000'000;  // executed statements per run
   int max_call_depth = 1000;
+  const std::atomic<bool>* interrupt = nullptr;  // set (Ctrl-C): the run stops between steps
 };
 
 class Interpreter {

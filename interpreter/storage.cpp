@@ -32,7 +32,7 @@ std::string element_name(const std::string& base, const Index& idx, bool subscri
   for (int k = 0; k < 3; ++k)
     if (idx[static_cast<std::size_t>(k)] != 0) last = k;
   std::string s = base + "[";
-  for (int k = 0; k <= last; ++k) s += (k ? "," : "") + std::to_string(idx[static_cast<std::size_t>(k)]);
+  for (int k = 0; k <= last; ++k) s += fmt::format("{}{}", k ? "," : "", idx[static_cast<std::size_t>(k)]);
   return s + "]";
 }
 

@@ -1,0 +1,203 @@
+// `asimov monitor` (and `asimov` alone): the VAL monitor of dialect §9 over the interpreter,
+// robot and cell of `asimov run`. Interactive when stdin is a terminal (libedit: prompt ". ",
+// history in ~/.asimov_history, tab completion, Ctrl-C); otherwise commands are read line by
+// line with no prompt, so sessions can be piped in.
+#include "app/cell_loader.hpp"
+#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "interpreter/monitor.hpp"
+
+#include <fmt/format.h>
+#include <histedit.h>
+
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cwchar>
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+namespace asimov::app {
+namespace {
+
+// Set by SIGINT. At the prompt it clears the line; while a program runs the evaluator polls it
+// between steps (Limits::interrupt) and stops the program.
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_sigint(int) { g_interrupted.store(true); }
+
+void install_sigint() {
+  struct sigaction sa {};
+  sa.sa_handler = on_sigint;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;  // no SA_RESTART: a read at the prompt returns EINTR
+  sigaction(SIGINT, &sa, nullptr);
+}
+
+std::string history_path() {
+  const char* home = std::getenv("HOME");
+  return home && *home ? std::string(home) + "/.asimov_history" : std::string();
+}
+
+const char* prompt(EditLine*) { return ". "; }
+
+// Reads one character for libedit. Ctrl-C at the prompt ends the line early; the caller sees
+// the flag and drops what was typed.
+int read_char(EditLine*, wchar_t* c) {
+  for (;;) {
+    char byte = 0;
+    const ssize_t n = ::read(STDIN_FILENO, &byte, 1);
+    if (n == 1) {
+      *c = static_cast<unsigned char>(byte);
+      return 1;
+    }
+    if (n == 0) return 0;
+    if (errno != EINTR) return -1;
+    if (g_interrupted.load()) {
+      *c = L'\n';
+      return 1;
+    }
+  }
+}
+
+// Tab: completes the word before the cursor from Monitor::completions; lists the candidates
+// when there are several and no longer common prefix.
+unsigned char complete(EditLine* el, int) {
+  void* data = nullptr;
+  el_get(el, EL_CLIENTDATA, &data);
+  const auto* monitor = static_cast<const val::Monitor*>(data);
+  const LineInfo* li = el_line(el);
+  const std::string line(li->buffer, li->cursor);
+  std::size_t start = line.size();
+  while (start > 0 && std::string_view(" \t,(=:").find(line[start - 1]) == std::string_view::npos) --start;
+  const std::string word = line.substr(start);
+  const std::vector<std::string> all = monitor->completions(line, word);
+  if (all.empty()) return CC_ERROR;
+  if (all.size() == 1) {
+    const std::string rest = all[0].substr(word.size()) + " ";
+    return el_insertstr(el, rest.c_str()) == 0 ? CC_REFRESH : CC_ERROR;
+  }
+  std::size_t common = all[0].size();  // longest common prefix, case-insensitive
+  for (const auto& s : all) {
+    std::size_t k = 0;
+    while (k < common && k < s.size() && std::tolower(static_cast<unsigned char>(s[k])) ==
+                                             std::tolower(static_cast<unsigned char>(all[0][k])))
+      ++k;
+    common = k;
+  }
+  if (common > word.size()) {
+    const std::string rest = all[0].substr(word.size(), common - word.size());
+    return el_insertstr(el, rest.c_str()) == 0 ? CC_REFRESH : CC_ERROR;
+  }
+  std::string list = "\n";
+  for (const auto& s : all) list += s + "  ";
+  std::cout << list << '\n' << std::flush;
+  return CC_REDISPLAY;
+}
+
+bool ask(const std::string& question) {
+  std::cout << question << std::flush;
+  std::string answer;
+  if (!std::getline(std::cin, answer)) {
+    std::cin.clear();
+    return false;
+  }
+  return !answer.empty() && (answer[0] == 'y' || answer[0] == 'Y');
+}
+
+// Runs the monitor on lines from libedit until QUIT or Ctrl-D.
+int interactive(val::Monitor& monitor, bool strict) {
+  EditLine* el = el_init("asimov", stdin, stdout, stderr);
+  History* hist = history_init();
+  HistEvent ev;
+  history(hist, &ev, H_SETSIZE, 1000);
+  history(hist, &ev, H_SETUNIQUE, 1);
+  const std::string hist_file = history_path();
+  if (!hist_file.empty()) history(hist, &ev, H_LOAD, hist_file.c_str());
+  el_set(el, EL_EDITOR, "emacs");
+  el_set(el, EL_PROMPT, prompt);
+  el_set(el, EL_HIST, history, hist);
+  el_set(el, EL_GETCFN, read_char);
+  el_set(el, EL_CLIENTDATA, &monitor);
+  el_set(el, EL_ADDFN, "asimov-complete", "complete a command or name", complete);
+  el_set(el, EL_BIND, "^I", "asimov-complete", nullptr);
+  el_source(el, nullptr);  // ~/.editrc, as other libedit programs do
+
+  int rc = kExitCompleted;
+  for (;;) {
+    g_interrupted.store(false);
+    int count = 0;
+    const char* got = el_gets(el, &count);
+    if (g_interrupted.load()) {  // Ctrl-C at the prompt: the line is dropped
+      if (monitor.entering_program()) std::cout << "(the program being entered is kept; end it with .END)\n";
+      continue;
+    }
+    if (!got || count <= 0) {  // Ctrl-D on an empty line
+      std::cout << '\n';
+      break;
+    }
+    std::string line(got);
+    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+    if (!line.empty()) {
+      history(hist, &ev, H_ENTER, line.c_str());
+      if (!hist_file.empty()) history(hist, &ev, H_SAVE, hist_file.c_str());
+    }
+    const val::CommandStatus s = monitor.execute(line);
+    std::cout << std::flush;
+    if (s == val::CommandStatus::quit) break;
+    if (s == val::CommandStatus::failed && strict) {
+      rc = kExitProgramError;
+      break;
+    }
+  }
+  history_end(hist);
+  el_end(el);
+  return rc;
+}
+
+// Scripted mode: one command per line from stdin, no prompt, no confirmation.
+int scripted(val::Monitor& monitor, std::istream& in, std::ostream& out, bool strict) {
+  std::string line;
+  while (std::getline(in, line)) {
+    g_interrupted.store(false);
+    const val::CommandStatus s = monitor.execute(line);
+    out.flush();
+    if (s == val::CommandStatus::quit) break;
+    if (s == val::CommandStatus::failed && strict) return kExitProgramError;
+  }
+  return kExitCompleted;
+}
+
+}  // namespace
+
+int monitor_command(const MonitorOptions& opt, std::istream& in, std::ostream& out, std::ostream& err) {
+  for (const std::string& f : opt.files) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(f, ec)) {
+      err << fmt::format("*File not found*  {}\n", f);
+      return kExitUsage;
+    }
+  }
+  motion::Cell cell;
+  try {
+    cell = opt.cell.empty() ? default_cell() : load_cell_file(opt.cell);
+  } catch (const CellError& e) {
+    err << "*Cell error*  " << e.format() << '\n';
+    return kExitUsage;
+  }
+  motion::Simulator sim(std::move(cell));
+  val::Interpreter interp(sim, out);
+  val::Monitor monitor(interp, sim, out);
+  interp.limits().interrupt = &g_interrupted;
+  const bool tty = ::isatty(STDIN_FILENO) == 1 && &in == &std::cin;
+  if (tty) monitor.confirm = ask;
+  install_sigint();
+
+  for (const std::string& f : opt.files)  // as LOAD f
+    if (monitor.execute("LOAD " + f) == val::CommandStatus::failed && opt.strict) return kExitProgramError;
+  return tty ? interactive(monitor, opt.strict) : scripted(monitor, in, out, opt.strict);
+}
+
+}  // namespace asimov::app
