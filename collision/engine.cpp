@@ -14,6 +14,7 @@
 #include "collision/voxel_grid.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
@@ -101,9 +102,12 @@ struct Engine::Impl {
     }
     return w;
   }
-  static bool boxes_disjoint(const WorldFace& x, const WorldFace& y) {
-    return x.lo.x() > y.hi.x() || y.lo.x() > x.hi.x() || x.lo.y() > y.hi.y() || y.lo.y() > x.hi.y() ||
-           x.lo.z() > y.hi.z() || y.lo.z() > x.hi.z();
+  // Boxes farther apart than `pad` on some axis. With pad = 0 this is the exact bounding-box
+  // rejection triangles_intersect starts with (min/max do not round); with a clearance c,
+  // pad = 2c + margin, so no pair within c of each other is dropped.
+  static bool boxes_disjoint(const Vec3& xlo, const Vec3& xhi, const Vec3& ylo, const Vec3& yhi, double pad) {
+    return xlo.x() > yhi.x() + pad || ylo.x() > xhi.x() + pad || xlo.y() > yhi.y() + pad ||
+           ylo.y() > xhi.y() + pad || xlo.z() > yhi.z() + pad || ylo.z() > xhi.z() + pad;
   }
   void next_stamp() {
     if (++stamp == 0) {  // wrapped: forget every old stamp
@@ -174,6 +178,7 @@ struct Engine::Impl {
     const VoxelGrid& ga = *a.grid;
     const VoxelGrid& gb = *b.grid;
     const VoxelMapping vm = map_voxels(ga, a.pose, gb, b.pose, grow);
+    const double pad = clearance > 0 ? 2 * clearance + margin : 0.0;
     if (!vm.empty()) {
       bool any_pair = false;
       if (mark.size() < ga.face_count) mark.resize(ga.face_count, 0);
@@ -203,13 +208,26 @@ struct Engine::Impl {
               any_pair = true;
               ++res.counts.pairs_after_voxels;
             }
+            res.counts.face_pairs += a_faces.size() * gb.faces_in(vb).size();
+            // Keep the A faces whose world box meets the box of the B voxel's faces.
+            Vec3 blo = Vec3::Constant(INFINITY), bhi = Vec3::Constant(-INFINITY);
+            for (const std::uint32_t fb : gb.faces_in(vb)) {
+              const WorldFace& wb = world_face(b, fb);
+              blo = blo.cwiseMin(wb.lo);
+              bhi = bhi.cwiseMax(wb.hi);
+            }
+            std::size_t kept = 0;
+            for (const std::uint32_t fa : a_faces) {
+              const WorldFace& wa = world_face(a, fa);
+              if (!boxes_disjoint(wa.lo, wa.hi, blo, bhi, pad)) a_faces[kept++] = fa;
+            }
+            a_faces.resize(kept);
             for (const std::uint32_t fb : gb.faces_in(vb)) {
               const WorldFace& wb = world_face(b, fb);
               for (const std::uint32_t fa : a_faces) {
                 const WorldFace& wa = world_face(a, fa);
-                ++res.counts.face_pairs;
                 // Disjoint bounding boxes: triangles_intersect would say no (min/max are exact).
-                if (clearance == 0 && boxes_disjoint(wa, wb)) continue;
+                if (boxes_disjoint(wa.lo, wa.hi, wb.lo, wb.hi, pad)) continue;
                 if (triangles_intersect(wa.t, wb.t)) {
                   res.collided = true;
                   res.contact = Contact{.body_a = ia, .body_b = ib, .face_a = fa, .face_b = fb,

@@ -9,8 +9,10 @@ struct StepCounts {
   std::uint64_t pairs_after_minimax = 0;// pairs whose world minimax boxes overlap
   std::uint64_t pairs_after_voxels = 0; // pairs with a non-empty voxel-pair buffer
   std::uint64_t voxel_pairs = 0;        // (A voxel, B voxel) pairs visited (up to the first hit)
-  std::uint64_t face_pairs = 0;         // face pairs given to step 4 (up to the first hit; a pair
-                                        //   met in several voxel pairs counts each time)
+  std::uint64_t face_pairs = 0;         // face pairs given to step 4: per B voxel, its faces times the
+                                        //   A faces of the A voxels it meets (up to the voxel of the
+                                        //   first hit; a pair met from several B voxels counts each
+                                        //   time; step 4's bounding-box rejections included)
 };
 
 enum class ContactKind : std::uint8_t {
