@@ -120,6 +120,17 @@ class Checker {
   }
   void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
 
+  // A block error that a syntax error in the same program may have caused (a block opener
+  // or END the parser rejected) is not reported: the syntax error already is.
+  bool parse_error_between(int from, int to) const {
+    for (const Diagnostic& d : src_.errors)
+      if (d.line > from && d.line < to) return true;
+    return false;
+  }
+  void block_error(std::string detail) {
+    if (!parse_error_between(prog_.line, line_)) error(std::move(detail));
+  }
+
   // --- data sections (dialect §8) -------------------------------------------------------
   // Handles .LOCATIONS/.REALS/.STRINGS and the .END closing them; false for anything else.
   bool data_section(const ast::Line& l) {
@@ -176,7 +187,8 @@ class Checker {
 
   void end_program() {
     for (auto it = blocks_.rbegin(); it != blocks_.rend(); ++it)
-      error_at(it->line, it->column, fmt::format("{} without END", block_name(it->kind)));
+      if (!parse_error_between(it->line, line_))
+        error_at(it->line, it->column, fmt::format("{} without END", block_name(it->kind)));
     for (const Goto& g : gotos_) {
       auto found = labels_.find(g.label);
       if (found == labels_.end()) {
@@ -619,7 +631,7 @@ class Checker {
         expect_args(i, 0, 0, i.kw == Kw::exit ? "EXIT" : "NEXT");
         Block* loop = innermost_loop();
         if (!loop) {
-          error(fmt::format("{} outside a loop", i.kw == Kw::exit ? "EXIT" : "NEXT"));
+          block_error(fmt::format("{} outside a loop", i.kw == Kw::exit ? "EXIT" : "NEXT"));
           return;
         }
         (i.kw == Kw::exit ? loop->exits : loop->nexts).push_back(here());
@@ -642,7 +654,7 @@ class Checker {
   void until(const ast::Instruction& i) {
     expect_args(i, 1, 1, "UNTIL");
     if (blocks_.empty() || blocks_.back().kind != Kw::do_) {
-      error("UNTIL without DO");
+      block_error("UNTIL without DO");
       return;
     }
     Block b = std::move(blocks_.back());
@@ -664,7 +676,7 @@ class Checker {
   void else_part(const ast::Instruction& i) {
     expect_args(i, 0, 0, "ELSE");
     if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().has_else) {
-      error("ELSE without IF ... THEN");
+      block_error("ELSE without IF ... THEN");
       return;
     }
     close_part(blocks_.back());
@@ -675,7 +687,7 @@ class Checker {
   void else_if(const ast::Instruction& i) {
     expect_args(i, 1, 1, "ELSEIF");
     if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().has_else) {
-      error("ELSEIF without IF ... THEN");
+      block_error("ELSEIF without IF ... THEN");
       return;
     }
     close_part(blocks_.back());
@@ -688,7 +700,7 @@ class Checker {
     const bool any = i.kw == Kw::any;
     expect_args(i, any ? 0 : 1, any ? 0 : 1000, any ? "ANY" : "VALUE");
     if (blocks_.empty() || blocks_.back().kind != Kw::case_ || blocks_.back().has_else) {
-      error(fmt::format("{} outside CASE (or after ANY)", any ? "ANY" : "VALUE"));
+      block_error(fmt::format("{} outside CASE (or after ANY)", any ? "ANY" : "VALUE"));
       return;
     }
     Block& b = blocks_.back();
@@ -706,7 +718,7 @@ class Checker {
   void end_block(const ast::Instruction& i) {
     expect_args(i, 0, 0, "END");
     if (blocks_.empty() || blocks_.back().kind == Kw::do_) {
-      error(blocks_.empty() ? "END without a block" : "DO ends with UNTIL, not END");
+      block_error(blocks_.empty() ? "END without a block" : "DO ends with UNTIL, not END");
       return;
     }
     Block b = std::move(blocks_.back());

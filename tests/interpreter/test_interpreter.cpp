@@ -133,3 +133,15 @@ TEST_CASE("data section errors", "[interpreter][data]") {
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "1\n");
 }
+
+TEST_CASE("a block opener with a syntax error causes no second error", "[interpreter]") {
+  InterpreterFixture f;
+  auto d = f.load(".PROGRAM p()\n  IF a = b THEN\n    x = 1\n  ELSE\n    x = 2\n  END\n.END\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].line == 2);
+  d = f.load(".PROGRAM p()\n  WHILE x > 0 DO\n    x = x - 1\n  END x\n.END\n");
+  REQUIRE(d.size() == 1);  // the END with a syntax error: WHILE is not reported unclosed
+  CHECK(d[0].line == 4);
+  d = f.load(".PROGRAM p()\n  x = (1\n.END\n.PROGRAM q()\n  END\n.END\n");
+  CHECK(d.size() == 2);  // another program's block errors still count
+}
