@@ -398,7 +398,7 @@ TEST_CASE("V+ constructs that load but are not simulated", "[evaluator][vplus]")
   CHECK(r.status == RunStatus::completed);
 }
 
-TEST_CASE("no short-circuit: both operands are evaluated [assumption]", "[evaluator][errors]") {
+TEST_CASE("no short-circuit: both operands are evaluated (assumption)", "[evaluator][errors]") {
   InterpreterFixture f;
   auto r = f.run(".PROGRAM main()\nx = 0 AND 1 / 0\n.END\n");
   CHECK(r.error.message == "*Division by zero*");
@@ -406,10 +406,17 @@ TEST_CASE("no short-circuit: both operands are evaluated [assumption]", "[evalua
   CHECK(r.error.message == "*Undefined value*");
 }
 
-TEST_CASE("RANDOM is uniform in [0, 1)", "[evaluator]") {
+TEST_CASE("RANDOM is uniform in 0 <= x < 1", "[evaluator]") {
   InterpreterFixture f;
   const auto r = f.run(".PROGRAM main()\nok = TRUE\nFOR i = 1 TO 1000\nx = RANDOM\n"
                        "IF x < 0 OR x >= 1 THEN\nok = FALSE\nEND\nEND\nTYPE ok\n.END\n");
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "-1\n");
+}
+
+TEST_CASE("$ENCODE formats like TYPE", "[evaluator][type]") {
+  CHECK(output_of("$s = $ENCODE(\"x=\", 3, \" \", /F6.2, 1/3)\nTYPE $s, \"|\", LEN($s)") == "x=3   0.33|11\n");
+  CHECK(output_of("TYPE $ENCODE(1, 2) + \"!\"") == "1 2!\n");
+  InterpreterFixture f;
+  CHECK_FALSE(f.load(".PROGRAM p()\n$s = $ENCODE(/C2, 1)\n.END\n").empty());
 }
