@@ -7,6 +7,7 @@
 // 2. generic6 (URDF): the numeric IK measured like the TRAC-IK table: 10,000 random
 //    configurations, tolerance 1e-5 (m -> 0.01 mm, rad), timeout 5 ms, seed = the zero pose;
 //    KDL solvers get random restarts until the same timeout (as in the TRAC-IK "KDL-RR" rows).
+//    Also the closed form that solve_ik uses for this arm (J1 _|_ J2 || J3, spherical wrist).
 //
 // KDL settings: LMA with unit weights (1,1,1,1,1,1), eps 1e-5, 500 iterations (the default
 // weights 0.01 on rotation accept rotation errors up to 1e-3 rad); NR_JL with pinv velocity IK,
@@ -19,6 +20,7 @@
 // both solvers succeed (each within its tolerance; the peer's is 1e-2 mm / 1e-5 rad).
 // Writes bench/results/ik.json (or argv[1]).
 #include "robots/configuration.hpp"
+#include "robots/ik.hpp"
 #include "robots/ik_numeric.hpp"
 #include "robots/ik_puma.hpp"
 #include "robots/puma560.hpp"
@@ -307,6 +309,7 @@ int main(int argc, char** argv) {
     strict.rotation_tol_rad = 1e-9;
     Run ours{"ours solve_numeric (LM + restarts), 1e-5", {}, {}, {}, {}};
     Run ours_strict{"ours solve_numeric, 1e-6 mm / 1e-9 rad", {}, {}, {}, {}};
+    Run closed{"ours solve_ik (Paden-Kahan closed form)", {}, {}, {}, {}};
     Run kdl_nr{"KDL NR_JL + random restarts, 1e-5", {}, {}, {}, {}};
     Run kdl_lma{"KDL LMA + random restarts, 1e-5", {}, {}, {}, {}};
     KDL::ChainFkSolverPos_recursive check(chain);
@@ -333,6 +336,10 @@ int main(int argc, char** argv) {
       const NumericIkResult res2 = solve_numeric(r, t, seed, strict);
       us = elapsed_us(t0);
       record(ours_strict, r, res2.joints, t, res2.success, us, strict.position_tol_mm, strict.rotation_tol_rad);
+      t0 = Clock::now();
+      const IkResult cf = solve_ik(r, t, seed, Configuration{}, false);
+      us = elapsed_us(t0);
+      record(closed, r, cf.joints, t, cf.status == IkStatus::ok, us, 1e-6, 1e-9);
       const KDL::Frame goal = kdl_frame(t);
       t0 = Clock::now();
       bool ok = kdl_restarts(nrjl, kseed, goal, q_out, lo, hi, restart_rng, 5e-3);
@@ -344,12 +351,14 @@ int main(int argc, char** argv) {
       record(kdl_lma, r, dh_to_display(r, internal_of(q_out, r)), t, ok, us, 1e-2, 1e-5);
     }
     std::printf("generic6 (URDF), %d random configurations, seed = zero pose, timeout 5 ms:\n", kPoses);
-    for (const Run* run : {&ours, &ours_strict, &kdl_nr, &kdl_lma}) print(*run);
+    for (const Run* run : {&ours, &ours_strict, &closed, &kdl_nr, &kdl_lma}) print(*run);
     std::printf("  ours 1e-5: %.2f LM iterations and %.3f attempts per solve on average\n",
                 static_cast<double>(iterations) / kPoses, static_cast<double>(attempts) / kPoses);
     rows.push_back(row("generic6 numeric IK (TRAC-IK protocol, mean us)", ours, kdl_nr, true));
     rows.push_back(row("generic6 numeric IK (TRAC-IK protocol, mean us)", ours, kdl_lma, true));
     rows.push_back(row("generic6 numeric IK 1e-6 mm / 1e-9 rad (mean us)", ours_strict, kdl_nr, true));
+    rows.push_back(row("generic6 closed form (spherical wrist), median us", closed, kdl_nr));
+    rows.push_back(row("generic6 closed form (spherical wrist), median us", closed, kdl_lma));
   }
 
   std::printf("\n%-52s %10s  %-46s %10s %9s %9s %8s %8s\n", "name", "ours_us", "peer", "peer_us", "ratio", "agree",
