@@ -30,6 +30,10 @@ struct VoxelMapping {
   bool empty() const { return sub.a.empty() || sub.b.empty(); }
   // A voxels (within A's sub-matrix) that B's voxel (i, j, k), mapped and grown, overlaps.
   CellRange a_cells(const VoxelGrid& ga, int i, int j, int k) const;
+  // The same for a block of B voxels, with the box grown by twice `grow` (covers the rounding
+  // of every voxel box of the block, whose corners are computed differently).
+  CellRange a_cells_of_block(const VoxelGrid& ga, const CellRange& block) const;
+  double grow = 0;
 };
 VoxelMapping map_voxels(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb, const Pose& pose_b,
                         double grow);

@@ -91,6 +91,18 @@ int auto_halvings(const Polyhedron& mesh) {
   return std::clamp(m, 3, 18);
 }
 
+std::uint32_t VoxelGrid::count_nonempty(const CellRange& r) const {
+  if (r.empty()) return 0;
+  const std::size_t sx = static_cast<std::size_t>(cells[0]) + 1, sy = static_cast<std::size_t>(cells[1]) + 1;
+  auto at = [&](int i, int j, int k) {
+    return occupied[static_cast<std::size_t>(i) + sx * (static_cast<std::size_t>(j) + sy * static_cast<std::size_t>(k))];
+  };
+  const int i0 = r.lo[0], j0 = r.lo[1], k0 = r.lo[2], i1 = r.hi[0] + 1, j1 = r.hi[1] + 1, k1 = r.hi[2] + 1;
+  // Inclusion-exclusion in unsigned arithmetic: wraps cancel, the result is exact.
+  return at(i1, j1, k1) - at(i0, j1, k1) - at(i1, j0, k1) - at(i1, j1, k0) + at(i0, j0, k1) + at(i0, j1, k0) +
+         at(i1, j0, k0) - at(i0, j0, k0);
+}
+
 std::array<int, 3> halve_cells(const Vec3& size, int halvings) {
   std::array<int, 3> n{1, 1, 1};
   for (int m = 0; m < halvings; ++m) {
@@ -140,6 +152,19 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
   for (std::size_t f = 0; f < g.face_count; ++f) g.face_offsets[f + 1] += g.face_offsets[f];
   g.face_voxels.resize(hits.size());
   for (std::size_t n = 0; n < hits.size(); ++n) g.face_voxels[n] = hits[n].first;
+
+  // Summed-volume table of non-empty voxels.
+  const std::size_t sx = static_cast<std::size_t>(g.cells[0]) + 1, sy = static_cast<std::size_t>(g.cells[1]) + 1;
+  g.occupied.assign(sx * sy * (static_cast<std::size_t>(g.cells[2]) + 1), 0);
+  auto at = [&](int i, int j, int k) -> std::uint32_t& {
+    return g.occupied[static_cast<std::size_t>(i) + sx * (static_cast<std::size_t>(j) + sy * static_cast<std::size_t>(k))];
+  };
+  for (int k = 1; k <= g.cells[2]; ++k)
+    for (int j = 1; j <= g.cells[1]; ++j)
+      for (int i = 1; i <= g.cells[0]; ++i)
+        at(i, j, k) = (g.voxel_empty(g.index(i - 1, j - 1, k - 1)) ? 0u : 1u) + at(i - 1, j, k) + at(i, j - 1, k) +
+                      at(i, j, k - 1) - at(i - 1, j - 1, k) - at(i - 1, j, k - 1) - at(i, j - 1, k - 1) +
+                      at(i - 1, j - 1, k - 1);
 
   if (is_closed(mesh)) classify_voxels(g, mesh);
   return g;

@@ -31,6 +31,8 @@ struct VoxelGrid {
   std::vector<std::uint32_t> face_offsets;  // inverse CSR: voxels of face f are
   std::vector<std::uint32_t> face_voxels;   //   face_voxels[face_offsets[f] .. face_offsets[f+1])
   std::vector<VoxelClass> classes;    // per voxel; empty when the mesh is not closed
+  std::vector<std::uint32_t> occupied;  // summed-volume table of non-empty voxels,
+                                        //   (nx+1)(ny+1)(nz+1): count with indices < (i, j, k)
   std::size_t face_count = 0;         // triangles of the mesh
 
   std::size_t voxel_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
@@ -45,6 +47,8 @@ struct VoxelGrid {
     return {face_voxels.data() + face_offsets[f], face_voxels.data() + face_offsets[f + 1]};
   }
   Box voxel_box(int i, int j, int k) const;  // local, not grown
+  // Non-empty voxels in a range (0 for an empty range), in O(1).
+  std::uint32_t count_nonempty(const CellRange& r) const;
 };
 
 constexpr int kAutoHalvings = -1;  // BodyDef::halvings: let the cost model choose M
