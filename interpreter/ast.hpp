@@ -28,6 +28,7 @@ struct Nil {};
 struct Expr;
 struct Call;
 struct Unary;
+struct TypeStmt;  // also the items of $ENCODE(...)
 
 // A variable reference: `x`, `$s`, `#p`, `a[i,j]`, or a whole array `a[]` (empty subscript).
 struct VarRef {
@@ -36,7 +37,8 @@ struct VarRef {
 };
 
 struct Operand : x3::variant<Nil, double, std::string, VarRef, x3::forward_ast<Call>,
-                             x3::forward_ast<Unary>, x3::forward_ast<Expr>> {
+                             x3::forward_ast<Unary>, x3::forward_ast<Expr>,
+                             x3::forward_ast<TypeStmt>> {
   using base_type::base_type;
   using base_type::operator=;
 };
@@ -127,7 +129,7 @@ struct TypeItem : x3::variant<Format, Expr> {
   using base_type::operator=;
 };
 
-// TYPE [ type_item { "," type_item } ]
+// TYPE [ type_item { "," type_item } ]   (kw = Kw::type; also $ENCODE's arguments)
 struct TypeStmt {
   Kw kw = Kw::type;
   std::vector<TypeItem> items;

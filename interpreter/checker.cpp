@@ -332,6 +332,14 @@ class Checker {
         return n;
       }
       Node operator()(const ast::Expr& e) const { return c.expression(e); }
+      Node operator()(const ast::TypeStmt& t) const {  // $ENCODE(items)
+        Node n;
+        n.kind = NodeKind::encode;
+        c.format_items(t, n.formats, n.kids);
+        for (const ast::Format& f : n.formats)
+          if (f.code == 'C' || f.code == 'S') c.error("/C and /S are not allowed in $ENCODE");
+        return n;
+      }
     };
     return boost::apply_visitor(Visitor{*this}, o);
   }
@@ -530,14 +538,19 @@ class Checker {
 
   void type_statement(const ast::TypeStmt& t) {
     Instr& in = emit(Code::type);
+    format_items(t, in.formats, in.args);
+  }
+
+  // TYPE and $ENCODE items: a format (code in upper case) or an expression (code 0).
+  void format_items(const ast::TypeStmt& t, std::vector<ast::Format>& formats, std::vector<Node>& values) {
     for (const ast::TypeItem& item : t.items) {
       if (const auto* f = boost::get<ast::Format>(&item)) {
         ast::Format spec = *f;
         spec.code = static_cast<char>(std::toupper(static_cast<unsigned char>(spec.code)));
-        in.formats.push_back(spec);
+        formats.push_back(spec);
       } else {
-        in.formats.push_back(ast::Format{0, 0, 0});
-        in.args.push_back(expression(boost::get<ast::Expr>(item)));
+        formats.push_back(ast::Format{0, 0, 0});
+        values.push_back(expression(boost::get<ast::Expr>(item)));
       }
     }
   }

@@ -5,7 +5,7 @@ namespace asimov::val {
 StaticKind static_kind(const Node& n) {
   switch (n.kind) {
     case NodeKind::number: case NodeKind::unary: return StaticKind::real;
-    case NodeKind::string: return StaticKind::string;
+    case NodeKind::string: case NodeKind::encode: return StaticKind::string;
     case NodeKind::variable: return n.text[0] == '$' ? StaticKind::string : StaticKind::unknown;
     case NodeKind::function: {
       if (n.text.empty()) return StaticKind::unknown;

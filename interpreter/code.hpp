@@ -16,7 +16,7 @@ struct Ref {
   int slot = -1;                // index into the globals or the frame's slots (params, AUTO)
 };
 
-enum class NodeKind : unsigned char { number, string, variable, unary, binary, function, absent };
+enum class NodeKind : unsigned char { number, string, variable, unary, binary, function, encode, absent };
 
 // An expression tree node. Variables carry their resolved slot; `kids` are operands,
 // subscripts (variables) or arguments (functions).
@@ -29,6 +29,7 @@ struct Node {
   Ref ref;                      // variable
   bool subscripted = false;     // variable written with [...]
   std::vector<Node> kids;
+  std::vector<ast::Format> formats;  // $ENCODE: one per item; code 0 = the next of `kids`
 };
 
 enum class Code : unsigned char {

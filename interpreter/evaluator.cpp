@@ -439,15 +439,23 @@ void Evaluator::motion(const Instr& in) {
 }
 
 void Evaluator::type(const Instr& in) {
-  std::string text;
   bool newline = true;
+  const std::string text = format_items(in.formats, in.args, newline);
+  out_ << text;
+  if (newline) out_ << '\n';
+}
+
+// The text of TYPE / $ENCODE items; `newline` is cleared by /S.
+std::string Evaluator::format_items(const std::vector<ast::Format>& formats, const std::vector<Node>& values,
+                                    bool& newline) {
+  std::string text;
   bool after_number = false;  // the previous item was a number in default format
   ast::Format mode{'D', 0, 0};
   std::size_t next = 0;
-  for (const ast::Format& item : in.formats) {
+  for (const ast::Format& item : formats) {
     switch (item.code) {
       case 0: {
-        const Value v = eval(in.args[next++]);
+        const Value v = eval(values[next++]);
         if (const auto* s = std::get_if<std::string>(&v)) {
           text += *s;
           after_number = false;
@@ -475,8 +483,7 @@ void Evaluator::type(const Instr& in) {
       default: break;
     }
   }
-  out_ << text;
-  if (newline) out_ << '\n';
+  return text;
 }
 
 motion::Location Evaluator::as_transformation(const Value& v) {
@@ -571,6 +578,12 @@ Value Evaluator::eval(const Node& n) {
       return binary(n.op, a, b);
     }
     case NodeKind::function: return function(n);
+    case NodeKind::encode: {
+      bool newline = true;
+      std::string text = format_items(n.formats, n.kids, newline);
+      if (text.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
+      return text;
+    }
     case NodeKind::absent: raise(ErrorKind::undefined_value, "omitted argument");
   }
   raise(ErrorKind::illegal_value, "bad expression");

@@ -45,6 +45,8 @@ class Evaluator {
   void call(const Instr& in);
   void motion(const Instr& in);
   void type(const Instr& in);
+  std::string format_items(const std::vector<ast::Format>& formats, const std::vector<Node>& values,
+                           bool& newline);
   void finish_motion();
 
   motion::Location as_transformation(const Value& v);

@@ -195,6 +195,7 @@ x3::rule<class call_stmt_class, ast::CallStmt> const call_stmt = "CALL";
 x3::rule<class format_class, ast::Format> const format = "format";
 x3::rule<class type_item_class, ast::TypeItem> const type_item = "TYPE item";
 x3::rule<class type_class, ast::TypeStmt> const type_stmt = "TYPE";
+x3::rule<class encode_class, ast::TypeStmt> const encode = "$ENCODE";
 x3::rule<class param_class, std::string> const param = "parameter";
 x3::rule<class header_class, ast::ProgramHeader> const program_header = ".PROGRAM";
 x3::rule<class statement_class, ast::Statement> const statement = "statement";
@@ -227,8 +228,12 @@ const auto binary_op_def = (symbol_ops - (x3::lit(':') >> x3::eoi)) | word_of(wo
 // operand = ( "-" | "+" | NOT ) operand | primary
 const auto operand_def = unary | primary;
 const auto unary_def = (unary_sign | (kw("not") >> x3::attr(Op::not_))) > operand;
-// primary = number | string | function | variable | "(" expression ")"
-const auto primary_def = number | string_literal | call | variable | ('(' > expression > ')');
+// primary = number | string | encode | function | variable | "(" expression ")"
+const auto primary_def = number | string_literal | encode | call | variable
+    | ('(' > expression > ')');
+// encode = "$ENCODE" "(" type_item { "," type_item } ")"
+const auto encode_def = x3::attr(Kw::type) >> x3::lexeme[x3::no_case["$encode"] >> !name_char]
+    >> '(' > (type_item % ',') > ')';
 // function = [ "#" | "$" ] name "(" arguments ")" | HERE | DEST | PI | TRUE | FALSE | NULL | ...
 const auto function_name_def = x3::raw[x3::lexeme[-x3::char_("#$") >> word]];
 const auto call_def = (function_name >> '(' > arguments > ')')
@@ -296,7 +301,7 @@ const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
 BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
-                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported)
+                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported, encode)
 
 // skipper = blank | ";" { any }
 const auto skipper = x3::blank | (';' >> *x3::char_);

@@ -415,7 +415,7 @@ TEST_CASE("RANDOM is uniform in 0 <= x < 1", "[evaluator]") {
 }
 
 TEST_CASE("$ENCODE formats like TYPE", "[evaluator][type]") {
-  CHECK(output_of("$s = $ENCODE(\"x=\", 3, \" \", /F6.2, 1/3)\nTYPE $s, \"|\", LEN($s)") == "x=3   0.33|11\n");
+  CHECK(output_of("$s = $ENCODE(\"x=\", 3, \" \", /F6.2, 1/3)\nTYPE $s, \"|\", LEN($s)") == "x=3   0.33|10\n");
   CHECK(output_of("TYPE $ENCODE(1, 2) + \"!\"") == "1 2!\n");
   InterpreterFixture f;
   CHECK_FALSE(f.load(".PROGRAM p()\n$s = $ENCODE(/C2, 1)\n.END\n").empty());
