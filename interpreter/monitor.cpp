@@ -10,6 +10,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <ostream>
@@ -359,6 +360,28 @@ CommandStatus Monitor::cmd_do(Args rest) {
   const std::string first = lower(rest.substr(0, end));
   if (std::isdigit(static_cast<unsigned char>(rest[0])) || std::find(kNotForDo.begin(), kNotForDo.end(), first) != kNotForDo.end())
     return fail("*Syntax error*", "control flow and declarations are not allowed in DO");
+  if (first == "signal") {  // the monitor may also set inputs (dialect §6 [ext])
+    std::vector<int> numbers;
+    for (const std::string& a : split_list(rest.substr(end))) {
+      char* stop = nullptr;
+      const long k = std::strtol(a.c_str(), &stop, 10);
+      if (a.empty() || *stop != '\0' || std::labs(k) > 100000) {
+        numbers.clear();  // not all literals: the evaluator decides (no inputs then)
+        break;
+      }
+      const long v = std::labs(k);
+      if (k != 0 && !(v <= 512 || (v >= 1001 && v <= 1512) || (v >= 2001 && v <= 2512)))
+        return fail("*Illegal value*", fmt::format("signal {}", k));
+      numbers.push_back(static_cast<int>(k));
+    }
+    if (!numbers.empty()) {
+      for (int k : numbers) {
+        if (k > 0) interp_.memory().signals.insert(k);
+        if (k < 0) interp_.memory().signals.erase(-k);
+      }
+      return CommandStatus::ok;
+    }
+  }
   return run_instruction(rest);
 }
 
