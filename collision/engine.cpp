@@ -169,7 +169,12 @@ struct Engine::Impl {
     const VoxelGrid& gb = *b.grid;
     const std::size_t vb = gb.index(i, j, k);
     if (gb.voxel_empty(vb)) return false;
-    const CellRange ra = vm.a_cells(ga, i, j, k);
+    (void)i, (void)j, (void)k;
+    // B's voxel content (its faces' part of the voxel) mapped into A's frame: the A voxels
+    // whose content meets it are the voxel pairs (tighter than whole voxels, same guarantee:
+    // a contact point lies in both contents).
+    const Box mb = vm.mapped_content(gb, vb);
+    const CellRange ra = intersect(cell_range(ga, mb), vm.sub.a);
     if (ra.empty() || ga.count_nonempty(ra) == 0) return false;
     next_stamp();
     a_faces.clear();
@@ -178,6 +183,10 @@ struct Engine::Impl {
         for (int ii = ra.lo[0]; ii <= ra.hi[0]; ++ii) {
           const std::size_t va = ga.index(ii, jj, kk);
           if (ga.voxel_empty(va)) continue;
+          const Box& ca = ga.content[va];
+          if (ca.lo.x() > mb.hi.x() || mb.lo.x() > ca.hi.x() || ca.lo.y() > mb.hi.y() || mb.lo.y() > ca.hi.y() ||
+              ca.lo.z() > mb.hi.z() || mb.lo.z() > ca.hi.z())
+            continue;
           ++res.counts.voxel_pairs;
           for (const std::uint32_t fa : ga.faces_in(va))
             if (mark[fa] != stamp) {

@@ -24,12 +24,27 @@ VoxelMapping map_voxels(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid
   m.hi_off = m.dx.cwiseMax(0.0) + m.dy.cwiseMax(0.0) + m.dz.cwiseMax(0.0) + Vec3::Constant(grow);
   m.base = a_from_b * gb.container.origin;
   m.grow = grow;
+  m.r = r;
+  m.t = a_from_b.translation();
   return m;
 }
 
 CellRange VoxelMapping::a_cells(const VoxelGrid& ga, int i, int j, int k) const {
   const Vec3 corner = base + static_cast<double>(i) * dx + static_cast<double>(j) * dy + static_cast<double>(k) * dz;
   return intersect(cell_range(ga, Box{corner + lo_off, corner + hi_off}), sub.a);
+}
+
+Box VoxelMapping::mapped_content(const VoxelGrid& gb, std::size_t v) const {
+  const Box& c = gb.content[v];
+  const Vec3 o = r * c.lo + t;
+  const Vec3 size = c.hi - c.lo;
+  Box out{o - Vec3::Constant(grow), o + Vec3::Constant(grow)};
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = r.col(k) * size[k];
+    out.lo += e.cwiseMin(0.0);
+    out.hi += e.cwiseMax(0.0);
+  }
+  return out;
 }
 
 CellRange VoxelMapping::a_cells_of_block(const VoxelGrid& ga, const CellRange& block) const {

@@ -34,6 +34,10 @@ struct VoxelMapping {
   // of every voxel box of the block, whose corners are computed differently).
   CellRange a_cells_of_block(const VoxelGrid& ga, const CellRange& block) const;
   double grow = 0;
+  Mat3 r = Mat3::Identity();  // B's frame to A's: rotation and translation
+  Vec3 t = Vec3::Zero();
+  // Minimax box in A's frame of B voxel v's content box, grown by `grow`.
+  Box mapped_content(const VoxelGrid& gb, std::size_t v) const;
 };
 VoxelMapping map_voxels(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb, const Pose& pose_b,
                         double grow);

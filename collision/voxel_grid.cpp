@@ -153,6 +153,25 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
   g.face_voxels.resize(hits.size());
   for (std::size_t n = 0; n < hits.size(); ++n) g.face_voxels[n] = hits[n].first;
 
+  // Content boxes: voxel (grown) cut to the union of its faces' boxes (grown).
+  g.content.assign(n, Box{});
+  for (int k = 0; k < g.cells[2]; ++k)
+    for (int j = 0; j < g.cells[1]; ++j)
+      for (int i = 0; i < g.cells[0]; ++i) {
+        const std::size_t v = g.index(i, j, k);
+        if (g.voxel_empty(v)) continue;
+        Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+        for (const std::uint32_t f : g.faces_in(v)) {
+          const Triangle& tri = mesh.triangles[f];
+          for (const std::uint32_t x : tri) {
+            lo = lo.cwiseMin(mesh.vertices[x]);
+            hi = hi.cwiseMax(mesh.vertices[x]);
+          }
+        }
+        const Box vb = grown(g.voxel_box(i, j, k), g.margin);
+        const Box fb = grown(Box{lo, hi}, g.margin);
+        g.content[v] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
+      }
   // Summed-volume table of non-empty voxels.
   const std::size_t sx = static_cast<std::size_t>(g.cells[0]) + 1, sy = static_cast<std::size_t>(g.cells[1]) + 1;
   g.occupied.assign(sx * sy * (static_cast<std::size_t>(g.cells[2]) + 1), 0);

@@ -31,6 +31,9 @@ struct VoxelGrid {
   std::vector<std::uint32_t> face_offsets;  // inverse CSR: voxels of face f are
   std::vector<std::uint32_t> face_voxels;   //   face_voxels[face_offsets[f] .. face_offsets[f+1])
   std::vector<VoxelClass> classes;    // per voxel; empty when the mesh is not closed
+  std::vector<Box> content;           // per non-empty voxel: the voxel (grown by margin) cut to the
+                                      //   union of its faces' boxes (grown): holds every face point
+                                      //   inside the voxel, often much smaller than the voxel
   std::vector<std::uint32_t> occupied;  // summed-volume table of non-empty voxels,
                                         //   (nx+1)(ny+1)(nz+1): count with indices < (i, j, k)
   std::size_t face_count = 0;         // triangles of the mesh

@@ -98,7 +98,9 @@ TEST_CASE("each step filters: far apart, boxes overlap but voxels do not, faces"
   CHECK(r.counts.pairs_after_minimax == 1);
   CHECK(r.counts.pairs_after_voxels == 0);
 
-  e.set_pose(b, at(15, 25, 10));  // 1 mm from the inner wall x = 10: face pairs tested, no contact
+  // 0.01 mm from the inner wall x = 10, turned 45 deg about its axis (a vertex stays at
+  // 180 deg): its voxels' boxes, mapped into L's frame, reach the wall's; face pairs tested.
+  e.set_pose(b, at(14.01, 25, 10) * Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ()));
   r = e.check();
   CHECK_FALSE(r.collided);
   CHECK(r.counts.pairs_after_voxels == 1);
