@@ -126,7 +126,7 @@ TEST_CASE("STORE writes shortest round-trip numbers that LOAD reads back bit-equ
     CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
 }
 
-TEST_CASE("a failing STORE leaves the old file whole; LOAD of a damaged file changes nothing", "[monitor]") {
+TEST_CASE("a failing STORE leaves the old file whole, and LOAD of a damaged file changes nothing", "[monitor]") {
   const Session s = run_session("store-fail", "",
                                 "LOAD square\nSTORE keep\nDO extra = 1\nSTORE keep/inside.v2\n"
                                 "LOAD damaged\nDIRECTORY\nLISTR\n");
@@ -141,7 +141,7 @@ TEST_CASE("a failing STORE leaves the old file whole; LOAD of a damaged file cha
     CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
 }
 
-TEST_CASE("monitor usage: a missing FILE or a bad cell exits 1; asimov alone is the monitor", "[monitor]") {
+TEST_CASE("monitor usage: a missing FILE or a bad cell exits 1, and asimov alone is the monitor", "[monitor]") {
   CHECK(asimov::test::run_cli("monitor /nonexistent/x.v2").exit_code == 1);
   CHECK(asimov::test::run_cli("monitor --cell /nonexistent/cell.yaml").exit_code == 1);
   const auto alone = asimov::test::run_cli("", "where\nfoo\n");

@@ -107,7 +107,7 @@ TEST_CASE("LISTL prints the dialect's table: transformations, then precision poi
   CHECK(f.run("LISTL") .find("Precision point") == std::string::npos);
 }
 
-TEST_CASE("LISTP numbers the steps; DIRECTORY lists name(params) alphabetically", "[monitor]") {
+TEST_CASE("LISTP numbers the steps, DIRECTORY lists name(params) alphabetically", "[monitor]") {
   MonitorFixture f;
   REQUIRE(f.load(".PROGRAM zeta(a, $b, c[])\n; comment\n\n    TYPE a\n.END\n.PROGRAM alpha()\n.END\n").empty());
   CHECK(f.run("LISTP zeta") == ".PROGRAM zeta(a, $b, c[])\n   1  ; comment\n   2  \n   3      TYPE a\n.END\n");

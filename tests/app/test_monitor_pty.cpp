@@ -1,0 +1,163 @@
+// The interactive monitor in a real pseudo-terminal (forkpty): prompt, tab completion,
+// history (Ctrl-P, kept in ~/.asimov_history across sessions), Ctrl-C at the prompt and while
+// a program runs, the ZERO confirmation, Ctrl-D.
+#include "support/run_cli.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <poll.h>
+#include <pty.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One `asimov monitor` on the slave side of a pty, in `dir`, with HOME = `home`.
+class PtySession {
+ public:
+  PtySession(const fs::path& dir, const fs::path& home) {
+    winsize ws{};
+    ws.ws_row = 40;
+    ws.ws_col = 120;
+    pid_ = ::forkpty(&fd_, nullptr, nullptr, &ws);
+    if (pid_ == 0) {
+      if (::chdir(dir.c_str()) != 0) ::_exit(126);
+      ::setenv("HOME", home.c_str(), 1);
+      ::setenv("TERM", "xterm", 1);
+      ::execl(ASIMOV_BINARY, "asimov", "monitor", static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+  }
+  ~PtySession() {
+    if (pid_ > 0 && !exited_) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+    if (fd_ >= 0) ::close(fd_);
+  }
+  bool started() const { return pid_ > 0 && fd_ >= 0; }
+
+  void send(const std::string& keys) {
+    const ssize_t n = ::write(fd_, keys.data(), keys.size());
+    (void)n;
+  }
+
+  // Reads until `text` appears after the previous match (or the timeout); moves past it.
+  bool expect(const std::string& text, double timeout_s = 10) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    for (;;) {
+      if (const auto at = seen_.find(text, mark_); at != std::string::npos) {
+        mark_ = at + text.size();
+        return true;
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0 || !read_some(static_cast<int>(left.count()))) return false;
+    }
+  }
+
+  // Exit code after end of input, or -1.
+  int wait_exit(double timeout_s = 10) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    while (std::chrono::steady_clock::now() < deadline) {
+      read_some(50);
+      int status = 0;
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        exited_ = true;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      }
+    }
+    return -1;
+  }
+
+  const std::string& seen() const { return seen_; }
+  std::string since_mark() const { return seen_.substr(mark_); }
+
+ private:
+  bool read_some(int timeout_ms) {
+    pollfd p{fd_, POLLIN, 0};
+    if (::poll(&p, 1, timeout_ms) <= 0) return false;
+    char buf[4096];
+    const ssize_t n = ::read(fd_, buf, sizeof buf);
+    if (n <= 0) return false;
+    seen_.append(buf, static_cast<std::size_t>(n));
+    return true;
+  }
+
+  int fd_ = -1;
+  pid_t pid_ = -1;
+  bool exited_ = false;
+  std::string seen_;
+  std::size_t mark_ = 0;
+};
+
+}  // namespace
+
+TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C at the prompt, confirmation, Ctrl-D", "[monitor][pty]") {
+  const fs::path dir = asimov::test::scratch_dir() / "pty";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "home");
+  fs::copy_file(asimov::test::source_path("programs/monitor/square.v2"), dir / "square.v2");
+  {
+    PtySession s(dir, dir / "home");
+    REQUIRE(s.started());
+    REQUIRE(s.expect(". "));  // the prompt
+
+    s.send("LOAD square\r");
+    REQUIRE(s.expect(". "));
+
+    // Tab completes a unique prefix of a command, and of a program name.
+    s.send("WH\t");  // the line becomes WHERE (libedit may redraw only the new part)
+    REQUIRE(s.expect("ERE "));
+    s.send("\r");
+    REQUIRE(s.expect("         J1"));
+    REQUIRE(s.expect(". "));
+    s.send("EXECUTE tw\t");
+    REQUIRE(s.expect("ice "));
+    s.send("\r");
+    REQUIRE(s.expect("Program completed: twice"));
+
+    // Ctrl-P recalls the previous line (history).
+    s.send("\x10\r");
+    REQUIRE(s.expect("Program completed: twice"));
+
+    // Ctrl-C at the prompt drops the line being typed.
+    s.send("garbage");
+    REQUIRE(s.expect("garbage"));
+    s.send("\x03");
+    REQUIRE(s.expect(". "));  // a fresh prompt (the tty flushes input sent with the signal)
+    s.send("DIRECTORY\r");
+    REQUIRE(s.expect("square(a, $label)"));
+    CHECK(s.seen().find("*Unknown command*") == std::string::npos);
+
+    // ZERO asks first when interactive; "n" keeps everything.
+    s.send("ZERO\r");
+    REQUIRE(s.expect("Are you sure (Y/N)?"));
+    s.send("n\r");
+    s.send("DIRECTORY\r");
+    REQUIRE(s.expect("twice()"));
+
+    s.send("WHERE\r");
+    REQUIRE(s.expect("         J1"));
+    REQUIRE(s.expect(". "));
+    s.send("\x04");  // Ctrl-D on an empty line
+    CHECK(s.wait_exit() == 0);
+  }
+  const std::string history = asimov::test::slurp(dir / "home" / ".asimov_history");
+  CHECK(history.find("WHERE") != std::string::npos);
+  CHECK(history.find("EXECUTE") != std::string::npos);
+  {
+    PtySession s(dir, dir / "home");  // the history survives the session
+    REQUIRE(s.expect(". "));
+    s.send("\x10\r");  // the last line of the previous session: WHERE
+    REQUIRE(s.expect("         J1"));
+    s.send("QUIT\r");
+    CHECK(s.wait_exit() == 0);
+  }
+}
