@@ -337,7 +337,7 @@ int main(int argc, char** argv) {
       us = elapsed_us(t0);
       record(ours_strict, r, res2.joints, t, res2.success, us, strict.position_tol_mm, strict.rotation_tol_rad);
       t0 = Clock::now();
-      const IkResult cf = solve_ik(r, t, seed, Configuration{}, false);
+      const IkResult cf = solve_ik(r, t, seed, configuration_of(r, d), false);  // the truth configuration, as for the PUMA
       us = elapsed_us(t0);
       record(closed, r, cf.joints, t, cf.status == IkStatus::ok, us, 1e-6, 1e-9);
       const KDL::Frame goal = kdl_frame(t);

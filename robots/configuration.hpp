@@ -18,6 +18,9 @@ struct ConfigurationRequest {
 };
 
 // Configuration actually reached by a PUMA-type arm at `display` joints (kinematics.md §6):
+// A 6R chain with J1 _|_ J2 || J3 and a spherical wrist (spherical_wrist_model) gets the same
+// words from the same geometry (forward sign taken from its zero pose, where the wrist centre is
+// in front; ABOVE = elbow on the J1-axis side of the shoulder-wrist line).
 // Other arms (numeric IK) have no configuration words: the default RIGHTY ABOVE NOFLIP.
 // RIGHTY iff V >= 0, ABOVE iff sigma_s * wrap(theta2 - atan2(pz, V)) >= 0, NOFLIP iff J5 >= 0.
 Configuration configuration_of(const Robot& robot, const JointVector& display);

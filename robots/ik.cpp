@@ -24,9 +24,10 @@ bool nearest_in_range(double v, double near, double lo, double hi, double& out) 
   return best < std::numeric_limits<double>::infinity();
 }
 
-// Closed form for a chain arm with a spherical wrist: the solution nearest `current` within
-// limits. Returns false when the geometry does not apply or the FK check fails (then numeric).
-bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& current, IkResult& res) {
+// Closed form for a chain arm with a spherical wrist: the solution in configuration `want`
+// nearest `current` within limits (FLIP / NOFLIP merge at the wrist singularity). Returns false when the geometry does not apply or the FK check fails (then numeric).
+bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& current, const Configuration& want,
+                     IkResult& res) {
   SphericalWristModel model;
   if (current.size() != 6 || !spherical_wrist_model(robot, model)) return false;
   const JointVector cur_internal = display_to_dh(robot, current);
@@ -38,8 +39,13 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
   }
   double best = std::numeric_limits<double>::infinity(), best_bad = best;
   JointVector pick;
+  bool any = false;
   for (int k = 0; k < sols.count; ++k) {
     const JointVector raw = dh_to_display(robot, sols.q[static_cast<std::size_t>(k)]);
+    const Configuration c = configuration_of(robot, raw);
+    if (c.righty != want.righty || c.above != want.above) continue;
+    if (!sols.wrist_singular[static_cast<std::size_t>(k)] && c.noflip != want.noflip) continue;
+    any = true;
     JointVector sol(6);
     int bad = -1;
     double bad_value = 0;
@@ -59,6 +65,10 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
     const double dist = (sol - current).squaredNorm();
     if (dist < best) best = dist, pick = sol;
   }
+  if (!any) {  // the requested configuration does not reach the pose (as solve_puma)
+    res.status = IkStatus::out_of_reach;
+    return true;
+  }
   if (!(best < std::numeric_limits<double>::infinity())) {
     res.status = IkStatus::joint_limit;
     return true;
@@ -76,7 +86,7 @@ IkResult solve_ik(const Robot& robot, const Pose& flange, const JointVector& cur
                   bool single, const NumericIkOptions& options) {
   if (is_puma_type(robot)) return solve_puma(robot, flange, current, want, single);
   IkResult res;
-  if (solve_spherical(robot, flange, current, res)) return res;
+  if (solve_spherical(robot, flange, current, want, res)) return res;
   const NumericIkResult num = solve_numeric(robot, flange, current, options);
   if (num.success) {
     res.joints = num.joints;

@@ -86,7 +86,7 @@ TEST_CASE("spherical wrist: the PUMA as URDF gets the DH closed-form answers", "
     const Pose t = flange_pose(dh, d);
     JointVector near = d;  // a little off (two branches can be closer than this near a singularity)
     near[0] += 0.01, near[3] -= 0.01;
-    const IkResult a = solve_ik(u, t, near, Configuration{}, false);
+    const IkResult a = solve_ik(u, t, near, configuration_of(u, d), false);
     REQUIRE(a.status == IkStatus::ok);
     CHECK((a.joints - d).cwiseAbs().maxCoeff() < 1e-7);  // the nearest solution is the original
   }
@@ -99,19 +99,58 @@ TEST_CASE("spherical wrist: singular wrist keeps J4, reach and limits", "[ik][sp
   JointVector cur = JointVector::Zero(6);
   cur[3] = 30;
   const Pose t = flange_pose(r, JointVector::Zero(6));  // zero pose: axes 4 and 6 aligned
-  const IkResult res = solve_ik(r, t, cur, Configuration{}, true);
+  const IkResult res = solve_ik(r, t, cur, configuration_of(r, cur), true);
   REQUIRE(res.status == IkStatus::ok);
   CHECK(res.joints[3] == Approx(30).margin(1e-9));
   CHECK(std::abs(res.joints[4]) < 1e-9);
   CHECK(res.joints[5] == Approx(-30).margin(1e-7));
   Pose far = t;
   far.translation() = Vec3(3000, 0, 0);
-  CHECK(solve_ik(r, far, cur, Configuration{}, true).status == IkStatus::out_of_reach);
+  CHECK(solve_ik(r, far, cur, configuration_of(r, cur), true).status == IkStatus::out_of_reach);
   Robot narrow = r;
   narrow.lower[0] = -10, narrow.upper[0] = 10;
   JointVector side = JointVector::Zero(6);
   side[0] = 90, side[1] = 30;
-  const IkResult lim = solve_ik(narrow, flange_pose(r, side), JointVector::Zero(6), Configuration{}, true);
+  const IkResult lim = solve_ik(narrow, flange_pose(r, side), JointVector::Zero(6), configuration_of(r, side), true);
   CHECK(lim.status == IkStatus::joint_limit);
   CHECK(lim.joint == 0);
+}
+
+TEST_CASE("spherical wrist: configuration words agree with the PUMA's and select the branch", "[ik][spherical][configuration]") {
+  const Robot dh = puma560();
+  const Robot u = load_urdf(kData + "puma560.urdf");
+  std::mt19937 rng(77);
+  int disagree = 0, tested = 0;
+  for (int n = 0; n < 5000; ++n) {
+    const JointVector d = random_joints(dh, rng);
+    if (std::abs(d[4]) < 0.01) continue;
+    ++tested;
+    disagree += !(configuration_of(u, d) == configuration_of(dh, d));
+  }
+  CHECK(disagree == 0);
+  CHECK(tested > 4900);
+  // Every configuration of a pose of each arm: the solution carries the requested words.
+  for (const char* file : {"generic6.urdf", "puma560.urdf"}) {
+    const Robot r = load_urdf(kData + file);
+    JointVector start(6);
+    start << 20, 30, -40, 40, -50, 60;
+    if (std::string(file) == "puma560.urdf") start << 20, -30, 100, 40, -50, 60;
+    const Pose t = flange_pose(r, start);
+    int reached = 0;
+    for (int mask = 0; mask < 8; ++mask) {
+      const Configuration want{(mask & 1) != 0, (mask & 2) != 0, (mask & 4) != 0};
+      const IkResult res = solve_ik(r, t, start, want, false);
+      INFO(file << " mask " << mask);
+      if (res.status != IkStatus::ok) continue;
+      ++reached;
+      CHECK(configuration_of(r, res.joints) == want);
+      double ep, er;
+      pose_error(r, res.joints, t, ep, er);
+      CHECK(ep < 1e-9);
+      CHECK(er < 1e-12);
+      if (want == configuration_of(r, start)) CHECK((res.joints - start).cwiseAbs().maxCoeff() < 1e-9);
+    }
+    WARN(file << ": " << reached << " of 8 configurations reachable within limits");
+    CHECK(reached >= 2);
+  }
 }

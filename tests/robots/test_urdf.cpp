@@ -200,7 +200,7 @@ TEST_CASE("URDF: numeric IK near the seed keeps the nearby solution", "[urdf][ik
     const JointVector q = random_joints(r, rng);
     JointVector near = q;
     for (int i = 0; i < 6; ++i) near[i] = std::clamp(q[i] + small(rng), r.lower[i], r.upper[i]);
-    const IkResult res = solve_ik(r, flange_pose(r, near), q, Configuration{}, true);
+    const IkResult res = solve_ik(r, flange_pose(r, near), q, configuration_of(r, near), true);
     REQUIRE(res.status == IkStatus::ok);
     CHECK((res.joints - near).cwiseAbs().maxCoeff() < 1e-5);
   }
@@ -211,7 +211,7 @@ TEST_CASE("URDF: numeric IK tells out of reach from a joint limit", "[urdf][ik]"
   const JointVector ready = ready_joints(r);
   Pose far = flange_pose(r, ready);
   far.translation() = Vec3(3000, 0, 900);
-  CHECK(solve_ik(r, far, ready, Configuration{}, true).status == IkStatus::out_of_reach);
+  CHECK(solve_ik(r, far, ready, configuration_of(r, ready), true).status == IkStatus::out_of_reach);
   // J1 held to [-10, 10]: a pose beside the arm (J1 = 90, or -90 reaching over backwards) is
   // reachable only outside the J1 range.
   Robot narrow = r;
@@ -219,7 +219,7 @@ TEST_CASE("URDF: numeric IK tells out of reach from a joint limit", "[urdf][ik]"
   JointVector q = ready;
   q[0] = 90;
   q[1] = 30;
-  const IkResult res = solve_ik(narrow, flange_pose(r, q), ready, Configuration{}, true);
+  const IkResult res = solve_ik(narrow, flange_pose(r, q), ready, configuration_of(r, q), true);
   CHECK(res.status == IkStatus::joint_limit);
   CHECK(res.joint == 0);
   CHECK(std::abs(res.value) > 10);
