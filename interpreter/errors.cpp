@@ -9,7 +9,7 @@
 namespace asimov::val {
 namespace {
 
-constexpr std::array<std::string_view, 9> kErrorMessages = {
+constexpr std::array<std::string_view, 10> kErrorMessages = {
     "*Syntax error*",
     "*Undefined program or variable name*",
     "*Undefined value*",
@@ -19,6 +19,7 @@ constexpr std::array<std::string_view, 9> kErrorMessages = {
     "*Too many statements*",  // our limit on executed statements (runaway programs)
     "*Motion error*",         // replaced by the simulator's own text
     "*Not supported in simulation*",
+    "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps
 };
 static_assert(kErrorMessages.size() == static_cast<std::size_t>(ErrorKind::count));
 

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <ostream>
 
 namespace asimov::val {
@@ -55,18 +56,63 @@ const char* op_text(Op op) {
 Evaluator::Evaluator(motion::Simulator& sim, std::ostream& out, Memory& memory, const Limits& limits)
     : sim_(sim), out_(out), memory_(memory), limits_(limits) {}
 
-// --- the protected boundary -----------------------------------------------------------------
-
 RunResult Evaluator::run(int slot) {
-  RunResult result;
+  std::optional<Stopped> earlier = std::move(stopped_);  // a run keeps a stopped execution
+  stopped_.reset();
   stack_.clear();
   speed_always_ = 100;  // each execution starts with SPEED 100 ALWAYS
   speed_next_.reset();
-  statements_ = 0;
-  warnings_.clear();
   current_program_ = nullptr;
   current_line_ = 0;
   motion_program_ = nullptr;
+  last_motion_.reset();
+  RunResult r = protected_run(memory_.symbols.programs[static_cast<std::size_t>(slot)], [&] {
+    const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
+    if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
+    Frame top;
+    top.program = program;
+    for (std::size_t i = 0; i < program->params.size() + program->autos.size(); ++i) {
+      top.owned.push_back(std::make_unique<Variable>());
+      top.params.push_back(top.owned.back().get());
+    }
+    top.temps.resize(static_cast<std::size_t>(program->temps));
+    stack_.push_back(std::move(top));
+  });
+  if (!stopped_) stopped_ = std::move(earlier);  // only the latest stopped execution is kept
+  return r;
+}
+
+bool Evaluator::can_resume() const { return stopped_.has_value(); }
+
+void Evaluator::abort() { stopped_.reset(); }
+
+RunResult Evaluator::resume(bool retry) {
+  if (!stopped_) {
+    RunResult r;
+    r.status = RunStatus::error;
+    r.error.message = "*No program to resume*";
+    return r;
+  }
+  Stopped s = std::move(*stopped_);
+  stopped_.reset();
+  stack_ = std::move(s.stack);
+  speed_always_ = s.speed_always;
+  speed_next_ = s.speed_next;
+  last_motion_ = s.motion;
+  return protected_run(s.program, [&] {
+    // After a collision the step that found the contact runs again (PROCEED and RETRY);
+    // RETRY after an error re-runs the failing step; PROCEED after an error skips it.
+    if (!stack_.empty() && (retry || s.status == RunStatus::collision)) --stack_.back().pc;
+    if (retry && s.status == RunStatus::collision && last_motion_) start_motion(*last_motion_);
+  });
+}
+
+// --- the protected boundary -----------------------------------------------------------------
+
+RunResult Evaluator::protected_run(const std::string& name, const std::function<void()>& setup) {
+  RunResult result;
+  statements_ = 0;
+  warnings_.clear();
   memory_.globals.resize(memory_.symbols.globals.size());
 
   auto locate = [&](Diagnostic& d, const Program* p, int line) {
@@ -91,31 +137,25 @@ RunResult Evaluator::run(int slot) {
   };
 
   try {
-    const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
-    if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
-    Frame top;
-    top.program = program;
-    for (std::size_t i = 0; i < program->params.size() + program->autos.size(); ++i) {
-      top.owned.push_back(std::make_unique<Variable>());
-      top.params.push_back(top.owned.back().get());
-    }
-    top.temps.resize(static_cast<std::size_t>(program->temps));
-    stack_.push_back(std::move(top));
+    setup();
     while (!stack_.empty()) {
       Frame& f = stack_.back();
       if (f.pc >= static_cast<int>(f.program->code.size())) {  // .END returns
         stack_.pop_back();
         continue;
       }
-      const Instr& in = f.program->code[static_cast<std::size_t>(f.pc++)];
+      const Instr& in = f.program->code[static_cast<std::size_t>(f.pc)];
       current_program_ = f.program.get();
       current_line_ = in.line;
+      // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
+      if (limits_.interrupt && limits_.interrupt->load(std::memory_order_relaxed))
+        raise(ErrorKind::interrupted);
+      ++f.pc;
       if (++statements_ > limits_.max_statements)
         raise(ErrorKind::too_many_statements, fmt::format("more than {}", limits_.max_statements));
       execute(in);
     }
     finish_motion();  // the last motion completes at the end of the run
-    if (!result.program.empty()) result.line = result.step = 0;
   } catch (const RuntimeError& e) {
     result.status = RunStatus::error;
     result.error.message = e.message;
@@ -133,8 +173,10 @@ RunResult Evaluator::run(int slot) {
     collided(c.report);
   }
   if (result.status == RunStatus::completed) {
-    result.program = memory_.symbols.programs[static_cast<std::size_t>(slot)];
+    result.program = name;
     result.line = result.step = 0;
+  } else if (!stack_.empty() || result.status == RunStatus::collision) {
+    stopped_ = Stopped{std::move(stack_), result.status, name, speed_always_, speed_next_, last_motion_};
   }
   stack_.clear();
   result.warnings = std::move(warnings_);
@@ -392,14 +434,13 @@ void Evaluator::motion(const Instr& in) {
       const double s = to_real(eval(in.args[2]), "DRIVE speed");
       if (j < 1 || j > sim_.robot().joint_count()) raise(ErrorKind::illegal_value, fmt::format("joint {}", j));
       if (!(s >= 1 && s <= 100)) raise(ErrorKind::illegal_value, fmt::format("DRIVE speed {}", format_number(s)));
-      robots::JointVector q = sim_.joints();
-      q[j - 1] += change;
-      const motion::MotionResult r = sim_.start_joint_move(q, {speed_monitor_, s}, in.line - current_program_->line);
-      motion_program_ = current_program_;
-      motion_line_ = in.line;
-      if (r.status == motion::MotionStatus::error) raise_text(r.error.message, r.error.detail);
-      if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
-      return;  // the program speed does not apply and is not consumed
+      MotionRequest m;
+      m.joints = sim_.joints();
+      (*m.joints)[j - 1] += change;
+      m.speed = {speed_monitor_, s};
+      m.program = current_program_;
+      m.line = in.line;
+      return start_motion(m);  // the program speed does not apply and is not consumed
     }
     case Code::draw: {  // SHIFT(HERE BY dx, dy, dz), HERE after the previous motion
       motion::Location t = sim_.here();
@@ -421,19 +462,30 @@ void Evaluator::motion(const Instr& in) {
       break;
     }
   }
-  const motion::SpeedSettings speed{speed_monitor_, speed_next_.value_or(speed_always_)};
+  MotionRequest m;
+  m.speed = {speed_monitor_, speed_next_.value_or(speed_always_)};
   speed_next_.reset();
-  const int step = in.line - current_program_->line;
-  motion::MotionResult r;
+  m.straight = straight;
+  m.program = current_program_;
+  m.line = in.line;
   if (const auto* j = std::get_if<robots::JointVector>(&*target); j && !straight) {
-    r = sim_.start_joint_move(*j, speed, step);
+    m.joints = *j;
   } else {
     if (kind_of(*target) != Kind::trans && kind_of(*target) != Kind::ppoint)
       raise(ErrorKind::illegal_value, fmt::format("location expected, not a {}", kind_name(kind_of(*target))));
-    r = sim_.start_move(as_pose(*target, sim_), straight, speed, step);
+    m.pose = as_pose(*target, sim_);
   }
-  motion_program_ = current_program_;
-  motion_line_ = in.line;
+  start_motion(m);
+}
+
+// Starts a resolved motion (also RETRY's restart of an interrupted one).
+void Evaluator::start_motion(const MotionRequest& m) {
+  const int step = m.line - m.program->line;
+  const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
+                                          : sim_.start_move(m.pose, m.straight, m.speed, step);
+  motion_program_ = m.program;
+  motion_line_ = m.line;
+  last_motion_ = m;
   if (r.status == motion::MotionStatus::error) raise_text(r.error.message, r.error.detail);
   if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
 }

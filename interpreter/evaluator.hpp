@@ -7,6 +7,8 @@
 #include "interpreter/values.hpp"
 #include <array>
 #include <deque>
+#include <functional>
+#include <string>
 #include <set>
 #include <utility>
 #include <iosfwd>
@@ -29,8 +31,12 @@ struct Memory {
 class Evaluator {
  public:
   Evaluator(motion::Simulator& sim, std::ostream& out, Memory& memory, const Limits& limits);
-  // Runs the program in `slot` to its end; the one protected boundary for runtime errors.
+  // Runs the program in `slot` to its end. A stopped execution kept from earlier survives.
   RunResult run(int slot);
+  // The execution the last error or collision stopped (dialect §9 PROCEED / RETRY).
+  bool can_resume() const;
+  RunResult resume(bool retry);
+  void abort();
 
  private:
   struct Frame {
@@ -41,6 +47,28 @@ class Evaluator {
     int pc = 0;                                    // next instruction
   };
 
+  // A resolved motion, kept so that RETRY can restart it after a collision.
+  struct MotionRequest {
+    std::optional<robots::JointVector> joints;  // joint target, or else `pose`
+    motion::Location pose = motion::Location::Identity();
+    bool straight = false;
+    motion::SpeedSettings speed;
+    const Program* program = nullptr;           // the motion instruction
+    int line = 0;
+  };
+  // An execution stopped by an error or a collision, for PROCEED / RETRY.
+  struct Stopped {
+    std::vector<Frame> stack;
+    RunStatus status = RunStatus::error;
+    std::string program;                        // the program the run started with
+    double speed_always = 100;
+    std::optional<double> speed_next;
+    std::optional<MotionRequest> motion;
+  };
+
+  // The one protected boundary: runs `setup` then the loop; raises become the result.
+  RunResult protected_run(const std::string& name, const std::function<void()>& setup);
+  void start_motion(const MotionRequest& m);
   void execute(const Instr& in);
   void call(const Instr& in);
   void motion(const Instr& in);
@@ -74,6 +102,8 @@ class Evaluator {
   double speed_monitor_ = 100;
   std::uint64_t statements_ = 0;
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
+  std::optional<MotionRequest> last_motion_;  // the last motion started
+  std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
 };
 
 }  // namespace asimov::val

@@ -90,6 +90,22 @@ RunResult Interpreter::run(const std::string& name) {
 
 Limits& Interpreter::limits() { return impl_->limits; }
 
+bool Interpreter::can_resume() const { return impl_->evaluator && impl_->evaluator->can_resume(); }
+
+RunResult Interpreter::proceed() {
+  if (!impl_->evaluator) impl_->evaluator = std::make_unique<Evaluator>(impl_->sim, impl_->out, impl_->memory, impl_->limits);
+  return impl_->evaluator->resume(false);
+}
+
+RunResult Interpreter::retry() {
+  if (!impl_->evaluator) impl_->evaluator = std::make_unique<Evaluator>(impl_->sim, impl_->out, impl_->memory, impl_->limits);
+  return impl_->evaluator->resume(true);
+}
+
+void Interpreter::abort() {
+  if (impl_->evaluator) impl_->evaluator->abort();
+}
+
 Memory& Interpreter::memory() { return impl_->memory; }
 
 }  // namespace asimov::val

@@ -65,6 +65,16 @@ class Interpreter {
 
   Limits& limits();
 
+  // The execution that the last error or collision stopped (dialect §9). PROCEED skips the
+  // failing step (after a collision: drops the interrupted motion and re-runs the step that
+  // found the contact); RETRY re-runs the failing step (after a collision: first restarts the
+  // interrupted motion from the halted pose). run() keeps a stopped execution (so DO can
+  // fix a value before RETRY); abort() drops it. Without one: "*No program to resume*".
+  bool can_resume() const;
+  RunResult proceed();
+  RunResult retry();
+  void abort();
+
   // For the monitor (monitor.cpp): what LOAD put in memory, read and changed in place.
   Memory& memory();
 

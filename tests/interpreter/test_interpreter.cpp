@@ -3,6 +3,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <atomic>
+
 using asimov::test::InterpreterFixture;
 using asimov::val::RunStatus;
 
@@ -144,4 +146,65 @@ TEST_CASE("a block opener with a syntax error causes no second error", "[interpr
   CHECK(d[0].line == 4);
   d = f.load(".PROGRAM p()\n  x = (1\n.END\n.PROGRAM q()\n  END\n.END\n");
   CHECK(d.size() == 2);  // another program's block errors still count
+}
+
+TEST_CASE("PROCEED and RETRY continue a stopped execution", "[interpreter][resume]") {
+  InterpreterFixture f;
+  REQUIRE(f.load(".PROGRAM main()\n  TYPE \"a\"\n  x = 1 / d\n  TYPE \"b\", x\n.END\n"
+                 ".PROGRAM fix()\n  d = 4\n.END\n").empty());
+  CHECK_FALSE(f.interp.can_resume());
+  auto r = f.interp.run("main");
+  REQUIRE(r.status == RunStatus::error);  // d undefined
+  CHECK(f.interp.can_resume());
+  REQUIRE(f.interp.run("fix").status == RunStatus::completed);  // a run in between keeps it
+  CHECK(f.interp.can_resume());
+  r = f.interp.retry();  // re-runs x = 1 / d
+  CHECK(r.status == RunStatus::completed);
+  CHECK(r.program == "main");
+  CHECK(f.out.str() == "a\nb0.25\n");
+  CHECK_FALSE(f.interp.can_resume());
+
+  r = f.interp.run("main");  // d is 4 now: completes
+  REQUIRE(r.status == RunStatus::completed);
+  REQUIRE(f.load(".PROGRAM skip()\n  TYPE \"1\"\n  y = nothing\n  TYPE \"2\"\n.END\n").empty());
+  REQUIRE(f.interp.run("skip").status == RunStatus::error);
+  f.out.str("");
+  r = f.interp.proceed();  // skips y = nothing
+  CHECK(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "2\n");
+
+  r = f.interp.proceed();
+  CHECK(r.status == RunStatus::error);
+  CHECK(r.error.message == "*No program to resume*");
+
+  REQUIRE(f.interp.run("skip").status == RunStatus::error);
+  f.interp.abort();
+  CHECK_FALSE(f.interp.can_resume());
+}
+
+TEST_CASE("a stopped execution keeps its call stack and speed", "[interpreter][resume]") {
+  InterpreterFixture f;
+  REQUIRE(f.load(".PROGRAM main()\n  SPEED 30 ALWAYS\n  CALL sub(3)\n  TYPE \"back\"\n.END\n"
+                 ".PROGRAM sub(n)\n  TYPE n\n  z = zz\n  TYPE n + 1\n.END\n").empty());
+  REQUIRE(f.interp.run("main").status == RunStatus::error);
+  const auto r = f.interp.proceed();
+  CHECK(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "3\n4\nback\n");
+}
+
+TEST_CASE("an interrupt stops the run between steps; PROCEED runs the next step", "[interpreter][resume]") {
+  InterpreterFixture f;
+  std::atomic<bool> interrupt{false};
+  f.interp.limits().interrupt = &interrupt;
+  REQUIRE(f.load(".PROGRAM main()\n  TYPE 1\n  TYPE 2\n.END\n").empty());
+  interrupt = true;
+  auto r = f.interp.run("main");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Program interrupted*");
+  CHECK(r.error.step == 1);
+  CHECK(f.out.str().empty());
+  interrupt = false;
+  r = f.interp.proceed();
+  CHECK(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "1\n2\n");
 }

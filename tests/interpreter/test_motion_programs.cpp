@@ -188,6 +188,16 @@ TEST_CASE("a collision ends the run and names the motion's step", "[motion][coll
   CHECK(r.collision.tag == 3);
   CHECK((r.collision.body_a == "box" || r.collision.body_b == "box"));
   CHECK(out.str() == "typed before the motion runs\n");
+
+  // RETRY restarts the interrupted motion from the halted pose: it meets the box again.
+  REQUIRE(interp.can_resume());
+  const val::RunResult again = interp.retry();
+  CHECK(again.status == RunStatus::collision);
+  CHECK(again.error.step == 3);
+  // PROCEED drops it; contact was found at the program's end, so nothing is left to run.
+  const val::RunResult done = interp.proceed();
+  CHECK(done.status == RunStatus::completed);
+  CHECK_FALSE(interp.can_resume());
 }
 
 TEST_CASE("READY, DRAW, TOOL, BASE and configuration words", "[motion]") {
