@@ -192,7 +192,7 @@ TEST_CASE("containment: a body inside another collides, a body in a cavity does 
   CHECK(h.check().contact.kind == ContactKind::containment);
 }
 
-TEST_CASE("static bodies keep their world data; moving the other body works", "[engine]") {
+TEST_CASE("static bodies keep their world data and moving the other body works", "[engine]") {
   Engine e;
   const BodyId table = e.add_body({.name = "table", .mesh = make_box(Vec3(100, 100, 10)), .is_static = true});
   const BodyId tool = e.add_body({.name = "tool", .mesh = make_cylinder(5, 20, 12)});

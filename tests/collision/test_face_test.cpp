@@ -178,7 +178,7 @@ TEST_CASE("fuzz on a small integer grid agrees with the edge oracle under all sy
   CHECK(hits > 1000);
 }
 
-TEST_CASE("fuzz in general position agrees with the oracle; contact points lie on both", "[face_test]") {
+TEST_CASE("fuzz in general position agrees with the oracle and contact points lie on both", "[face_test]") {
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<double> u(-50, 50);
   auto point = [&] { return Vec3(u(rng), u(rng), u(rng)); };

@@ -67,7 +67,7 @@ std::string binary_stl(const std::vector<std::array<Vec3, 3>>& faces) {
 
 }  // namespace
 
-TEST_CASE("STL ASCII and binary give the same welded, closed cube; scale applies", "[mesh_io]") {
+TEST_CASE("STL ASCII and binary give the same welded closed cube and scale applies", "[mesh_io]") {
   const std::string a = write("cube_ascii.stl", ascii_stl(cube_faces()));
   const std::string b = write("cube_binary.STL", binary_stl(cube_faces()));
   const LoadedMesh ma = read_stl(a), mb = read_mesh(b);
