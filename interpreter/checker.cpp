@@ -780,23 +780,4 @@ int precedence(ast::Op op) { return kPrecedence[static_cast<std::size_t>(op)]; }
 CheckResult check_source(const ParsedSource& source, Symbols& symbols, int joint_count) {
   return Checker(source, symbols, joint_count).run();
 }
-
-void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& diagnostics) {
-  for (Diagnostic& d : diagnostics) {
-    if (!d.program.empty() || d.line < 1) continue;
-    // The nearest .PROGRAM above the line, unless an .END closes it first.
-    for (int i = d.line - 2; i >= 0; --i) {
-      const auto& stmt = source.lines[static_cast<std::size_t>(i)].statement;
-      if (!stmt) continue;
-      if (const auto* h = boost::get<ast::ProgramHeader>(&*stmt)) {
-        d.program = normalize_name(h->name);
-        d.step = d.line - (i + 1);
-        break;
-      }
-      const auto* in = boost::get<ast::Instruction>(&*stmt);
-      if (in && in->kw == Kw::dot_end) break;
-    }
-  }
-}
-
 }  // namespace asimov::val

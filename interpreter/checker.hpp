@@ -33,8 +33,6 @@ struct CheckResult {
 // `joint_count`: values of a precision point in a .LOCATIONS section.
 CheckResult check_source(const ParsedSource& source, Symbols& symbols, int joint_count = 6);
 
-// Adds program and step to syntax errors found by the parser (which parses line by line).
-void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& diagnostics);
 
 // Precedence level of a binary operator (dialect §3; higher binds tighter).
 int precedence(ast::Op op);

@@ -12,6 +12,29 @@
 
 namespace asimov::val {
 
+namespace {
+
+// Adds program and step to syntax errors found by the parser (which parses line by line).
+void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& diagnostics) {
+  for (Diagnostic& d : diagnostics) {
+    if (!d.program.empty() || d.line < 1) continue;
+    // The nearest .PROGRAM above the line, unless an .END closes it first.
+    for (int i = d.line - 2; i >= 0; --i) {
+      const auto& stmt = source.lines[static_cast<std::size_t>(i)].statement;
+      if (!stmt) continue;
+      if (const auto* h = boost::get<ast::ProgramHeader>(&*stmt)) {
+        d.program = normalize_name(h->name);
+        d.step = d.line - (i + 1);
+        break;
+      }
+      const auto* in = boost::get<ast::Instruction>(&*stmt);
+      if (in && in->kw == ast::Kw::dot_end) break;
+    }
+  }
+}
+
+}  // namespace
+
 struct Interpreter::Impl {
   motion::Simulator& sim;
   std::ostream& out;
