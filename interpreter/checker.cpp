@@ -780,4 +780,5 @@ int precedence(ast::Op op) { return kPrecedence[static_cast<std::size_t>(op)]; }
 CheckResult check_source(const ParsedSource& source, Symbols& symbols, int joint_count) {
   return Checker(source, symbols, joint_count).run();
 }
+
 }  // namespace asimov::val
