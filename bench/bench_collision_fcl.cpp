@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -72,6 +73,9 @@ std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const Polyhedron& m) {
   return model;
 }
 
+struct Row;
+void profile(const std::vector<collision::QueryResult>& results, const std::vector<double>& t, Row& row);
+
 struct Disagreements {
   int touching = 0, containment = 0, other = 0;
   int total() const { return touching + containment + other; }
@@ -82,6 +86,9 @@ struct Row {
   std::size_t queries = 0;
   std::string m{};  // halvings chosen per body
   double voxel_pairs = 0, face_pairs = 0, after_minimax = 0;  // means per query (ours)
+  // Filter profile (four-step.md §8): where each of our queries ended, with its median time.
+  std::array<std::size_t, 4> ended{};      // step 2, step 3, step 4 free, contact
+  std::array<double, 4> ended_median_us{};
   Stats ours{}, peer{};
   double ours_prep_ms = 0, peer_prep_ms = 0;
   double ours_colliding = 0, peer_colliding = 0;
@@ -89,6 +96,19 @@ struct Row {
   double ratio() const { return ours.median / peer.median; }
   double agreement() const { return 1.0 - static_cast<double>(dis.total()) / static_cast<double>(queries); }
 };
+
+void profile(const std::vector<collision::QueryResult>& results, const std::vector<double>& t, Row& row) {
+  std::array<std::vector<double>, 4> by;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const auto& r = results[i];
+    const int k = r.collided ? 3 : r.counts.pairs_after_minimax == 0 ? 0 : r.counts.pairs_after_voxels == 0 ? 1 : 2;
+    by[static_cast<std::size_t>(k)].push_back(t[i]);
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    row.ended[k] = by[k].size();
+    row.ended_median_us[k] = by[k].empty() ? 0 : stats(by[k]).median;
+  }
+}
 
 // Why ours and FCL differ on one pair at one pose. Ours is the exact answer (checked against
 // brute force here); FCL misses containment and decides touching with its own rounding.
@@ -168,6 +188,7 @@ Row pair_row(const std::string& name, const Polyhedron& fixed, const Polyhedron&
   row.peer_colliding /= static_cast<double>(poses.size());
   row.ours = stats(tours);
   row.peer = stats(tpeer);
+  profile(results, tours, row);
   return row;
 }
 
@@ -310,6 +331,7 @@ Row puma_row(const std::string& name, int moves, int samples) {
   row.peer_colliding /= static_cast<double>(q);
   row.ours = stats(tours);
   row.peer = stats(tpeer);
+  profile(results, tours, row);
   return row;
 }
 
@@ -319,6 +341,10 @@ void print(const Row& r) {
               r.name.c_str(), r.queries, r.ours.median, r.ours.p95, r.ours.mean, r.peer.median, r.peer.p95,
               r.peer.mean, r.ratio(), 100 * r.ours_colliding, 100 * r.peer_colliding, r.agreement(), r.dis.touching,
               r.dis.containment, r.dis.other, r.ours_prep_ms, r.peer_prep_ms, r.m.c_str(), r.after_minimax, r.voxel_pairs, r.face_pairs);
+  std::printf("    ours ended at: step 2 %zu (median %.2f us), step 3 %zu (%.2f us), step 4 free %zu (%.2f us), "
+              "contact %zu (%.2f us)\n",
+              r.ended[0], r.ended_median_us[0], r.ended[1], r.ended_median_us[1], r.ended[2], r.ended_median_us[2],
+              r.ended[3], r.ended_median_us[3]);
   std::fflush(stdout);
 }
 
@@ -368,7 +394,11 @@ int main(int argc, char** argv) {
                  {"queries", r.queries}, {"colliding", r.ours_colliding}, {"peer_colliding", r.peer_colliding},
                  {"disagree_touching", r.dis.touching}, {"disagree_containment", r.dis.containment},
                  {"disagree_other", r.dis.other}, {"halvings", r.m}, {"mean_voxel_pairs", r.voxel_pairs}, {"mean_face_pairs", r.face_pairs},
-                 {"mean_pairs_after_minimax", r.after_minimax}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
+                 {"mean_pairs_after_minimax", r.after_minimax},
+                 {"ended_step2", r.ended[0]}, {"ended_step3", r.ended[1]}, {"ended_step4_free", r.ended[2]},
+                 {"ended_contact", r.ended[3]}, {"ended_step2_median_us", r.ended_median_us[0]},
+                 {"ended_step3_median_us", r.ended_median_us[1]}, {"ended_step4_free_median_us", r.ended_median_us[2]},
+                 {"ended_contact_median_us", r.ended_median_us[3]}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
   if (!only.empty()) out += ".partial";  // a partial run never overwrites the committed results
   std::ofstream(out) << j.dump(2) << "\n";
   std::printf("wrote %s\n", out.c_str());

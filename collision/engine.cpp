@@ -14,6 +14,7 @@
 #include "collision/voxel_grid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -237,6 +238,29 @@ struct Engine::Impl {
     return false;
   }
 
+  static constexpr int kTopBlock = 16;  // block sides visited: 16, 4, then single voxels
+
+  // The B voxels of the block of side `side` at `lo` (clipped to B's sub-matrix).
+  bool visit_block(BodyId ia, BodyId ib, const VoxelMapping& vm, std::array<int, 3> lo, int side, double pad,
+                   bool& any_pair, QueryResult& res) {
+    const VoxelGrid& ga = *bodies[ia].grid;
+    const VoxelGrid& gb = *bodies[ib].grid;
+    const CellRange& sb = vm.sub.b;
+    CellRange block;
+    block.lo = lo;
+    for (int x = 0; x < 3; ++x) block.hi[x] = std::min(lo[x] + side - 1, sb.hi[x]);
+    if (gb.count_nonempty(block) == 0) return false;
+    if (ga.count_nonempty(vm.a_cells_of_block(ga, block)) == 0) return false;
+    const int sub = side / 4;
+    for (int k = block.lo[2]; k <= block.hi[2]; k += sub)
+      for (int j = block.lo[1]; j <= block.hi[1]; j += sub)
+        for (int i = block.lo[0]; i <= block.hi[0]; i += sub)
+          if (sub == 1 ? visit_b_voxel(ia, ib, vm, i, j, k, pad, any_pair, res)
+                       : visit_block(ia, ib, vm, {i, j, k}, sub, pad, any_pair, res))
+            return true;
+    return false;
+  }
+
   bool test_pair(BodyId ia, BodyId ib, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
@@ -261,26 +285,15 @@ struct Engine::Impl {
     if (!vm.empty()) {
       bool any_pair = false;
       if (mark.size() < ga.face_count) mark.resize(ga.face_count, 0);
-      // Blocks of 4 x 4 x 4 B voxels first: a block with no non-empty voxel, or whose mapped
-      // box meets no non-empty A voxel, is skipped whole (summed-volume counts, O(1) each).
-      // The block box is grown twice as much as a voxel's, so it holds every voxel box of the
-      // block despite the different rounding of its corner.
-      constexpr int kBlock = 4;
+      // Blocks of 16^3, then 4^3 B voxels first: a block with no non-empty voxel, or whose
+      // mapped box meets no non-empty A voxel, is skipped whole (summed-volume counts, O(1)
+      // each). The block box is grown twice as much as a voxel's, so it holds every voxel box
+      // of the block despite the different rounding of its corner.
       const CellRange& sb = vm.sub.b;
-      for (int k0 = sb.lo[2]; k0 <= sb.hi[2]; k0 += kBlock)
-        for (int j0 = sb.lo[1]; j0 <= sb.hi[1]; j0 += kBlock)
-          for (int i0 = sb.lo[0]; i0 <= sb.hi[0]; i0 += kBlock) {
-            CellRange block;
-            block.lo = {i0, j0, k0};
-            block.hi = {std::min(i0 + kBlock - 1, sb.hi[0]), std::min(j0 + kBlock - 1, sb.hi[1]),
-                        std::min(k0 + kBlock - 1, sb.hi[2])};
-            if (gb.count_nonempty(block) == 0) continue;
-            if (ga.count_nonempty(vm.a_cells_of_block(ga, block)) == 0) continue;
-            for (int k = block.lo[2]; k <= block.hi[2]; ++k)
-              for (int j = block.lo[1]; j <= block.hi[1]; ++j)
-                for (int i = block.lo[0]; i <= block.hi[0]; ++i)
-                  if (visit_b_voxel(ia, ib, vm, i, j, k, pad, any_pair, res)) return true;
-          }
+      for (int k0 = sb.lo[2]; k0 <= sb.hi[2]; k0 += kTopBlock)
+        for (int j0 = sb.lo[1]; j0 <= sb.hi[1]; j0 += kTopBlock)
+          for (int i0 = sb.lo[0]; i0 <= sb.hi[0]; i0 += kTopBlock)
+            if (visit_block(ia, ib, vm, {i0, j0, k0}, kTopBlock, pad, any_pair, res)) return true;
     }
     // §6.1: no faces meet, but one body may lie inside the other.
     if (contained(ia, ib, margin, res.contact)) {
