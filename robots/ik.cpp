@@ -42,9 +42,9 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
   bool any = false;
   for (int k = 0; k < sols.count; ++k) {
     const JointVector raw = dh_to_display(robot, sols.q[static_cast<std::size_t>(k)]);
-    const Configuration c = configuration_of(robot, raw);
-    if (c.righty != want.righty || c.above != want.above) continue;
-    if (!sols.wrist_singular[static_cast<std::size_t>(k)] && c.noflip != want.noflip) continue;
+    const auto slot = static_cast<std::size_t>(k);
+    if (sols.righty[slot] != want.righty || sols.above[slot] != want.above) continue;
+    if (!sols.wrist_singular[slot] && (raw[4] >= 0) != want.noflip) continue;
     any = true;
     JointVector sol(6);
     int bad = -1;

@@ -1,6 +1,8 @@
 // Paden-Kahan closed form for J1 _|_ J2 || J3 arms with a spherical wrist.
 #include "robots/ik_spherical.hpp"
 
+#include "robots/configuration.hpp"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -73,7 +75,36 @@ bool spherical_wrist_model(const Robot& robot, SphericalWristModel& m) {
   if (!closest(p[3], w[3], p[4], w[4], a, b) || !closest(p[4], w[4], p[5], w[5], c, d)) return false;
   if ((a - b).norm() > kMeet || (c - d).norm() > kMeet || (a - c).norm() > kMeet) return false;
   m.wrist = (a + b + c + d) / 4;
+  m.wrist_in_flange = m.zero_flange.inverse() * m.wrist;
+  // Forward = axis2 x axis1, signed so that the zero-pose wrist centre is in front.
+  m.forward = (m.wrist - p[0]).dot(w[1].cross(w[0])) < 0 ? -1 : 1;
   return true;
+}
+
+// Same geometry as kinematics.md §6: RIGHTY iff V = (wrist - J1 axis) . forward >= 0; ABOVE iff
+// the elbow (a point of axis 3) lies on the J1-axis-direction side of the line from the
+// shoulder (a point of axis 2) to the wrist centre, in the arm plane (for the PUMA exactly
+// sigma_s * wrap(theta2 - atan2(pz, V)) >= 0); NOFLIP iff J5 >= 0.
+Configuration spherical_configuration(const Robot& robot, const SphericalWristModel& m, const JointVector& display) {
+  const JointVector q = display_to_dh(robot, display);
+  std::array<Vec3, 3> axis, point;
+  Pose f = Pose::Identity();
+  for (int k = 0; k < 6; ++k) {
+    if (k < 3) {
+      const ChainJoint& j = robot.chain[static_cast<std::size_t>(k)];
+      const Pose pre = f * j.origin;
+      axis[static_cast<std::size_t>(k)] = pre.linear() * j.axis;
+      point[static_cast<std::size_t>(k)] = pre.translation();
+    }
+    f = f * joint_transform(robot, k, q[k]);
+  }
+  const Vec3 wrist = f * m.wrist_in_flange;
+  const Vec3 d = wrist - point[1];
+  Configuration c;
+  c.righty = m.forward * (wrist - point[0]).dot(axis[1].cross(axis[0])) >= 0;
+  c.above = axis[1].dot(d.cross(point[2] - point[1])) * axis[1].dot(d.cross(axis[0])) >= 0;
+  c.noflip = display[4] >= 0;
+  return c;
 }
 
 void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q4_keep, SphericalIkSolutions& out) {
@@ -82,7 +113,7 @@ void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q
   const auto& p = m.point;
   if (!flange.matrix().allFinite()) return;
   // Wrist centre of the target: the zero-pose wrist centre carried by the flange motion.
-  const Vec3 wc = flange * (m.zero_flange.inverse() * m.wrist);
+  const Vec3 wc = flange * m.wrist_in_flange;
   // q1: the component of (wc - p1) along axis 2 (turned by q1) is fixed by the geometry.
   const Vec3 v = wc - p[0];
   const Vec3 u = w[1], uxw = w[0].cross(w[1]);
@@ -100,7 +131,15 @@ void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q
       const Mat3 r3 = rot(w[2], q3);
       const Vec3 c3 = p[2] + r3 * (m.wrist - p[2]);
       const double q2 = sp1(w[1], p[1], c3, wc1);
-      const Mat3 r13 = r1 * rot(w[1], q2) * r3;
+      const Mat3 r2 = rot(w[1], q2);
+      const Mat3 r13 = r1 * r2 * r3;
+      // Configuration words of this branch from the same geometry as spherical_configuration.
+      const Vec3 n = r1 * w[1];
+      const Vec3 shoulder = p[0] + r1 * (p[1] - p[0]);
+      const Vec3 elbow = p[0] + r1 * (p[1] + r2 * (p[2] - p[1]) - p[0]);
+      const Vec3 dw = wc - shoulder;
+      const bool righty = m.forward * (wc - p[0]).dot(n.cross(w[0])) >= 0;
+      const bool above = n.dot(dw.cross(elbow - shoulder)) * n.dot(dw.cross(w[0])) >= 0;
       const Mat3 rw = r13.transpose() * flange.linear() * m.zero_flange.linear().transpose();
       // Subproblem 2 on directions: R4 R5 w6 = rw w6.
       const Vec3 pd = w[5], qd = rw * w[5];
@@ -124,9 +163,11 @@ void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q
         q << q1, q2, q3, q4, q5, q6;
         for (int i = 0; i < 6; ++i) q[i] = std::remainder(q[i], 2 * std::numbers::pi);
         if (!q.allFinite()) continue;
-        const auto n = static_cast<std::size_t>(out.count);
-        out.q[n] = q;
-        out.wrist_singular[n] = singular;
+        const auto slot = static_cast<std::size_t>(out.count);
+        out.q[slot] = q;
+        out.wrist_singular[slot] = singular;
+        out.righty[slot] = righty;
+        out.above[slot] = above;
         ++out.count;
         if (singular) break;  // both flips coincide
       }

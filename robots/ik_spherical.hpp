@@ -14,15 +14,22 @@ struct SphericalWristModel {
   std::array<Vec3, 6> point;  // a point on each axis [mm]
   Vec3 wrist = Vec3::Zero();  // where axes 4, 5, 6 meet [mm]
   Pose zero_flange = Pose::Identity();
+  Vec3 wrist_in_flange = Vec3::Zero();  // the wrist centre in the flange frame [mm]
+  double forward = 1;  // sign making the zero-pose wrist centre "in front" (configuration words)
 };
 
 // True (and `out` filled) when the robot has 6 revolute joints in this geometry (tolerances:
 // 1e-9 on direction products, 1e-6 mm on the wrist intersection).
 bool spherical_wrist_model(const Robot& robot, SphericalWristModel& out);
 
+// Configuration words of such an arm at `display` joints (see configuration.hpp); no heap.
+struct Configuration;
+Configuration spherical_configuration(const Robot& robot, const SphericalWristModel& model, const JointVector& display);
+
 struct SphericalIkSolutions {
   std::array<JointVector, 8> q;  // internal values [rad]
   std::array<bool, 8> wrist_singular{};
+  std::array<bool, 8> righty{}, above{};  // configuration words of the arm branch (as spherical_configuration)
   int count = 0;
 };
 

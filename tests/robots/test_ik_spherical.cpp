@@ -154,3 +154,28 @@ TEST_CASE("spherical wrist: configuration words agree with the PUMA's and select
     CHECK(reached >= 2);
   }
 }
+
+TEST_CASE("spherical wrist: branch labels agree with configuration_of", "[ik][spherical][configuration]") {
+  for (const char* file : {"generic6.urdf", "puma560.urdf"}) {
+    const Robot r = load_urdf(kData + file);
+    SphericalWristModel m;
+    REQUIRE(spherical_wrist_model(r, m));
+    std::mt19937 rng(3);
+    int mislabelled = 0, labelled = 0;
+    for (int n = 0; n < 3000; ++n) {
+      const JointVector d = random_joints(r, rng);
+      if (std::abs(d[4]) < 0.01) continue;
+      SphericalIkSolutions s;
+      spherical_ik_all(m, flange_pose(r, d), display_to_dh(r, d)[3], s);
+      for (int k = 0; k < s.count; ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        const Configuration c = configuration_of(r, dh_to_display(r, s.q[i]));
+        mislabelled += c.righty != s.righty[i] || c.above != s.above[i];
+        ++labelled;
+      }
+    }
+    INFO(file);
+    CHECK(mislabelled == 0);
+    CHECK(labelled > 10000);
+  }
+}
