@@ -1,7 +1,7 @@
 // The thesis' M = 9 claim (four-step.md §3, §8): M = 3..12 halvings over pairs of bodies of
 // 50 to 1,400 faces (the thesis' range), plus larger bodies (5,000 - 50,000 faces, M up to 18)
 // for the per-body cost model. Per (faces, M): us per query (median, mean over fixed-seed
-// random poses), preprocessing time and memory of one grid. Writes bench/results/m_sweep.json
+// random poses; best of three runs), preprocessing time and memory of one grid. Writes bench/results/m_sweep.json
 // as rows {name, ours_us, peer, peer_us, ratio, agreement} where the peer is M = 9 (ratio < 1:
 // this M beats the thesis' choice) plus the measured details.
 // Run: bench_m_sweep [--quick] [--out FILE].
@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <numeric>
 #include <string>
@@ -33,12 +34,18 @@ struct Cell {
   double colliding = 0;
 };
 
+double thread_cpu_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
+}
+
 std::size_t grid_bytes(const VoxelGrid& g) {
   return sizeof(std::uint32_t) * (g.offsets.size() + g.faces.size() + g.face_offsets.size() + g.face_voxels.size()) +
          g.classes.size();
 }
 
-Cell measure(const Polyhedron& mesh, int m, const std::vector<Pose>& poses) {
+Cell measure_once(const Polyhedron& mesh, int m, const std::vector<Pose>& poses) {
   Cell c{.faces = static_cast<int>(mesh.triangles.size()), .m = m};
   auto t0 = Clock::now();
   const VoxelGrid g = build_voxel_grid(mesh, m);
@@ -49,7 +56,9 @@ Cell measure(const Polyhedron& mesh, int m, const std::vector<Pose>& poses) {
   const BodyId b = e.add_body({.name = "b", .mesh = mesh, .halvings = m});
   e.set_pose(a, Pose::Identity());
   std::vector<double> t(poses.size());
-  for (int pass = 0; pass < 2; ++pass)
+  double cpu_us = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    const double cpu0 = thread_cpu_us();
     for (std::size_t i = 0; i < poses.size(); ++i) {
       const auto s = Clock::now();
       e.set_pose(b, poses[i]);
@@ -57,11 +66,28 @@ Cell measure(const Polyhedron& mesh, int m, const std::vector<Pose>& poses) {
       t[i] = std::chrono::duration<double, std::micro>(Clock::now() - s).count();
       if (pass == 1) c.colliding += hit;
     }
+    cpu_us = thread_cpu_us() - cpu0;
+  }
   c.colliding /= static_cast<double>(poses.size());
-  c.mean = std::accumulate(t.begin(), t.end(), 0.0) / static_cast<double>(t.size());
+  // Mean from the thread's CPU time over the timed pass: time the scheduler gave to other
+  // programs on this shared machine is not counted (the per-query clock reads are, ~40 ns).
+  c.mean = cpu_us / static_cast<double>(poses.size());
   std::nth_element(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(t.size() / 2), t.end());
   c.median = t[t.size() / 2];
   return c;
+}
+
+// The machine is shared and noisy: three runs, keeping the fastest (mean and median) and
+// the fastest preprocessing.
+Cell measure(const Polyhedron& mesh, int m, const std::vector<Pose>& poses) {
+  Cell best = measure_once(mesh, m, poses);
+  for (int rep = 1; rep < 3; ++rep) {
+    const Cell c = measure_once(mesh, m, poses);
+    best.mean = std::min(best.mean, c.mean);
+    best.median = std::min(best.median, c.median);
+    best.prep_ms = std::min(best.prep_ms, c.prep_ms);
+  }
+  return best;
 }
 
 }  // namespace
