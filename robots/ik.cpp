@@ -32,7 +32,7 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
   if (current.size() != 6 || !spherical_wrist_model(robot, model)) return false;
   const JointVector cur_internal = display_to_dh(robot, current);
   SphericalIkSolutions sols;
-  spherical_ik_all(model, flange, cur_internal[3], sols);
+  spherical_ik_all(model, flange, cur_internal[3], sols, &want);
   if (sols.count == 0) {
     res.status = IkStatus::out_of_reach;
     return true;

@@ -107,7 +107,8 @@ Configuration spherical_configuration(const Robot& robot, const SphericalWristMo
   return c;
 }
 
-void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q4_keep, SphericalIkSolutions& out) {
+void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q4_keep, SphericalIkSolutions& out,
+                      const Configuration* arm) {
   out.count = 0;
   const auto& w = m.axis;
   const auto& p = m.point;
@@ -124,6 +125,9 @@ void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q
   const double q1s[2] = {phi + alpha, phi - alpha};
   for (double q1 : q1s) {
     const Mat3 r1 = rot(w[0], q1);
+    const Vec3 n = r1 * w[1];  // axis 2 after q1
+    const bool righty = m.forward * (wc - p[0]).dot(n.cross(w[0])) >= 0;
+    if (arm && arm->righty != righty) continue;
     const Vec3 wc1 = p[0] + r1.transpose() * (wc - p[0]);  // wrist centre in the q1 = 0 arm
     double q3s[2];
     if (sp3(w[2], p[2], m.wrist, p[1], (wc1 - p[1]).norm(), q3s) == 0) continue;
@@ -134,12 +138,11 @@ void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q
       const Mat3 r2 = rot(w[1], q2);
       const Mat3 r13 = r1 * r2 * r3;
       // Configuration words of this branch from the same geometry as spherical_configuration.
-      const Vec3 n = r1 * w[1];
       const Vec3 shoulder = p[0] + r1 * (p[1] - p[0]);
       const Vec3 elbow = p[0] + r1 * (p[1] + r2 * (p[2] - p[1]) - p[0]);
       const Vec3 dw = wc - shoulder;
-      const bool righty = m.forward * (wc - p[0]).dot(n.cross(w[0])) >= 0;
       const bool above = n.dot(dw.cross(elbow - shoulder)) * n.dot(dw.cross(w[0])) >= 0;
+      if (arm && arm->above != above) continue;
       const Mat3 rw = r13.transpose() * flange.linear() * m.zero_flange.linear().transpose();
       // Subproblem 2 on directions: R4 R5 w6 = rw w6.
       const Vec3 pd = w[5], qd = rw * w[5];
@@ -161,7 +164,8 @@ void spherical_ik_all(const SphericalWristModel& m, const Pose& flange, double q
         const double q6 = sp1(w[5], Vec3::Zero(), x, r45.transpose() * rw * x);
         JointVector q(6);
         q << q1, q2, q3, q4, q5, q6;
-        for (int i = 0; i < 6; ++i) q[i] = std::remainder(q[i], 2 * std::numbers::pi);
+        for (int i = 0; i < 6; ++i)
+          if (!(q[i] > -std::numbers::pi && q[i] <= std::numbers::pi)) q[i] = std::remainder(q[i], 2 * std::numbers::pi);
         if (!q.allFinite()) continue;
         const auto slot = static_cast<std::size_t>(out.count);
         out.q[slot] = q;

@@ -35,6 +35,9 @@ struct SphericalIkSolutions {
 
 // All solutions for `flange` (robot frame). At the wrist singularity (axes 4 and 6 aligned) q4
 // is `q4_keep` [rad, internal] and q6 takes the rest. count = 0: out of reach.
-void spherical_ik_all(const SphericalWristModel& model, const Pose& flange, double q4_keep, SphericalIkSolutions& out);
+// With `arm` set, only the arm branch with those RIGHTY / ABOVE words is solved (its two wrist
+// solutions; the NOFLIP word is left to the caller).
+void spherical_ik_all(const SphericalWristModel& model, const Pose& flange, double q4_keep, SphericalIkSolutions& out,
+                      const Configuration* arm = nullptr);
 
 }  // namespace asimov::robots
