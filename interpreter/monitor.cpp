@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <ostream>
 
@@ -60,6 +61,7 @@ constexpr std::array<std::string_view, 22> kNotForDo = {
 constexpr const char* kDoProgram = "do.tmp";      // DO runs as this one-statement program
 constexpr const char* kExecProgram = "exec.tmp";  // EXECUTE prog(args) calls prog from this one
 constexpr const char* kTypedFile = "monitor";     // file name of programs typed at the prompt
+constexpr const char* kInterruptMessage = "*Program interrupted*";  // the evaluator's stop on Ctrl-C
 
 std::string trim(std::string_view s) {
   const auto b = s.find_first_not_of(" \t\r\n");
@@ -257,8 +259,9 @@ CommandStatus Monitor::dispatch(Command c, Args rest) {
       || c == Command::where || c == Command::zero;
   if (no_args && !rest.empty()) return fail("*Syntax error*", fmt::format("{} takes no argument", command_info(c).name));
   switch (c) {
-    case Command::abort:
-      state_ = ExecState::idle;  // nothing stopped: nothing to do
+    case Command::abort:  // with nothing stopped: nothing to do
+      interp_.abort();
+      if (state_ != ExecState::completed) state_ = ExecState::idle;
       return CommandStatus::ok;
     case Command::calibrate: return CommandStatus::ok;  // no-op in simulation
     case Command::delete_: return cmd_delete(rest);
@@ -309,9 +312,10 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
     d.source_line = typed_;
   }
   if (execution) {
-    state_ = r.status == RunStatus::completed ? ExecState::completed
-           : r.status == RunStatus::error     ? ExecState::error
-                                              : ExecState::collision;
+    state_ = r.status == RunStatus::completed     ? ExecState::completed
+           : r.status == RunStatus::collision     ? ExecState::collision
+           : r.error.message == kInterruptMessage ? ExecState::interrupted
+                                                  : ExecState::error;
     state_step_ = r.step;
   }
   switch (r.status) {
@@ -398,6 +402,7 @@ CommandStatus Monitor::cmd_execute(Args rest) {
   if (!interp_.has_program(name) || name == kDoProgram || name == kExecProgram)
     return fail("*Undefined program or variable name*", name);
   last_program_ = name;
+  interp_.abort();  // a stopped execution is discarded
   if (trim(args).empty()) return report(interp_.run(name), name, true);
   // Arguments by value: each one in parentheses, CALLed from a one-line program.
   std::string call = "CALL " + name + "(";
@@ -523,6 +528,17 @@ CommandStatus Monitor::cmd_load(Args rest) {
   if (std::filesystem::path(path).extension().empty()) path += ".v2";
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return fail("*File not found*", path);
+  if (interp_.can_resume()) {  // programs of a stopped execution are not replaced (ABORT first)
+    std::ifstream in(path);
+    for (std::string l; std::getline(in, l);) {
+      const std::string t = lower(trim(l));
+      if (t.rfind(".program", 0) != 0) continue;
+      std::string name = trim(t.substr(8));
+      name = normalize_name(name.substr(0, name.find_first_of("( \t;")));
+      if (interp_.has_program(name))
+        return fail("*Illegal value*", fmt::format("{} would be replaced while an execution is stopped; ABORT first", name));
+    }
+  }
   Memory& m = interp_.memory();
   const std::vector<std::shared_ptr<const Program>> before = m.programs;
   const auto diags = interp_.load_file(path);
@@ -618,6 +634,7 @@ CommandStatus Monitor::cmd_status() {
   };
   std::string state = "idle";
   if (state_ == ExecState::completed) state = "completed";
+  if (state_ == ExecState::interrupted) state = fmt::format("interrupted at step {}", state_step_);
   if (state_ == ExecState::error) state = fmt::format("stopped by error at step {}", state_step_);
   if (state_ == ExecState::collision) state = fmt::format("stopped by collision at step {}", state_step_);
   const robots::Configuration c = sim_.configuration();
@@ -645,15 +662,14 @@ CommandStatus Monitor::cmd_status() {
   return CommandStatus::ok;
 }
 
-CommandStatus Monitor::cmd_resume(bool) {
-  // Resuming needs the stopped execution's stack, which the evaluator does not keep yet.
-  if (state_ == ExecState::error || state_ == ExecState::collision)
-    return fail("*No program to resume*", "the stopped execution cannot be resumed in this version");
-  return fail("*No program to resume*");
+CommandStatus Monitor::cmd_resume(bool retry) {
+  if (!interp_.can_resume()) return fail("*No program to resume*");
+  return report(retry ? interp_.retry() : interp_.proceed(), last_program_, true);
 }
 
 CommandStatus Monitor::cmd_zero() {
   if (confirm && !confirm("Are you sure (Y/N)? ")) return CommandStatus::ok;
+  interp_.abort();
   Memory& m = interp_.memory();
   for (auto& p : m.programs) p.reset();
   m.load_order.clear();

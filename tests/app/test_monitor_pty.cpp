@@ -99,7 +99,7 @@ class PtySession {
 
 }  // namespace
 
-TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C at the prompt, confirmation, Ctrl-D", "[monitor][pty]") {
+TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C, confirmation, Ctrl-D", "[monitor][pty]") {
   const fs::path dir = asimov::test::scratch_dir() / "pty";
   fs::remove_all(dir);
   fs::create_directories(dir / "home");
@@ -136,12 +136,27 @@ TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C at the prom
     REQUIRE(s.expect("square(a, $label)"));
     CHECK(s.seen().find("*Unknown command*") == std::string::npos);
 
+    // Ctrl-C while a program runs stops it and returns to the prompt.
+    s.send(".PROGRAM spin()\r    WHILE TRUE DO\r    END\r.END\r");
+    s.send("EXECUTE spin\r");
+    REQUIRE(s.expect("EXECUTE spin"));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    s.send("\x03");
+    REQUIRE(s.expect("*Program interrupted*", 5));
+    REQUIRE(s.expect(". "));
+    s.send("STATUS\r");
+    REQUIRE(s.expect("State: interrupted at step"));
+    s.send("ABORT\r");
+    REQUIRE(s.expect(". "));
+    s.send("PROCEED\r");
+    REQUIRE(s.expect("*No program to resume*"));
+
     // ZERO asks first when interactive; "n" keeps everything.
     s.send("ZERO\r");
     REQUIRE(s.expect("Are you sure (Y/N)?"));
     s.send("n\r");
     s.send("DIRECTORY\r");
-    REQUIRE(s.expect("twice()"));
+    REQUIRE(s.expect("spin()"));
 
     s.send("WHERE\r");
     REQUIRE(s.expect("         J1"));
