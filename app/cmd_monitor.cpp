@@ -136,6 +136,7 @@ int interactive(val::Monitor& monitor, bool strict) {
     }
     if (!got || count <= 0) {  // Ctrl-D on an empty line
       std::cout << '\n';
+      if (monitor.end_of_input() == val::CommandStatus::failed && strict) rc = kExitProgramError;
       break;
     }
     std::string line(got);
@@ -167,6 +168,8 @@ int scripted(val::Monitor& monitor, std::istream& in, std::ostream& out, bool st
     if (s == val::CommandStatus::quit) break;
     if (s == val::CommandStatus::failed && strict) return kExitProgramError;
   }
+  if (monitor.end_of_input() == val::CommandStatus::failed && strict) return kExitProgramError;
+  out.flush();
   return kExitCompleted;
 }
 
@@ -192,8 +195,10 @@ int monitor_command(const MonitorOptions& opt, std::istream& in, std::ostream& o
   val::Monitor monitor(interp, sim, out);
   interp.limits().interrupt = &g_interrupted;
   const bool tty = ::isatty(STDIN_FILENO) == 1 && &in == &std::cin;
-  if (tty) monitor.confirm = ask;
-  install_sigint();
+  if (tty) {
+    monitor.confirm = ask;
+    install_sigint();  // scripted sessions keep the default: Ctrl-C ends them
+  }
 
   for (const std::string& f : opt.files)  // as LOAD f
     if (monitor.execute("LOAD " + f) == val::CommandStatus::failed && opt.strict) return kExitProgramError;

@@ -291,14 +291,22 @@ CommandStatus Monitor::dispatch(Command c, Args rest) {
 }
 
 // A monitor command's error: message and detail, then the typed text (dialect §10).
-CommandStatus Monitor::fail(std::string message, std::string detail) {
+CommandStatus Monitor::fail(std::string message, std::string detail, int column) {
   Diagnostic d;
   d.message = std::move(message);
   d.detail = std::move(detail);
   d.source_line = typed_;
   out_ << format_diagnostic(d);
+  if (column > 0) {
+    std::string pad = "    ";
+    for (int i = 0; i + 1 < column && i < static_cast<int>(typed_.size()); ++i)
+      pad += typed_[static_cast<std::size_t>(i)] == '\t' ? '\t' : ' ';
+    out_ << pad << "^\n";
+  }
   return CommandStatus::failed;
 }
+
+CommandStatus Monitor::end_of_input() { return entering_program() ? finish_entry() : CommandStatus::ok; }
 
 // Prints a run's outcome. Errors located in the monitor's own temporary programs are
 // reported as command errors (no location line; the typed text instead).
@@ -347,10 +355,15 @@ CommandStatus Monitor::run_instruction(const std::string& instruction, bool) {
       m.programs[static_cast<std::size_t>(it->second)].reset();
     std::erase(m.load_order, std::string(kDoProgram));
   };
+  // A syntax error's caret goes under the typed text when it holds the instruction verbatim (DO).
+  const bool verbatim = typed_.size() >= instruction.size()
+      && typed_.compare(typed_.size() - instruction.size(), instruction.size(), instruction) == 0;
   for (const Diagnostic& d : diags) {
     if (d.warning) continue;
     remove();
-    return fail(d.message, d.detail);
+    const int column = verbatim && d.line == 2 && d.column > 0
+        ? static_cast<int>(typed_.size() - instruction.size()) + d.column : 0;
+    return fail(d.message, d.detail, column);
   }
   const RunResult r = interp_.run(kDoProgram);
   remove();

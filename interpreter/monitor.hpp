@@ -50,6 +50,9 @@ class Monitor {
   // One typed line: a command, or a line of a program being entered after `.PROGRAM`.
   CommandStatus execute(const std::string& line);
   bool entering_program() const { return !entry_.empty(); }
+  // End of input: a program still being entered is loaded as typed (its missing .END is
+  // then reported as LOAD would).
+  CommandStatus end_of_input();
 
   // Asked before replacing a file or ZERO; unset (scripted mode): the answer is yes.
   std::function<bool(const std::string& question)> confirm;
@@ -61,7 +64,8 @@ class Monitor {
  private:
   using Args = const std::string&;
   CommandStatus dispatch(Command c, Args rest);
-  CommandStatus fail(std::string message, std::string detail = {});
+  // A command error; `column` > 0 puts a caret under that column of the typed text.
+  CommandStatus fail(std::string message, std::string detail = {}, int column = 0);
   CommandStatus report(const RunResult& r, const std::string& shown_name, bool execution);
   CommandStatus run_instruction(const std::string& instruction, bool quiet_success = true);
   CommandStatus finish_entry();
