@@ -119,6 +119,7 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
   g.container = make_container(mesh.vertices);
   g.cells = halve_cells(g.container.size, std::clamp(halvings, 0, kMaxHalvings));
   g.cell = g.container.size.cwiseQuotient(Vec3(g.cells[0], g.cells[1], g.cells[2]));
+  g.inv_cell = g.cell.cwiseInverse();
   // Covers the rounding of voxel corners and of the separating-axis arithmetic.
   g.margin = 64 * DBL_EPSILON * (g.container.scale + g.container.size.maxCoeff());
   g.face_count = mesh.triangles.size();
@@ -194,8 +195,10 @@ CellRange cell_range(const VoxelGrid& g, const Box& b) {
   for (int k = 0; k < 3; ++k) {
     const double o = g.container.origin[k];
     if (b.hi[k] < o || b.lo[k] > o + g.container.size[k] || !(b.lo[k] <= b.hi[k])) return CellRange{};
-    r.lo[k] = clamp_index((b.lo[k] - o) / g.cell[k], g.cells[k]);
-    r.hi[k] = clamp_index((b.hi[k] - o) / g.cell[k], g.cells[k]);
+    // A product instead of the quotient: off by an ulp at most, far inside the margins every
+    // caller grows its box by (so still conservative).
+    r.lo[k] = clamp_index((b.lo[k] - o) * g.inv_cell[k], g.cells[k]);
+    r.hi[k] = clamp_index((b.hi[k] - o) * g.inv_cell[k], g.cells[k]);
   }
   return r;
 }
