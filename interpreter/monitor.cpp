@@ -344,30 +344,34 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
   return CommandStatus::failed;
 }
 
-// Runs one instruction as the program `do.tmp` (undeclared names are global), then removes it.
-CommandStatus Monitor::run_instruction(const std::string& instruction, bool) {
-  const std::string source = fmt::format(".PROGRAM {}()\n{}\n.END\n", kDoProgram, instruction);
+// Loads `.PROGRAM name()`, the one statement, `.END` through the normal LOAD path (so every
+// name in it is global), runs it and removes it again. A load error comes back in `error`.
+Monitor::TemporaryRun Monitor::run_temporary(const char* name, const std::string& statement) {
   Memory& m = interp_.memory();
-  const std::vector<Diagnostic> diags = interp_.load_source(source, kTypedFile);
-  auto remove = [&] {
-    const auto it = m.symbols.program_slots.find(kDoProgram);
-    if (it != m.symbols.program_slots.end() && static_cast<std::size_t>(it->second) < m.programs.size())
-      m.programs[static_cast<std::size_t>(it->second)].reset();
-    std::erase(m.load_order, std::string(kDoProgram));
-  };
-  // A syntax error's caret goes under the typed text when it holds the instruction verbatim (DO).
-  const bool verbatim = typed_.size() >= instruction.size()
-      && typed_.compare(typed_.size() - instruction.size(), instruction.size(), instruction) == 0;
-  for (const Diagnostic& d : diags) {
-    if (d.warning) continue;
-    remove();
-    const int column = verbatim && d.line == 2 && d.column > 0
-        ? static_cast<int>(typed_.size() - instruction.size()) + d.column : 0;
-    return fail(d.message, d.detail, column);
+  const auto diags = interp_.load_source(fmt::format(".PROGRAM {}()\n{}\n.END\n", name, statement), kTypedFile);
+  TemporaryRun t;
+  for (const Diagnostic& d : diags)
+    if (!d.warning && !t.error) t.error = d;
+  if (!t.error) t.result = interp_.run(name);
+  const auto it = m.symbols.program_slots.find(name);
+  if (it != m.symbols.program_slots.end() && static_cast<std::size_t>(it->second) < m.programs.size())
+    m.programs[static_cast<std::size_t>(it->second)].reset();
+  std::erase(m.load_order, std::string(name));
+  return t;
+}
+
+// Runs one instruction as the program `do.tmp`.
+CommandStatus Monitor::run_instruction(const std::string& instruction) {
+  const TemporaryRun t = run_temporary(kDoProgram, instruction);
+  if (t.error) {
+    // The caret goes under the typed text when it holds the instruction verbatim (DO).
+    const bool verbatim = typed_.size() >= instruction.size()
+        && typed_.compare(typed_.size() - instruction.size(), instruction.size(), instruction) == 0;
+    const int column = verbatim && t.error->line == 2 && t.error->column > 0
+        ? static_cast<int>(typed_.size() - instruction.size()) + t.error->column : 0;
+    return fail(t.error->message, t.error->detail, column);
   }
-  const RunResult r = interp_.run(kDoProgram);
-  remove();
-  return report(r, kDoProgram, false);
+  return report(t.result, kDoProgram, false);
 }
 
 CommandStatus Monitor::cmd_do(Args rest) {
@@ -421,23 +425,9 @@ CommandStatus Monitor::cmd_execute(Args rest) {
   std::string call = "CALL " + name + "(";
   const auto parts = split_list(args);
   for (std::size_t i = 0; i < parts.size(); ++i) call += (i ? ", " : "") + (parts[i].empty() ? "" : "(" + parts[i] + ")");
-  const std::string source = fmt::format(".PROGRAM {}()\n{})\n.END\n", kExecProgram, call);
-  Memory& m = interp_.memory();
-  const auto diags = interp_.load_source(source, kTypedFile);
-  auto remove = [&] {
-    const auto it = m.symbols.program_slots.find(kExecProgram);
-    if (it != m.symbols.program_slots.end() && static_cast<std::size_t>(it->second) < m.programs.size())
-      m.programs[static_cast<std::size_t>(it->second)].reset();
-    std::erase(m.load_order, std::string(kExecProgram));
-  };
-  for (const Diagnostic& d : diags) {
-    if (d.warning) continue;
-    remove();
-    return fail(d.message, d.detail);
-  }
-  RunResult r = interp_.run(kExecProgram);
-  remove();
-  return report(r, name, true);
+  const TemporaryRun t = run_temporary(kExecProgram, call + ")");
+  if (t.error) return fail(t.error->message, t.error->detail);
+  return report(t.result, name, true);
 }
 
 CommandStatus Monitor::cmd_point(Args rest) {

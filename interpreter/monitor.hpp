@@ -7,6 +7,7 @@
 #include <atomic>
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -67,7 +68,12 @@ class Monitor {
   // A command error; `column` > 0 puts a caret under that column of the typed text.
   CommandStatus fail(std::string message, std::string detail = {}, int column = 0);
   CommandStatus report(const RunResult& r, const std::string& shown_name, bool execution);
-  CommandStatus run_instruction(const std::string& instruction, bool quiet_success = true);
+  struct TemporaryRun {
+    std::optional<Diagnostic> error;  // the load error, when the statement did not load
+    RunResult result;                 // otherwise the run's outcome
+  };
+  TemporaryRun run_temporary(const char* name, const std::string& statement);
+  CommandStatus run_instruction(const std::string& instruction);
   CommandStatus finish_entry();
 
   CommandStatus cmd_execute(Args rest);

@@ -151,6 +151,14 @@ TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C, confirmati
     s.send("PROCEED\r");
     REQUIRE(s.expect("*No program to resume*"));
 
+    // STORE asks before replacing a file when interactive.
+    s.send("STORE kept\r");
+    REQUIRE(s.expect(". "));
+    s.send("STORE kept\r");
+    REQUIRE(s.expect("Replace file? (Y/N)"));
+    s.send("y\r");
+    REQUIRE(s.expect(". "));
+
     // ZERO asks first when interactive; "n" keeps everything.
     s.send("ZERO\r");
     REQUIRE(s.expect("Are you sure (Y/N)?"));
@@ -167,6 +175,7 @@ TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C, confirmati
   const std::string history = asimov::test::slurp(dir / "home" / ".asimov_history");
   CHECK(history.find("WHERE") != std::string::npos);
   CHECK(history.find("EXECUTE") != std::string::npos);
+  CHECK(asimov::test::slurp(dir / "kept.v2").find(".PROGRAM spin()") != std::string::npos);
   {
     PtySession s(dir, dir / "home");  // the history survives the session
     REQUIRE(s.expect(". "));
