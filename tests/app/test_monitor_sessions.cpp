@@ -1,6 +1,7 @@
 // Scripted monitor sessions (dialect §9): every programs/monitor/NAME.txt is piped into
 // `asimov monitor` in a scratch folder holding the sample programs; stdout must equal
-// NAME.out, the exit code the session's "; exit: n" line. "; args: ..." adds arguments.
+// NAME.out, the exit code the session's "; exit: n" line. "; args: ..." adds arguments
+// (@SOURCE@ is the source tree).
 #include "interpreter/monitor.hpp"
 #include "support/run_cli.hpp"
 
@@ -47,11 +48,16 @@ Session run_session(const std::string& name, const std::string& args, const std:
   return s;
 }
 
+// The value of a "; key: value" line; @SOURCE@ stands for the source tree.
 std::string header(const std::string& text, const std::string& key) {
   std::istringstream in(text);
   std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("; " + key + ": ", 0) == 0) return line.substr(key.size() + 4);
+  while (std::getline(in, line)) {
+    if (line.rfind("; " + key + ": ", 0) != 0) continue;
+    std::string value = line.substr(key.size() + 4);
+    if (const auto at = value.find("@SOURCE@"); at != std::string::npos) value.replace(at, 8, ASIMOV_SOURCE_DIR);
+    return value;
+  }
   return {};
 }
 
