@@ -238,26 +238,36 @@ struct Engine::Impl {
     return false;
   }
 
-  static constexpr int kTopBlock = 16;  // block sides visited: 16, 4, then single voxels
-
-  // The B voxels of the block of side `side` at `lo` (clipped to B's sub-matrix).
-  bool visit_block(BodyId ia, BodyId ib, const VoxelMapping& vm, std::array<int, 3> lo, int side, double pad,
+  // Block (bi, bj, bk) of level `level` (sides 16, then 4; aligned to the grid), clipped to
+  // B's sub-matrix: skipped when it holds no non-empty voxel there or when its content box,
+  // mapped into A's frame, meets no non-empty A voxel; else its sub-blocks or voxels.
+  bool visit_block(BodyId ia, BodyId ib, const VoxelMapping& vm, int level, int bi, int bj, int bk, double pad,
                    bool& any_pair, QueryResult& res) {
     const VoxelGrid& ga = *bodies[ia].grid;
     const VoxelGrid& gb = *bodies[ib].grid;
     const CellRange& sb = vm.sub.b;
+    const int side = VoxelGrid::kBlockSides[static_cast<std::size_t>(level)];
+    const std::array<int, 3> b{bi, bj, bk};
     CellRange block;
-    block.lo = lo;
-    for (int x = 0; x < 3; ++x) block.hi[x] = std::min(lo[x] + side - 1, sb.hi[x]);
-    if (gb.count_nonempty(block) == 0) return false;
-    if (ga.count_nonempty(vm.a_cells_of_block(ga, block)) == 0) return false;
-    const int sub = side / 4;
-    for (int k = block.lo[2]; k <= block.hi[2]; k += sub)
-      for (int j = block.lo[1]; j <= block.hi[1]; j += sub)
-        for (int i = block.lo[0]; i <= block.hi[0]; i += sub)
-          if (sub == 1 ? visit_b_voxel(ia, ib, vm, i, j, k, pad, any_pair, res)
-                       : visit_block(ia, ib, vm, {i, j, k}, sub, pad, any_pair, res))
-            return true;
+    for (std::size_t x = 0; x < 3; ++x) {
+      block.lo[x] = std::max(b[x] * side, sb.lo[x]);
+      block.hi[x] = std::min(b[x] * side + side - 1, sb.hi[x]);
+    }
+    if (block.empty() || gb.count_nonempty(block) == 0) return false;
+    const Box& bc = gb.block_content[static_cast<std::size_t>(level)][gb.block_index(level, bi, bj, bk)];
+    if (ga.count_nonempty(intersect(cell_range(ga, vm.mapped(bc)), vm.sub.a)) == 0) return false;
+    if (level == 0) {
+      for (int k = block.lo[2]; k <= block.hi[2]; ++k)
+        for (int j = block.lo[1]; j <= block.hi[1]; ++j)
+          for (int i = block.lo[0]; i <= block.hi[0]; ++i)
+            if (visit_b_voxel(ia, ib, vm, i, j, k, pad, any_pair, res)) return true;
+      return false;
+    }
+    const int child = VoxelGrid::kBlockSides[static_cast<std::size_t>(level - 1)];
+    for (int k = block.lo[2] / child; k <= block.hi[2] / child; ++k)
+      for (int j = block.lo[1] / child; j <= block.hi[1] / child; ++j)
+        for (int i = block.lo[0] / child; i <= block.hi[0] / child; ++i)
+          if (visit_block(ia, ib, vm, level - 1, i, j, k, pad, any_pair, res)) return true;
     return false;
   }
 
@@ -285,15 +295,15 @@ struct Engine::Impl {
     if (!vm.empty()) {
       bool any_pair = false;
       if (mark.size() < ga.face_count) mark.resize(ga.face_count, 0);
-      // Blocks of 16^3, then 4^3 B voxels first: a block with no non-empty voxel, or whose
-      // mapped box meets no non-empty A voxel, is skipped whole (summed-volume counts, O(1)
-      // each). The block box is grown twice as much as a voxel's, so it holds every voxel box
-      // of the block despite the different rounding of its corner.
+      // Aligned blocks of 16^3, then 4^3 B voxels first: a block with no non-empty voxel, or
+      // whose content box mapped into A's frame meets no non-empty A voxel, is skipped whole
+      // (summed-volume counts, O(1) each).
       const CellRange& sb = vm.sub.b;
-      for (int k0 = sb.lo[2]; k0 <= sb.hi[2]; k0 += kTopBlock)
-        for (int j0 = sb.lo[1]; j0 <= sb.hi[1]; j0 += kTopBlock)
-          for (int i0 = sb.lo[0]; i0 <= sb.hi[0]; i0 += kTopBlock)
-            if (visit_block(ia, ib, vm, {i0, j0, k0}, kTopBlock, pad, any_pair, res)) return true;
+      constexpr int top = VoxelGrid::kBlockSides[1];
+      for (int k = sb.lo[2] / top; k <= sb.hi[2] / top; ++k)
+        for (int j = sb.lo[1] / top; j <= sb.hi[1] / top; ++j)
+          for (int i = sb.lo[0] / top; i <= sb.hi[0] / top; ++i)
+            if (visit_block(ia, ib, vm, 1, i, j, k, pad, any_pair, res)) return true;
     }
     // §6.1: no faces meet, but one body may lie inside the other.
     if (contained(ia, ib, margin, res.contact)) {

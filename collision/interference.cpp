@@ -34,8 +34,7 @@ CellRange VoxelMapping::a_cells(const VoxelGrid& ga, int i, int j, int k) const 
   return intersect(cell_range(ga, Box{corner + lo_off, corner + hi_off}), sub.a);
 }
 
-Box VoxelMapping::mapped_content(const VoxelGrid& gb, std::size_t v) const {
-  const Box& c = gb.content[v];
+Box VoxelMapping::mapped(const Box& c) const {
   const Vec3 o = r * c.lo + t;
   const Vec3 size = c.hi - c.lo;
   Box out{o - Vec3::Constant(grow), o + Vec3::Constant(grow)};

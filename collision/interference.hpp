@@ -37,7 +37,9 @@ struct VoxelMapping {
   Mat3 r = Mat3::Identity();  // B's frame to A's: rotation and translation
   Vec3 t = Vec3::Zero();
   // Minimax box in A's frame of B voxel v's content box, grown by `grow`.
-  Box mapped_content(const VoxelGrid& gb, std::size_t v) const;
+  Box mapped_content(const VoxelGrid& gb, std::size_t v) const { return mapped(gb.content[v]); }
+  // Minimax box in A's frame of a box in B's frame, grown by `grow`.
+  Box mapped(const Box& local) const;
 };
 VoxelMapping map_voxels(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb, const Pose& pose_b,
                         double grow);

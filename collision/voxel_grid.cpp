@@ -173,6 +173,23 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
         const Box fb = grown(Box{lo, hi}, g.margin);
         g.content[v] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
       }
+  // Block content boxes, blocks aligned at multiples of the side.
+  for (std::size_t level = 0; level < 2; ++level) {
+    const int side = VoxelGrid::kBlockSides[level];
+    auto& nb = g.block_cells[level];
+    for (int x = 0; x < 3; ++x) nb[static_cast<std::size_t>(x)] = (g.cells[static_cast<std::size_t>(x)] + side - 1) / side;
+    g.block_content[level].assign(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2],
+                                  Box{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)});
+    for (int k = 0; k < g.cells[2]; ++k)
+      for (int j = 0; j < g.cells[1]; ++j)
+        for (int i = 0; i < g.cells[0]; ++i) {
+          const std::size_t v = g.index(i, j, k);
+          if (g.voxel_empty(v)) continue;
+          Box& b = g.block_content[level][g.block_index(static_cast<int>(level), i / side, j / side, k / side)];
+          b.lo = b.lo.cwiseMin(g.content[v].lo);
+          b.hi = b.hi.cwiseMax(g.content[v].hi);
+        }
+  }
   // Summed-volume table of non-empty voxels.
   const std::size_t sx = static_cast<std::size_t>(g.cells[0]) + 1, sy = static_cast<std::size_t>(g.cells[1]) + 1;
   g.occupied.assign(sx * sy * (static_cast<std::size_t>(g.cells[2]) + 1), 0);

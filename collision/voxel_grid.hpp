@@ -35,6 +35,14 @@ struct VoxelGrid {
   std::vector<Box> content;           // per non-empty voxel: the voxel (grown by margin) cut to the
                                       //   union of its faces' boxes (grown): holds every face point
                                       //   inside the voxel, often much smaller than the voxel
+  static constexpr std::array<int, 2> kBlockSides{4, 16};  // block levels for step 3
+  std::array<std::array<int, 3>, 2> block_cells{};  // blocks per axis, per level
+  std::array<std::vector<Box>, 2> block_content;    // per block: union of its voxels' content
+                                                    //   boxes (lo > hi when it has none)
+  std::size_t block_index(int level, int bi, int bj, int bk) const {
+    const auto& n = block_cells[static_cast<std::size_t>(level)];
+    return static_cast<std::size_t>(bi) + static_cast<std::size_t>(n[0]) * (bj + static_cast<std::size_t>(n[1]) * bk);
+  }
   std::vector<std::uint32_t> occupied;  // summed-volume table of non-empty voxels,
                                         //   (nx+1)(ny+1)(nz+1): count with indices < (i, j, k)
   std::size_t face_count = 0;         // triangles of the mesh
