@@ -41,7 +41,16 @@ std::string history_path() {
   return home && *home ? std::string(home) + "/.asimov_history" : std::string();
 }
 
-const char* prompt(EditLine*) { return ". "; }
+// ". ", or while a program is typed after .PROGRAM the step number of the next line.
+const char* prompt(EditLine* el) {
+  static std::string text;
+  void* data = nullptr;
+  el_get(el, EL_CLIENTDATA, &data);
+  const auto* monitor = static_cast<const val::Monitor*>(data);
+  if (!monitor || !monitor->entering_program()) return ". ";
+  text = fmt::format("{:>4}  ", monitor->entry_step());
+  return text.c_str();
+}
 
 // Reads one character for libedit. Ctrl-C at the prompt ends the line early; the caller sees
 // the flag and drops what was typed.

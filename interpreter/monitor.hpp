@@ -51,6 +51,7 @@ class Monitor {
   // One typed line: a command, or a line of a program being entered after `.PROGRAM`.
   CommandStatus execute(const std::string& line);
   bool entering_program() const { return !entry_.empty(); }
+  int entry_step() const { return static_cast<int>(entry_.size()); }  // step of the next line typed
   // End of input: a program still being entered is loaded as typed (its missing .END is
   // then reported as LOAD would).
   CommandStatus end_of_input();

@@ -137,7 +137,12 @@ TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C, confirmati
     CHECK(s.seen().find("*Unknown command*") == std::string::npos);
 
     // Ctrl-C while a program runs stops it and returns to the prompt.
-    s.send(".PROGRAM spin()\r    WHILE TRUE DO\r    END\r.END\r");
+    s.send(".PROGRAM spin()\r");
+    REQUIRE(s.expect("   1  "));  // while a program is typed, the prompt is the step number
+    s.send("    WHILE TRUE DO\r    END\r");
+    REQUIRE(s.expect("   3  "));
+    s.send(".END\r");
+    REQUIRE(s.expect(". "));
     s.send("EXECUTE spin\r");
     REQUIRE(s.expect("EXECUTE spin"));
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
