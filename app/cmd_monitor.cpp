@@ -106,13 +106,13 @@ unsigned char complete(EditLine* el, int) {
   return CC_REDISPLAY;
 }
 
+// Y/N questions (interactive only). Read byte by byte, as libedit reads, so that no typed-ahead
+// command is swallowed by a stream buffer.
 bool ask(const std::string& question) {
   std::cout << question << std::flush;
   std::string answer;
-  if (!std::getline(std::cin, answer)) {
-    std::cin.clear();
-    return false;
-  }
+  char c = 0;
+  while (::read(STDIN_FILENO, &c, 1) == 1 && c != '\n') answer += c;
   return !answer.empty() && (answer[0] == 'y' || answer[0] == 'Y');
 }
 
