@@ -102,6 +102,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   summary.counts = sim.collision_counts();
   summary.engine_used = sim.collision_engine_used();
 
+  for (const auto& w : summary.result.warnings) err << "Warning: " << val::format_diagnostic(w);
   int rc = kExitCompleted;
   switch (summary.result.status) {
     case val::RunStatus::completed:

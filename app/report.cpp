@@ -57,6 +57,11 @@ nlohmann::json run_report(const RunSummary& s) {
                         {"time_s", c.time_s}};
   }
   if (r.status == val::RunStatus::error) doc["error"] = error_object(r.error);
+  if (!r.warnings.empty()) {
+    auto warnings = nlohmann::json::array();
+    for (const auto& w : r.warnings) warnings.push_back(error_object(w));
+    doc["warnings"] = std::move(warnings);
+  }
   doc["collision_engine"] = {{"used", s.engine_used},
                              {"pair_checks", s.counts.pairs_enabled},
                              {"pairs_after_minimax", s.counts.pairs_after_minimax},

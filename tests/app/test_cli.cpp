@@ -180,3 +180,17 @@ TEST_CASE("run: a URDF arm from a cell file completes its demo") {
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("done") != std::string::npos);
 }
+
+TEST_CASE("run: V+ constructs that only warn are reported once, in stderr and the report") {
+  const auto file = write_file("warn.v2",
+                               ".PROGRAM warn()\n    FOR i = 1 TO 3\n        SELECT ROBOT = 1\n    END\n    TYPE \"ok\"\n.END\n");
+  const auto report = test::scratch_dir() / "warn.json";
+  const auto r = run_cli("run " + file.string() + " --report " + report.string());
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out == "ok\n");
+  CHECK(r.err.find("Warning: *Not supported in simulation*") != std::string::npos);
+  const auto doc = read_json(report);
+  REQUIRE(doc["warnings"].size() == 1);
+  CHECK(doc["warnings"][0]["line"] == 3);
+}
