@@ -80,17 +80,20 @@ enum class Kw : int {
   speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,
   dot_end, always, monitor, then, auto_, local, global, elseif, case_, of, value, any, tool,
   base, ready, draw, righty, lefty, above, below, flip, noflip, single, multiple,
-  dot_locations, dot_reals, dot_strings, signal, align, drive, count
+  dot_locations, dot_reals, dot_strings, signal, align, drive, wait, wait_event, prompt, open,
+  close, relax, openi, closei, relaxi, movet, movest, duration, enable, disable, parameter, mmps,
+  ips, count
 };
 
-// KEYWORD [ [expression] { "," [expression] } ] [ trailing_word ] [ ":" ]
+// KEYWORD [ [expression] { "," [expression] } ] [ MMPS | IPS ] [ trailing_word ] [ ":" ]
 struct Instruction {
   Kw kw = Kw::none;
   std::vector<Expr> args;                             // an omitted one holds a Nil operand
+  Kw units = Kw::none;                                // SPEED ... MMPS / IPS (dialect §7)
   Kw trailing = Kw::none;                             // ALWAYS, MONITOR, DO, THEN, OF
 };
 
-// (SET | DECOMPOSE | <assign>) variable "=" expression
+// (SET | DECOMPOSE | PARAMETER | <assign>) variable "=" expression
 struct Binding {
   Kw kw = Kw::assign;
   VarRef target;

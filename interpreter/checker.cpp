@@ -1,6 +1,7 @@
 #include "interpreter/checker.hpp"
 
 #include "interpreter/data_section.hpp"
+#include "interpreter/expressions.hpp"
 #include "interpreter/limits.hpp"
 
 #include <fmt/format.h>
@@ -274,109 +275,6 @@ class Checker {
   }
   Instr& at(int index) { return prog_.code[static_cast<std::size_t>(index)]; }
 
-  // --- expressions -----------------------------------------------------------------------
-  Node expression(const ast::Expr& e) {
-    std::size_t pos = 0;
-    return climb(operand(e.first), e.rest, pos, 1);
-  }
-
-  // Precedence climbing over the flat operator list the parser produced.
-  Node climb(Node lhs, const std::vector<ast::Operation>& rest, std::size_t& pos, int min_prec) {
-    while (pos < rest.size() && precedence(rest[pos].op) >= min_prec) {
-      const Op op = rest[pos].op;
-      const int p = precedence(op);
-      Node rhs = operand(rest[pos].operand);
-      ++pos;
-      while (pos < rest.size() && precedence(rest[pos].op) > p)
-        rhs = climb(std::move(rhs), rest, pos, p + 1);
-      const StaticKind kl = static_kind(lhs), kr = static_kind(rhs);
-      if ((kl == StaticKind::string && kr == StaticKind::real) || (kl == StaticKind::real && kr == StaticKind::string))
-        error("a string and a number cannot be mixed");
-      else if ((kl == StaticKind::string || kr == StaticKind::string) && op != Op::add && !(op >= Op::eq && op <= Op::ge))
-        error("this operator does not apply to strings");
-      Node bin;
-      bin.kind = NodeKind::binary;
-      bin.op = op;
-      bin.kids.push_back(std::move(lhs));
-      bin.kids.push_back(std::move(rhs));
-      lhs = std::move(bin);
-    }
-    return lhs;
-  }
-
-  Node operand(const ast::Operand& o) {
-    struct Visitor {
-      Checker& c;
-      Node operator()(const ast::Nil&) const { return Node{}; }
-      Node operator()(double d) const {
-        Node n;
-        n.kind = NodeKind::number;
-        n.number = d;
-        return n;
-      }
-      Node operator()(const std::string& s) const {
-        Node n;
-        n.kind = NodeKind::string;
-        n.text = s;
-        if (s.size() > kMaxStringLength) c.error("string longer than 128 characters");
-        return n;
-      }
-      Node operator()(const ast::VarRef& v) const { return c.variable(v, false); }
-      Node operator()(const ast::Call& call) const { return c.function(call); }
-      Node operator()(const ast::Unary& u) const {
-        Node n;
-        n.kind = NodeKind::unary;
-        n.op = u.op;
-        n.kids.push_back(c.operand(u.operand));
-        if (static_kind(n.kids[0]) == StaticKind::string) c.error("this operator does not apply to strings");
-        return n;
-      }
-      Node operator()(const ast::Expr& e) const { return c.expression(e); }
-      Node operator()(const ast::TypeStmt& t) const {  // $ENCODE(items)
-        Node n;
-        n.kind = NodeKind::encode;
-        c.format_items(t, n.formats, n.kids);
-        for (const ast::Format& f : n.formats)
-          if (f.code == 'C' || f.code == 'S') c.error("/C and /S are not allowed in $ENCODE");
-        return n;
-      }
-    };
-    return boost::apply_visitor(Visitor{*this}, o);
-  }
-
-  Node variable(const ast::VarRef& v, bool whole_array_ok) {
-    Node n;
-    n.kind = NodeKind::variable;
-    n.text = normalize_name(v.name);
-    if (!v.subscript.empty()) {
-      n.subscripted = true;
-      if (ast::is_whole_array(v)) {
-        if (!whole_array_ok) error(fmt::format("{}[] is allowed only as a CALL argument", n.text));
-      } else {
-        if (v.subscript.size() > static_cast<std::size_t>(kMaxSubscripts)) error("at most 3 subscripts");
-        for (const ast::Expr& e : v.subscript) n.kids.push_back(expression(e));
-      }
-    }
-    // Lookup: parameters and AUTO, then LOCAL, then GLOBAL (dialect §2).
-    for (std::size_t i = 0; i < prog_.params.size(); ++i)
-      if (prog_.params[i].name == n.text) {
-        n.ref = {Scope::param, static_cast<int>(i)};
-        return n;
-      }
-    for (std::size_t i = 0; i < prog_.autos.size(); ++i)
-      if (prog_.autos[i] == n.text) {
-        n.ref = {Scope::param, static_cast<int>(prog_.params.size() + i)};
-        return n;
-      }
-    for (const std::string& local : prog_.locals)
-      if (local == n.text) {
-        n.ref = {Scope::global, symbols_.global(n.text + "@" + prog_.name)};
-        return n;
-      }
-    n.ref = {Scope::global, symbols_.global(n.text)};
-    return n;
-  }
-
   void declaration(const ast::Declaration& d) {
     if (executable_seen_) {
       error("declarations must precede the first executable statement");
@@ -398,50 +296,16 @@ class Checker {
     }
   }
 
-  Node function(const ast::Call& call) {
-    Node n;
-    n.kind = NodeKind::function;
-    const std::string name = normalize_name(call.name);
-    const auto f = find_function(name);
-    if (!f) {
-      error(fmt::format("unknown function {}", name));
-      return n;
-    }
-    n.func = *f;
-    n.text = name;
-    std::size_t count = call.args.size();
-    if (count == 1 && !call.args[0]) count = 0;  // NAME()
-    const FunctionInfo& info = function_info(*f);
-    if (static_cast<int>(count) < info.min_args || (info.max_args >= 0 && static_cast<int>(count) > info.max_args)) {
-      error(fmt::format("wrong number of arguments to {}", name));
-      return n;
-    }
-    for (std::size_t i = 0; i < count; ++i) {
-      if (!call.args[i]) {
-        n.kids.emplace_back();  // omitted
-        continue;
-      }
-      if (*f == Func::defined || *f == Func::last) {
-        const ast::VarRef* v = plain_variable(*call.args[i], true);
-        if (!v || (*f == Func::last && !ast::is_whole_array(*v))) {
-          error(*f == Func::last ? "LAST needs an array a[]" : "DEFINED needs a variable");
-          return n;
-        }
-        n.kids.push_back(variable(*v, *f == Func::last));
-      } else {
-        n.kids.push_back(expression(*call.args[i]));
-      }
-    }
-    return n;
+  // --- expressions (expressions.cpp) ------------------------------------------------------
+  Node expression(const ast::Expr& e) { return expr_.expression(e); }
+  Node variable(const ast::VarRef& v, bool whole_array_ok) { return expr_.variable(v, whole_array_ok); }
+  void format_items(const ast::TypeStmt& t, std::vector<ast::Format>& formats, std::vector<Node>& values) {
+    expr_.format_items(t, formats, values);
   }
-
-  // The variable when `e` is just a variable (by-reference argument, HERE target ...).
   static const ast::VarRef* plain_variable(const ast::Expr& e, bool subscript_ok) {
-    if (!e.rest.empty()) return nullptr;
-    const auto* v = boost::get<ast::VarRef>(&e.first);
-    if (!v || (!v->subscript.empty() && !subscript_ok)) return nullptr;
-    return v;
+    return ExpressionCompiler::plain_variable(e, subscript_ok);
   }
+  static Node setting_name(const ast::VarRef& v) { return ExpressionCompiler::setting_name(v); }
 
   // --- statements ------------------------------------------------------------------------
   void statement(const ast::Statement& s) {
@@ -479,6 +343,14 @@ class Checker {
   }
 
   void binding(const ast::Binding& b) {
+    if (b.kw == Kw::parameter) {  // PARAMETER name = value: the name is checked when it runs
+      if (!b.target.subscript.empty() || b.target.name[0] == '$' || b.target.name[0] == '#')
+        error("PARAMETER expects a parameter name");
+      Instr& in = emit(Code::parameter);
+      in.target = setting_name(b.target);
+      in.args.push_back(expression(b.value));
+      return;
+    }
     Node target = variable(b.target, false);
     const Code code = b.kw == Kw::set ? Code::set : b.kw == Kw::decompose ? Code::decompose : Code::assign;
     Node value = expression(b.value);
@@ -541,19 +413,6 @@ class Checker {
     format_items(t, in.formats, in.args);
   }
 
-  // TYPE and $ENCODE items: a format (code in upper case) or an expression (code 0).
-  void format_items(const ast::TypeStmt& t, std::vector<ast::Format>& formats, std::vector<Node>& values) {
-    for (const ast::TypeItem& item : t.items) {
-      if (const auto* f = boost::get<ast::Format>(&item)) {
-        ast::Format spec = *f;
-        spec.code = static_cast<char>(std::toupper(static_cast<unsigned char>(spec.code)));
-        formats.push_back(spec);
-      } else {
-        formats.push_back(ast::Format{0, 0, 0});
-        values.push_back(expression(boost::get<ast::Expr>(item)));
-      }
-    }
-  }
 
   void expect_args(const ast::Instruction& i, std::size_t lo, std::size_t hi, const char* what) {
     if (i.args.size() < lo || i.args.size() > hi) error(fmt::format("{} expects {}", what, lo == hi && lo == 0 ? "no argument" : "other arguments"));
@@ -564,9 +423,22 @@ class Checker {
     if (i.args.size() == 1 && ast::is_omitted(i.args[0])) i.args.clear();  // no arguments
     if (i.trailing != Kw::none) {
       const bool ok = (i.kw == Kw::speed && (i.trailing == Kw::always || i.trailing == Kw::monitor))
-          || (i.kw == Kw::while_ && i.trailing == Kw::do_)
+          || (i.kw == Kw::duration && i.trailing == Kw::always) || (i.kw == Kw::while_ && i.trailing == Kw::do_)
           || (i.kw == Kw::elseif && i.trailing == Kw::then) || (i.kw == Kw::case_ && i.trailing == Kw::of);
       if (!ok) error("unexpected word at the end of the statement");
+    }
+    if (i.units != Kw::none && i.kw != Kw::speed) error("MMPS and IPS follow SPEED only");
+    if (const SimpleForm* form = simple_form(i.kw)) {
+      if (static_cast<int>(i.args.size()) < form->min_args
+          || (form->max_args >= 0 && static_cast<int>(i.args.size()) > form->max_args))
+        error(fmt::format("{} expects {}", form->name, form->max_args == 0 ? "no argument" : "other arguments"));
+      simple(i, form->code);
+      Instr& in = prog_.code.back();
+      in.word = i.kw;
+      in.always = i.trailing == Kw::always;
+      if (i.kw == Kw::wait_event && !i.args.empty() && !ast::is_omitted(i.args[0]))
+        in.code = Code::unsupported, in.target.text = "WAIT.EVENT";  // with a mask (dialect §7)
+      return;
     }
     switch (i.kw) {
       case Kw::elseif: return else_if(i);
@@ -579,19 +451,14 @@ class Checker {
         return;
       }
       case Kw::value: case Kw::any: return case_part(i);
-      case Kw::tool: expect_args(i, 0, 1, "TOOL"); return simple(i, Code::tool);
-      case Kw::signal: expect_args(i, 1, 1000, "SIGNAL"); return simple(i, Code::signal);
-      case Kw::base: expect_args(i, 1, 4, "BASE"); return simple(i, Code::base);
-      case Kw::ready: expect_args(i, 0, 0, "READY"); return simple(i, Code::ready);
-      case Kw::draw: expect_args(i, 1, 3, "DRAW"); return simple(i, Code::draw);
-      case Kw::align: expect_args(i, 0, 0, "ALIGN"); return simple(i, Code::align);
-      case Kw::drive: expect_args(i, 3, 3, "DRIVE"); return simple(i, Code::drive);
       case Kw::righty: case Kw::lefty: case Kw::above: case Kw::below: case Kw::flip:
       case Kw::noflip: case Kw::single: case Kw::multiple:
         expect_args(i, 0, 0, "a configuration word");
         simple(i, Code::configure);
         prog_.code.back().word = i.kw;
         return;
+      case Kw::enable: case Kw::disable: return switches(i);
+      case Kw::prompt: return prompt(i);
       case Kw::here: {
         const ast::VarRef* v = i.args.size() == 1 ? plain_variable(i.args[0], true) : nullptr;
         if (!v) {
@@ -601,21 +468,14 @@ class Checker {
         emit(Code::here).target = variable(*v, false);
         return;
       }
-      case Kw::move: case Kw::moves: case Kw::depart: case Kw::departs:
-        expect_args(i, 1, 1, "the motion instruction");
-        return simple(i, i.kw == Kw::move ? Code::move : i.kw == Kw::moves ? Code::moves
-                         : i.kw == Kw::depart ? Code::depart : Code::departs);
-      case Kw::appro: case Kw::appros:
-        expect_args(i, 2, 2, "APPRO");
-        return simple(i, i.kw == Kw::appro ? Code::appro : Code::appros);
-      case Kw::break_: expect_args(i, 0, 0, "BREAK"); return simple(i, Code::break_);
-      case Kw::return_: expect_args(i, 0, 0, "RETURN"); return simple(i, Code::return_);
-      case Kw::stop: expect_args(i, 0, 0, "STOP"); return simple(i, Code::stop);
       case Kw::speed: {
         expect_args(i, 1, 2, "SPEED");
         simple(i, Code::speed);
-        prog_.code.back().always = i.trailing == Kw::always;
-        prog_.code.back().monitor = i.trailing == Kw::monitor;
+        Instr& in = prog_.code.back();
+        in.always = i.trailing == Kw::always;
+        in.monitor = i.trailing == Kw::monitor;
+        if (i.units != Kw::none)  // SPEED ... MMPS / IPS (dialect §7)
+          in.code = Code::unsupported, in.always = false, in.target.text = i.units == Kw::mmps ? "SPEED MMPS" : "SPEED IPS";
         return;
       }
       case Kw::goto_: {
@@ -651,12 +511,38 @@ class Checker {
         emit(Code::jump);
         return;
       }
-      case Kw::pause: case Kw::halt:
-        error("PAUSE and HALT are not supported yet");
-        return;
       case Kw::dot_end: expect_args(i, 0, 0, ".END"); return end_program();
       default: error("unexpected statement"); return;
     }
+  }
+
+  // ENABLE / DISABLE sw, ...: switch names, checked when the statement runs (dialect §6).
+  void switches(const ast::Instruction& i) {
+    Instr& in = emit(i.kw == Kw::enable ? Code::enable : Code::disable);
+    for (const ast::Expr& e : i.args) {
+      const ast::VarRef* v = plain_variable(e, false);
+      if (!v || v->name[0] == '$' || v->name[0] == '#') {
+        error(fmt::format("{} expects switch names", i.kw == Kw::enable ? "ENABLE" : "DISABLE"));
+        return;
+      }
+      in.args.push_back(setting_name(*v));
+    }
+    if (in.args.empty()) error("a switch name is missing");
+  }
+
+
+  // PROMPT text, variable
+  void prompt(const ast::Instruction& i) {
+    const ast::VarRef* v = i.args.size() == 2 ? plain_variable(i.args[1], true) : nullptr;
+    if (!v || ast::is_whole_array(*v) || v->name[0] == '#') {
+      error("PROMPT expects a text and a real or string variable");
+      return;
+    }
+    Node text = expression(i.args[0]);
+    if (static_kind(text) == StaticKind::real) error("PROMPT expects a text first");
+    Instr& in = emit(Code::prompt);
+    in.target = variable(*v, false);
+    in.args.push_back(std::move(text));
   }
 
   void simple(const ast::Instruction& i, Code code) {
@@ -771,6 +657,7 @@ class Checker {
   std::vector<int> block_parent_;       // block id -> enclosing block id (0 = program level)
   std::map<unsigned, LabelInfo> labels_;
   std::vector<Goto> gotos_;
+  ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail) { error(std::move(detail)); }};
 };
 
 }  // namespace

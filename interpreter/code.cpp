@@ -1,6 +1,37 @@
 #include "interpreter/code.hpp"
 
+#include <array>
+
 namespace asimov::val {
+namespace {
+
+using ast::Kw;
+
+constexpr std::array<SimpleForm, 29> kSimpleForms = {{
+    {Kw::tool, Code::tool, 0, 1, "TOOL"}, {Kw::signal, Code::signal, 1, -1, "SIGNAL"},
+    {Kw::base, Code::base, 1, 4, "BASE"}, {Kw::ready, Code::ready, 0, 0, "READY"},
+    {Kw::draw, Code::draw, 1, 3, "DRAW"}, {Kw::align, Code::align, 0, 0, "ALIGN"},
+    {Kw::drive, Code::drive, 3, 3, "DRIVE"}, {Kw::move, Code::move, 1, 1, "the motion instruction"},
+    {Kw::moves, Code::moves, 1, 1, "the motion instruction"}, {Kw::depart, Code::depart, 1, 1, "the motion instruction"},
+    {Kw::departs, Code::departs, 1, 1, "the motion instruction"}, {Kw::appro, Code::appro, 2, 2, "APPRO"},
+    {Kw::appros, Code::appros, 2, 2, "APPRO"}, {Kw::break_, Code::break_, 0, 0, "BREAK"},
+    {Kw::return_, Code::return_, 0, 0, "RETURN"}, {Kw::stop, Code::stop, 0, 0, "STOP"},
+    {Kw::pause, Code::pause, 0, 0, "PAUSE"}, {Kw::halt, Code::halt, 0, 0, "HALT"},
+    {Kw::movet, Code::movet, 2, 2, "MOVET"}, {Kw::movest, Code::movest, 2, 2, "MOVEST"},
+    {Kw::wait, Code::wait, 0, 1, "WAIT"}, {Kw::wait_event, Code::wait_event, 2, 2, "WAIT.EVENT"},
+    {Kw::open, Code::hand, 0, 0, "OPEN"}, {Kw::close, Code::hand, 0, 0, "CLOSE"},
+    {Kw::relax, Code::hand, 0, 0, "RELAX"}, {Kw::openi, Code::hand, 0, 0, "OPENI"},
+    {Kw::closei, Code::hand, 0, 0, "CLOSEI"}, {Kw::relaxi, Code::hand, 0, 0, "RELAXI"},
+    {Kw::duration, Code::duration, 1, 1, "DURATION"},
+}};
+
+}  // namespace
+
+const SimpleForm* simple_form(ast::Kw kw) {
+  for (const SimpleForm& f : kSimpleForms)
+    if (f.kw == kw) return &f;
+  return nullptr;
+}
 
 StaticKind static_kind(const Node& n) {
   switch (n.kind) {

@@ -35,7 +35,9 @@ struct Node {
 enum class Code : unsigned char {
   assign, set, here, decompose, type, move, moves, appro, appros, depart, departs, break_,
   speed, jump, jump_false, jump_true, for_init, for_next, call, return_, stop, case_init,
-  case_test, tool, base, configure, ready, draw, signal, timer, align, drive, unsupported
+  case_test, tool, base, configure, ready, draw, signal, timer, align, drive, unsupported,
+  movet, movest, hand, wait, wait_event, prompt, duration, enable, disable, parameter, pause,
+  halt
 };
 
 struct Instr {
@@ -50,8 +52,18 @@ struct Instr {
   bool monitor = false;            // SPEED ... MONITOR
   int program = -1;                // CALL: program slot
   std::vector<bool> by_ref;        // CALL: argument i passed by reference
-  ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE
+  ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE; hand: OPEN...
 };
+
+// Instructions that compile to one Instr holding their arguments (checker.cpp): the keyword,
+// its code and how many arguments it takes (max -1: any number).
+struct SimpleForm {
+  ast::Kw kw;
+  Code code;
+  int min_args, max_args;
+  const char* name;                // for "NAME expects ..." messages
+};
+const SimpleForm* simple_form(ast::Kw kw);
 
 // What an expression yields when the syntax shows it (dialect §3: a visible mix of
 // strings and numbers is a load-time error).

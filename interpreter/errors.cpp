@@ -9,7 +9,7 @@
 namespace asimov::val {
 namespace {
 
-constexpr std::array<std::string_view, 10> kErrorMessages = {
+constexpr std::array<std::string_view, 11> kErrorMessages = {
     "*Syntax error*",
     "*Undefined program or variable name*",
     "*Undefined value*",
@@ -20,6 +20,7 @@ constexpr std::array<std::string_view, 10> kErrorMessages = {
     "*Motion error*",         // replaced by the simulator's own text
     "*Not supported in simulation*",
     "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps
+    "*Wait limit exceeded*",  // WAIT still false after Limits::max_wait_s simulated seconds
 };
 static_assert(kErrorMessages.size() == static_cast<std::size_t>(ErrorKind::count));
 
@@ -35,6 +36,12 @@ void raise(ErrorKind kind, std::string detail) {
 
 void raise_text(std::string message, std::string detail) {
   throw RuntimeError{std::move(message), std::move(detail)};
+}
+
+std::string format_pause(const RunResult& r) {
+  if (r.status != RunStatus::paused && r.status != RunStatus::halted) return {};
+  return fmt::format("Program {}: {}, step {}", r.status == RunStatus::paused ? "paused" : "halted", r.program,
+                     r.step);
 }
 
 // The report of dialect §10 (declared in interpreter.hpp, the public face).

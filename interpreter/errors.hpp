@@ -10,7 +10,7 @@ namespace asimov::val {
 // ORDER: kErrorMessages in errors.cpp.
 enum class ErrorKind : int {
   syntax, undefined_name, undefined_value, illegal_value, division_by_zero, too_many_calls,
-  too_many_statements, motion, not_supported, interrupted, count
+  too_many_statements, motion, not_supported, interrupted, wait_limit, count
 };
 
 std::string_view error_message(ErrorKind kind);

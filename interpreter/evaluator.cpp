@@ -2,13 +2,16 @@
 
 #include "interpreter/errors.hpp"
 #include "interpreter/limits.hpp"
+#include "interpreter/operators.hpp"
+#include "interpreter/terminal.hpp"
+#include "motion/targets.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <ostream>
+#include <iostream>
 
 namespace asimov::val {
 namespace {
@@ -20,36 +23,10 @@ struct CollisionStop {
   motion::CollisionReport report;
 };
 
-double truth(bool b) { return b ? -1.0 : 0.0; }
-
-std::int32_t to_int32(double x) {
-  const double t = std::trunc(x);
-  if (!(t >= -2147483648.0 && t <= 2147483647.0))
-    raise(ErrorKind::illegal_value, fmt::format("{} is not a 32-bit integer", format_number(x)));
-  return static_cast<std::int32_t>(t);
-}
-
-template <typename T>
-bool compare(Op op, const T& a, const T& b) {
-  switch (op) {
-    case Op::eq: return a == b;
-    case Op::ne: return a != b;
-    case Op::lt: return a < b;
-    case Op::gt: return a > b;
-    case Op::le: return a <= b;
-    case Op::ge: return a >= b;
-    default: return false;
-  }
-}
-
-bool is_relational(Op op) { return op >= Op::eq && op <= Op::ge; }
-
-const char* op_text(Op op) {
-  static constexpr const char* kText[] = {"-", "+", "NOT", "*", "/", "MOD", "+", "-", "==", "<>", "<",
-                                          ">", "<=", ">=", "AND", "BAND", "OR", "XOR", "BOR", "BXOR", ":"};
-  static_assert(std::size(kText) == static_cast<std::size_t>(Op::count));
-  return kText[static_cast<std::size_t>(op)];
-}
+// Thrown by PAUSE and HALT once the motion has ended; caught in run().
+struct PauseStop {
+  bool halt = false;
+};
 
 }  // namespace
 
@@ -62,6 +39,8 @@ RunResult Evaluator::run(int slot) {
   stack_.clear();
   speed_always_ = 100;  // each execution starts with SPEED 100 ALWAYS
   speed_next_.reset();
+  duration_always_ = 0;  // and no DURATION
+  duration_next_.reset();
   current_program_ = nullptr;
   current_line_ = 0;
   motion_program_ = nullptr;
@@ -98,10 +77,14 @@ RunResult Evaluator::resume(bool retry) {
   stack_ = std::move(s.stack);
   speed_always_ = s.speed_always;
   speed_next_ = s.speed_next;
+  duration_always_ = s.duration_always;
+  duration_next_ = s.duration_next;
   last_motion_ = s.motion;
   return protected_run(s.program, [&] {
     // After a collision the step that found the contact runs again (PROCEED and RETRY);
     // RETRY after an error re-runs the failing step; PROCEED after an error skips it.
+    // After PAUSE both continue with the next step.
+    if (s.status == RunStatus::paused) return;
     if (!stack_.empty() && (retry || s.status == RunStatus::collision)) --stack_.back().pc;
     if (retry && s.status == RunStatus::collision && last_motion_) start_motion(*last_motion_);
   });
@@ -171,12 +154,18 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     }
   } catch (const CollisionStop& c) {
     collided(c.report);
+  } catch (const PauseStop& p) {
+    result.status = p.halt ? RunStatus::halted : RunStatus::paused;
+    locate(result.error, current_program_, current_line_);
+    result.error = Diagnostic{};
+    if (p.halt) stack_.clear();  // HALT cannot be resumed
   }
   if (result.status == RunStatus::completed) {
     result.program = name;
     result.line = result.step = 0;
   } else if (!stack_.empty() || result.status == RunStatus::collision) {
-    stopped_ = Stopped{std::move(stack_), result.status, name, speed_always_, speed_next_, last_motion_};
+    stopped_ = Stopped{std::move(stack_), result.status, name, speed_always_, speed_next_, last_motion_,
+                       duration_always_, duration_next_};
   }
   stack_.clear();
   result.warnings = std::move(warnings_);
@@ -255,22 +244,32 @@ void Evaluator::execute(const Instr& in) {
       memory_.timers[static_cast<std::size_t>(k)] = {to_real(eval(in.args[1]), "TIMER value"), sim_.time_s()};
       return;
     }
-    case Code::unsupported: {
+    case Code::unsupported:
       if (!in.always) raise(ErrorKind::not_supported, in.target.text);
-      for (const Diagnostic& w : warnings_)
-        if (w.detail == in.target.text) return;  // once per execution
-      Diagnostic w;
-      w.message = std::string(error_message(ErrorKind::not_supported));
-      w.detail = in.target.text;
-      w.warning = true;
-      w.program = current_program_->name;
-      w.file = current_program_->file;
-      w.line = in.line;
-      w.step = in.line - current_program_->line;
-      w.source_line = (*current_program_->text)[static_cast<std::size_t>(in.line - 1)];
-      warnings_.push_back(std::move(w));
+      return warn_once(in.target.text, in);
+    case Code::movet: case Code::movest: return motion(in);
+    case Code::hand: {
+      using motion::HandState;
+      const ast::Kw w = in.word;
+      const HandState h = w == ast::Kw::open || w == ast::Kw::openi     ? HandState::open
+                          : w == ast::Kw::close || w == ast::Kw::closei ? HandState::closed
+                                                                        : HandState::relaxed;
+      if (w == ast::Kw::open || w == ast::Kw::close || w == ast::Kw::relax) return sim_.request_hand(h);
+      return check_motion(sim_.hand_immediate(h, memory_.settings.hand_time_s));  // OPENI ...
+    }
+    case Code::wait: case Code::wait_event: return wait(in);
+    case Code::prompt: return prompt(in);
+    case Code::duration: {
+      const double t = to_real(eval(in.args[0]), "DURATION");
+      if (!(t >= 0)) raise(ErrorKind::illegal_value, fmt::format("DURATION {}", format_number(t)));
+      if (in.always) duration_always_ = t, duration_next_.reset();
+      else duration_next_ = t;
       return;
     }
+    case Code::enable: case Code::disable: case Code::parameter: return settings(in);
+    case Code::pause: case Code::halt:
+      finish_motion();  // PAUSE and HALT wait for the motion
+      throw PauseStop{in.code == Code::halt};
     case Code::case_init:
       f.temps[static_cast<std::size_t>(in.temp)] = to_real(eval(in.args[0]), "CASE value");
       return;
@@ -390,8 +389,12 @@ void Evaluator::call(const Instr& in) {
 }
 
 void Evaluator::finish_motion() {
-  if (!sim_.motion_pending()) return;
-  const motion::MotionResult r = sim_.finish_motion();
+  if (sim_.motion_pending()) check_motion(sim_.finish_motion());
+}
+
+// The motion that the simulator finished failed: contact stops the run, an error is reported
+// at the motion instruction.
+void Evaluator::check_motion(const motion::MotionResult& r) {
   if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
   if (r.status == motion::MotionStatus::error) {
     current_program_ = motion_program_;  // reported at the motion instruction
@@ -403,7 +406,7 @@ void Evaluator::finish_motion() {
 void Evaluator::motion(const Instr& in) {
   finish_motion();  // a motion instruction waits for the previous motion to end
   const bool straight = in.code == Code::moves || in.code == Code::appros || in.code == Code::departs
-      || in.code == Code::draw;
+      || in.code == Code::draw || in.code == Code::movest;
   std::optional<Value> target;
   switch (in.code) {
     case Code::ready: {  // the arm straight up: #PPOINT(0,-90,90,0,0,0)
@@ -450,6 +453,11 @@ void Evaluator::motion(const Instr& in) {
       break;
     }
     case Code::move: case Code::moves: target = eval(in.args[0]); break;
+    case Code::movet: case Code::movest: {  // the hand opens (h != 0) or closes when it starts
+      target = eval(in.args[0]);
+      sim_.request_hand(motion::movet_hand(to_real(eval(in.args[1]), "MOVET hand")));
+      break;
+    }
     case Code::appro: case Code::appros: {
       const Value loc = eval(in.args[0]);
       const double d = to_real(eval(in.args[1]), "APPRO distance");
@@ -463,8 +471,9 @@ void Evaluator::motion(const Instr& in) {
     }
   }
   MotionRequest m;
-  m.speed = {speed_monitor_, speed_next_.value_or(speed_always_)};
+  m.speed = {speed_monitor_, speed_next_.value_or(speed_always_), -1, duration_next_.value_or(duration_always_)};
   speed_next_.reset();
+  duration_next_.reset();
   m.straight = straight;
   m.program = current_program_;
   m.line = in.line;
@@ -492,50 +501,16 @@ void Evaluator::start_motion(const MotionRequest& m) {
 
 void Evaluator::type(const Instr& in) {
   bool newline = true;
-  const std::string text = format_items(in.formats, in.args, newline);
+  const std::string text = format_items(in.formats, eval_all(in.args), newline);
   out_ << text;
   if (newline) out_ << '\n';
 }
 
-// The text of TYPE / $ENCODE items; `newline` is cleared by /S.
-std::string Evaluator::format_items(const std::vector<ast::Format>& formats, const std::vector<Node>& values,
-                                    bool& newline) {
-  std::string text;
-  bool after_number = false;  // the previous item was a number in default format
-  ast::Format mode{'D', 0, 0};
-  std::size_t next = 0;
-  for (const ast::Format& item : formats) {
-    switch (item.code) {
-      case 0: {
-        const Value v = eval(values[next++]);
-        if (const auto* s = std::get_if<std::string>(&v)) {
-          text += *s;
-          after_number = false;
-          break;
-        }
-        const double x = to_real(v, "TYPE item");
-        if (mode.code == 'D') {
-          if (after_number) text += ' ';
-          text += format_number(x);
-          after_number = true;
-        } else {
-          // A value that rounds to zero prints without a sign (-0.00 -> 0.00).
-          const unsigned decimals = mode.code == 'F' ? std::min(mode.decimals, 15u) : 0u;
-          const double shown = std::fabs(x) < 0.5 * std::pow(10.0, -static_cast<double>(decimals)) ? 0.0 : x;
-          text += mode.code == 'F' ? fmt::format("{:>{}.{}f}", shown, mode.width, decimals)
-                                   : fmt::format("{:>{}.0f}", std::round(shown), mode.width);
-          after_number = false;
-        }
-        break;
-      }
-      case 'D': case 'F': case 'I': mode = item; break;
-      case 'X': text.append(item.width, ' '); after_number = false; break;
-      case 'C': text.append(item.width, '\n'); after_number = false; break;
-      case 'S': newline = false; break;
-      default: break;
-    }
-  }
-  return text;
+std::vector<Value> Evaluator::eval_all(const std::vector<Node>& nodes) {
+  std::vector<Value> values;
+  values.reserve(nodes.size());
+  for (const Node& n : nodes) values.push_back(eval(n));
+  return values;
 }
 
 motion::Location Evaluator::as_transformation(const Value& v) {
@@ -627,12 +602,12 @@ Value Evaluator::eval(const Node& n) {
     case NodeKind::binary: {
       const Value a = eval(n.kids[0]);  // both operands always: no short-circuit
       const Value b = eval(n.kids[1]);
-      return binary(n.op, a, b);
+      return apply_binary(n.op, a, b);
     }
     case NodeKind::function: return function(n);
     case NodeKind::encode: {
       bool newline = true;
-      std::string text = format_items(n.formats, n.kids, newline);
+      std::string text = format_items(n.formats, eval_all(n.kids), newline);
       if (text.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
       return text;
     }
@@ -666,6 +641,13 @@ Value Evaluator::function(const Node& n) {
     const Variable& v = variable(n.kids[0]);
     return v.elements.empty() ? -1.0 : static_cast<double>(v.elements.rbegin()->first[0]);
   }
+  if (n.func == Func::parameter) return parameter_value(n.kids[0].text, memory_.settings, sim_);
+  if (n.func == Func::switch_) return truth(switch_value(n.kids[0].text, memory_.settings, sim_));
+  if (n.func == Func::vplus) {
+    std::string name;
+    for (char c : n.text) name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    raise(ErrorKind::not_supported, name);
+  }
   if (n.func == Func::timer) {
     const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
     if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));
@@ -681,42 +663,77 @@ Value Evaluator::function(const Node& n) {
   return call_function(n.func, args, sim_);
 }
 
-Value Evaluator::binary(Op op, const Value& a, const Value& b) {
-  if (op == Op::compound) {
-    if (kind_of(a) != Kind::trans || kind_of(b) != Kind::trans)
-      raise(ErrorKind::illegal_value, "\":\" needs two transformations");
-    return motion::Location(std::get<motion::Location>(a) * std::get<motion::Location>(b));
+
+// --- waiting, terminal input, settings -------------------------------------------------------
+
+// WAIT cond: the clock advances tick by tick until cond holds (bare WAIT: one tick).
+// WAIT.EVENT , t: t seconds. Both wait for the motion first.
+void Evaluator::wait(const Instr& in) {
+  finish_motion();
+  if (in.code == Code::wait_event) {
+    const double t = to_real(eval(in.args[1]), "WAIT.EVENT time");
+    if (!(t >= 0)) raise(ErrorKind::illegal_value, fmt::format("WAIT.EVENT {}", format_number(t)));
+    return check_motion(sim_.wait(t));
   }
-  if (kind_of(a) == Kind::string || kind_of(b) == Kind::string) {
-    const std::string& x = to_string_value(a);
-    const std::string& y = to_string_value(b);
-    if (op == Op::add) {
-      if (x.size() + y.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
-      return x + y;
+  if (in.args.empty()) return check_motion(sim_.wait(limits_.tick_s));
+  const double give_up = sim_.time_s() + limits_.max_wait_s;
+  while (to_real(eval(in.args[0]), "WAIT condition") == 0) {
+    if (limits_.interrupt && limits_.interrupt->load(std::memory_order_relaxed)) {
+      --stack_.back().pc;  // as between steps: PROCEED waits again
+      raise(ErrorKind::interrupted);
     }
-    if (!is_relational(op)) raise(ErrorKind::illegal_value, fmt::format("\"{}\" on strings", op_text(op)));
-    return truth(compare(op, x, y));
+    if (sim_.time_s() >= give_up)
+      raise(ErrorKind::wait_limit, fmt::format("still false after {} s", format_number(limits_.max_wait_s)));
+    check_motion(sim_.wait(limits_.tick_s));
   }
-  const double x = to_real(a, op_text(op));
-  const double y = to_real(b, op_text(op));
-  switch (op) {
-    case Op::mul: return finite(x * y);
-    case Op::div:
-      if (y == 0) raise(ErrorKind::division_by_zero);
-      return finite(x / y);
-    case Op::mod:
-      if (y == 0) raise(ErrorKind::division_by_zero);
-      return finite(x - y * std::trunc(x / y));
-    case Op::add: return finite(x + y);
-    case Op::sub: return finite(x - y);
-    case Op::and_: return truth(x != 0 && y != 0);
-    case Op::or_: return truth(x != 0 || y != 0);
-    case Op::xor_: return truth((x != 0) != (y != 0));
-    case Op::band: return static_cast<double>(to_int32(x) & to_int32(y));
-    case Op::bor: return static_cast<double>(to_int32(x) | to_int32(y));
-    case Op::bxor: return static_cast<double>(to_int32(x) ^ to_int32(y));
-    default: return truth(compare(op, x, y));
+}
+
+// PROMPT text, variable: prints the text and reads one line into a string or a real.
+void Evaluator::prompt(const Instr& in) {
+  const std::string text = to_string_value(eval(in.args[0]));
+  std::istream& input = in_ ? *in_ : std::cin;
+  const bool string_target = in.target.text[0] == '$';
+  for (;;) {
+    out_ << text;
+    out_.flush();
+    std::string line;
+    if (!read_reply(input, line)) {
+      out_ << '\n';
+      raise(ErrorKind::illegal_value, "end of input at PROMPT");
+    }
+    if (!interactive_) out_ << '\n';  // the reply is not echoed: keep the output in lines
+    if (string_target) {
+      if (line.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
+      return store(in.target, line);
+    }
+    if (const auto v = parse_reply_number(line)) return store(in.target, *v);
+    if (!interactive_) raise(ErrorKind::illegal_value, fmt::format("\"{}\" is not a number", line));
   }
+}
+
+// PARAMETER name = value, ENABLE / DISABLE switch, ...
+void Evaluator::settings(const Instr& in) {
+  if (in.code == Code::parameter)
+    return set_parameter(in.target.text, to_real(eval(in.args[0]), "PARAMETER value"), memory_.settings, sim_);
+  for (const Node& n : in.args)
+    if (!set_switch(n.text, in.code == Code::enable, memory_.settings, sim_))
+      warn_once((in.code == Code::enable ? "ENABLE " : "DISABLE ") + n.text, in);
+}
+
+// A V+ construct that the simulation ignores (dialect §7): one warning per execution.
+void Evaluator::warn_once(const std::string& keyword, const Instr& in) {
+  for (const Diagnostic& w : warnings_)
+    if (w.detail == keyword) return;
+  Diagnostic w;
+  w.message = std::string(error_message(ErrorKind::not_supported));
+  w.detail = keyword;
+  w.warning = true;
+  w.program = current_program_->name;
+  w.file = current_program_->file;
+  w.line = in.line;
+  w.step = in.line - current_program_->line;
+  w.source_line = (*current_program_->text)[static_cast<std::size_t>(in.line - 1)];
+  warnings_.push_back(std::move(w));
 }
 
 }  // namespace asimov::val

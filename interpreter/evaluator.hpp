@@ -4,6 +4,7 @@
 #include "interpreter/checker.hpp"
 #include "interpreter/code.hpp"
 #include "interpreter/interpreter.hpp"
+#include "interpreter/settings.hpp"
 #include "interpreter/values.hpp"
 #include <array>
 #include <deque>
@@ -26,6 +27,7 @@ struct Memory {
   std::vector<std::string> load_order;                     // program names as first loaded
   std::set<int> signals;                                   // digital signals that are on
   std::array<std::pair<double, double>, 17> timers{};      // TIMER n: value set, clock then [s]
+  Settings settings;                                       // PARAMETER, ENABLE / DISABLE
 };
 
 class Evaluator {
@@ -37,6 +39,8 @@ class Evaluator {
   bool can_resume() const;
   RunResult resume(bool retry);
   void abort();
+  // PROMPT's input (null: std::cin).
+  void set_input(std::istream* in, bool interactive) { in_ = in, interactive_ = interactive; }
 
  private:
   struct Frame {
@@ -64,6 +68,8 @@ class Evaluator {
     double speed_always = 100;
     std::optional<double> speed_next;
     std::optional<MotionRequest> motion;
+    double duration_always = 0;
+    std::optional<double> duration_next;
   };
 
   // The one protected boundary: runs `setup` then the loop; raises become the result.
@@ -73,13 +79,16 @@ class Evaluator {
   void call(const Instr& in);
   void motion(const Instr& in);
   void type(const Instr& in);
-  std::string format_items(const std::vector<ast::Format>& formats, const std::vector<Node>& values,
-                           bool& newline);
+  std::vector<Value> eval_all(const std::vector<Node>& nodes);
   void finish_motion();
+  void check_motion(const motion::MotionResult& r);  // a failed finish: collision or error
+  void wait(const Instr& in);
+  void prompt(const Instr& in);
+  void settings(const Instr& in);
+  void warn_once(const std::string& keyword, const Instr& in);
 
   motion::Location as_transformation(const Value& v);
   Value eval(const Node& n);
-  Value binary(ast::Op op, const Value& a, const Value& b);
   Value function(const Node& n);
   int signal_number(const Node& n, bool output);
   Variable& variable(const Node& n);
@@ -100,6 +109,10 @@ class Evaluator {
   double speed_always_ = 100;                 // SPEED ... ALWAYS
   std::optional<double> speed_next_;          // SPEED for the next motion only
   double speed_monitor_ = 100;
+  double duration_always_ = 0;                // DURATION ... ALWAYS [s]; 0 = off
+  std::optional<double> duration_next_;       // DURATION for the next motion only
+  std::istream* in_ = nullptr;                // PROMPT input (null: std::cin)
+  bool interactive_ = false;                  // PROMPT asks again on bad input
   std::uint64_t statements_ = 0;
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
   std::optional<MotionRequest> last_motion_;  // the last motion started

@@ -12,7 +12,7 @@
 namespace asimov::val {
 namespace {
 
-constexpr std::array<FunctionInfo, 45> kFunctions = {{
+constexpr std::array<FunctionInfo, 48> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -24,9 +24,13 @@ constexpr std::array<FunctionInfo, 45> kFunctions = {{
     {"shift", 4, 4},    {"tool", 0, 0},     {"base", 0, 0},    {"len", 1, 1},
     {"$chr", 1, 1},     {"asc", 1, 2},      {"val", 1, 1},     {"defined", 1, 1},
     {"sig", 1, -1},     {"timer", 1, 1},    {"$mid", 3, 3},    {"last", 1, 1},
-    {"frame", 4, 4},
+    {"frame", 4, 4},    {"parameter", 1, 1}, {"switch", 1, 1},  {"", 0, -1},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
+
+// Dialect §7: functions that load, and stop the program with *Not supported in simulation*.
+constexpr std::string_view kVplusFunctions[] = {"getc", "iostat", "$lngb", "lngb", "$fltb", "fltb",
+                                                "$intb", "intb", "$decode", "error", "$error", "task"};
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
@@ -59,6 +63,8 @@ const FunctionInfo& function_info(Func f) { return kFunctions[static_cast<std::s
 
 std::optional<Func> find_function(std::string_view name) {
   if (name == "ppoint") name = "#ppoint";  // [ext]
+  for (std::string_view v : kVplusFunctions)
+    if (v == name) return Func::vplus;
   for (std::size_t i = 0; i < kFunctions.size(); ++i)
     if (kFunctions[i].name == name) return static_cast<Func>(i);
   return std::nullopt;
@@ -199,7 +205,10 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       t.translation() = as_pose(arg(args, 3), sim).translation();
       return t;
     }
-    case Func::defined:  // DEFINED, SIG, TIMER, LAST: the evaluator (they need its state)
+    case Func::defined:  // DEFINED, SIG, TIMER, LAST...: the evaluator (they need its state)
+    case Func::parameter:
+    case Func::switch_:
+    case Func::vplus:
     case Func::last:
     case Func::sig:
     case Func::timer:

@@ -41,10 +41,20 @@ struct Interpreter::Impl {
   Memory memory;
   Limits limits;
   std::unique_ptr<Evaluator> evaluator;  // kept between runs: the monitor speed persists
+  std::istream* input = nullptr;         // PROMPT (null: std::cin)
+  bool interactive = false;
+
+  Evaluator& eval() {
+    if (!evaluator) {
+      evaluator = std::make_unique<Evaluator>(sim, out, memory, limits);
+      evaluator->set_input(input, interactive);
+    }
+    return *evaluator;
+  }
 };
 
 Interpreter::Interpreter(motion::Simulator& sim, std::ostream& out)
-    : impl_(std::make_unique<Impl>(Impl{sim, out, {}, {}, {}})) {}
+    : impl_(std::make_unique<Impl>(Impl{sim, out, {}, {}, {}, nullptr, false})) {}
 
 Interpreter::~Interpreter() = default;
 
@@ -58,7 +68,7 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   all.insert(all.end(), checked.errors.begin(), checked.errors.end());
   std::stable_sort(all.begin(), all.end(), [](const Diagnostic& a, const Diagnostic& b) { return a.line < b.line; });
   if (all.size() > kMaxLoadErrors) all.resize(kMaxLoadErrors);
-  if (!all.empty()) return all;  // nothing is loaded
+  if (!all.empty()) return all;  // nothing is loaded (the checker reports errors only)
   m.programs.resize(m.symbols.programs.size());
   m.globals.resize(m.symbols.globals.size());
   for (DataItem& item : checked.data) {  // globals of the same name are replaced
@@ -72,11 +82,30 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
       v.scalar = std::move(item.value);
     }
   }
+  std::vector<int> installed;  // program slots of this load
   for (Program& p : checked.programs) {
     const int slot = m.symbols.program(p.name);
+    installed.push_back(slot);
     m.programs.resize(m.symbols.programs.size());
     if (!m.programs[static_cast<std::size_t>(slot)]) m.load_order.push_back(p.name);
     m.programs[static_cast<std::size_t>(slot)] = std::make_shared<const Program>(std::move(p));
+  }
+  // A CALL to a program that nothing loaded is a warning now, an error when it executes.
+  for (int slot : installed) {
+    const auto& p = m.programs[static_cast<std::size_t>(slot)];
+    for (const Instr& in : p->code) {
+      if (in.code != Code::call || m.programs[static_cast<std::size_t>(in.program)]) continue;
+      Diagnostic d;
+      d.message = "*Undefined program or variable name*";
+      d.detail = m.symbols.programs[static_cast<std::size_t>(in.program)];
+      d.file = p->file;
+      d.line = in.line;
+      d.program = p->name;
+      d.step = in.line - p->line;
+      d.source_line = (*p->text)[static_cast<std::size_t>(in.line - 1)];
+      d.warning = true;
+      all.push_back(std::move(d));
+    }
   }
   return all;
 }
@@ -107,22 +136,25 @@ RunResult Interpreter::run(const std::string& name) {
   Memory& m = impl_->memory;
   const int slot = m.symbols.program(normalize_name(name));
   m.programs.resize(m.symbols.programs.size());
-  if (!impl_->evaluator) impl_->evaluator = std::make_unique<Evaluator>(impl_->sim, impl_->out, m, impl_->limits);
-  return impl_->evaluator->run(slot);
+  return impl_->eval().run(slot);
 }
 
 Limits& Interpreter::limits() { return impl_->limits; }
 
+void Interpreter::set_input(std::istream& in, bool interactive) {
+  impl_->input = &in;
+  impl_->interactive = interactive;
+  if (impl_->evaluator) impl_->evaluator->set_input(&in, interactive);
+}
+
 bool Interpreter::can_resume() const { return impl_->evaluator && impl_->evaluator->can_resume(); }
 
 RunResult Interpreter::proceed() {
-  if (!impl_->evaluator) impl_->evaluator = std::make_unique<Evaluator>(impl_->sim, impl_->out, impl_->memory, impl_->limits);
-  return impl_->evaluator->resume(false);
+  return impl_->eval().resume(false);
 }
 
 RunResult Interpreter::retry() {
-  if (!impl_->evaluator) impl_->evaluator = std::make_unique<Evaluator>(impl_->sim, impl_->out, impl_->memory, impl_->limits);
-  return impl_->evaluator->resume(true);
+  return impl_->eval().resume(true);
 }
 
 void Interpreter::abort() {

@@ -28,7 +28,13 @@ struct Diagnostic {
 // Formats a diagnostic in the VAL style of dialect §10 (message, location, source, caret).
 std::string format_diagnostic(const Diagnostic& d);
 
-enum class RunStatus { completed, error, collision };
+struct RunResult;
+// "Program paused: name, step n" / "Program halted: name, step n" (no newline) for a run
+// that ended in PAUSE or HALT; empty for any other status.
+std::string format_pause(const RunResult& r);
+
+// paused: PAUSE (PROCEED continues with the next step); halted: HALT (cannot be resumed).
+enum class RunStatus { completed, error, collision, paused, halted };
 
 struct RunResult {
   RunStatus status = RunStatus::completed;
@@ -44,6 +50,8 @@ struct Limits {
   std::uint64_t max_statements = 100'000'000;  // executed statements per run
   int max_call_depth = 1000;
   const std::atomic<bool>* interrupt = nullptr;  // set (Ctrl-C): the run stops between steps
+  double tick_s = 0.016;          // WAIT: the clock advances by ticks [s]
+  double max_wait_s = 3600;       // WAIT: simulated seconds before *Wait limit exceeded*
 };
 
 class Interpreter {
@@ -64,6 +72,10 @@ class Interpreter {
   RunResult run(const std::string& name);
 
   Limits& limits();
+
+  // Where PROMPT reads its replies (default std::cin). `interactive` (a terminal): bad input
+  // asks again; otherwise bad input or the end of input is an *Illegal value*.
+  void set_input(std::istream& in, bool interactive);
 
   // The execution that the last error or collision stopped (dialect §9). PROCEED skips the
   // failing step (after a collision: drops the interrupted motion and re-runs the step that

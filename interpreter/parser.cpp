@@ -20,7 +20,7 @@ BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Unary, op, operand)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Operation, op, operand)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Expr, first, rest)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Call, name, args)
-BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Instruction, kw, args, trailing)
+BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Instruction, kw, args, units, trailing)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::Binding, kw, target, value)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::ForStmt, var, from, to, step)
 BOOST_FUSION_ADAPT_STRUCT(asimov::val::ast::IfStmt, cond, goto_label)
@@ -62,7 +62,9 @@ constexpr std::string_view kReserved[] = {
     "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
     "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
     "auto", "local", "global", "elseif", "elif", "ready", "draw", "righty", "lefty", "above",
-    "below", "flip", "noflip", "single", "multiple", "signal", "timer", "align", "drive"};
+    "below", "flip", "noflip", "single", "multiple", "signal", "timer", "align", "drive", "wait",
+    "prompt", "open", "close", "relax", "openi", "closei", "relaxi", "movet", "movest",
+    "duration", "enable", "disable", "parameter", "switch"};
 
 bool is_reserved(const std::string& word) {
   std::string lower = word;
@@ -120,7 +122,11 @@ struct instruction_table : x3::symbols<Kw> {
        ("righty", Kw::righty)("lefty", Kw::lefty)("above", Kw::above)("below", Kw::below)
        ("flip", Kw::flip)("noflip", Kw::noflip)("single", Kw::single)("multiple", Kw::multiple)
        (".locations", Kw::dot_locations)(".reals", Kw::dot_reals)(".strings", Kw::dot_strings)
-       ("signal", Kw::signal)("align", Kw::align)("drive", Kw::drive);
+       ("signal", Kw::signal)("align", Kw::align)("drive", Kw::drive)("wait", Kw::wait)
+       ("wait.event", Kw::wait_event)("prompt", Kw::prompt)("open", Kw::open)("close", Kw::close)
+       ("relax", Kw::relax)("openi", Kw::openi)("closei", Kw::closei)("relaxi", Kw::relaxi)
+       ("movet", Kw::movet)("movest", Kw::movest)("duration", Kw::duration)
+       ("enable", Kw::enable)("disable", Kw::disable);
   }
 } const instruction_words;
 
@@ -129,6 +135,10 @@ struct trailing_table : x3::symbols<Kw> {
     add("always", Kw::always)("monitor", Kw::monitor)("do", Kw::do_)("then", Kw::then)("of", Kw::of);
   }
 } const trailing_words;
+
+struct unit_table : x3::symbols<Kw> {
+  unit_table() { add("mmps", Kw::mmps)("ips", Kw::ips); }
+} const unit_words;
 
 struct declaration_table : x3::symbols<Kw> {
   declaration_table() { add("auto", Kw::auto_)("local", Kw::local)("global", Kw::global); }
@@ -142,7 +152,7 @@ struct type_word_table : x3::symbols<x3::unused_type> {
 struct unsupported_table : x3::symbols<x3::unused_type> {
   unsupported_table() {
     for (const char* w : {"attach", "detach", "fopen", "fclose", "fcmnd", "read", "write", "select",
-                          "wait.event", "set.event", "clear.event", "execute", "abort", "kill",
+                          "set.event", "clear.event", "execute", "abort", "kill",
                           "cycle.end", "lock", "priority", "react", "reacti", "reacte", "ignore",
                           "teach", "calls", "accel"})
       add(w);
@@ -150,7 +160,7 @@ struct unsupported_table : x3::symbols<x3::unused_type> {
 } const unsupported_words;
 
 struct binding_table : x3::symbols<Kw> {
-  binding_table() { add("set", Kw::set)("decompose", Kw::decompose); }
+  binding_table() { add("set", Kw::set)("decompose", Kw::decompose)("parameter", Kw::parameter); }
 } const binding_words;
 
 // Function words that need no parentheses.
@@ -248,13 +258,13 @@ const auto variable_def = var_name >> -subscript;
 const auto mark_whole_array = [](auto& ctx) { x3::_val(ctx).resize(1); };
 const auto subscript_def = '[' > ((&x3::lit(']'))[mark_whole_array] | (expression % ',')) > ']';
 
-// instruction = KEYWORD [ optional_expression { "," optional_expression } ]
+// instruction = KEYWORD [ optional_expression { "," optional_expression } ] [ MMPS | IPS ]
 //               [ ALWAYS | MONITOR | DO | THEN | OF ] [ ":" ]
 const auto instruction_def = word_of(instruction_words) >> -(optional_expression % ',')
-    >> -word_of(trailing_words) >> x3::omit[-x3::lit(':')];
+    >> -word_of(unit_words) >> -word_of(trailing_words) >> x3::omit[-x3::lit(':')];
 // optional_expression = [ expression ]    (omitted: a Nil operand)
 const auto optional_expression_def = expression | x3::attr(ast::Expr());
-// assignment = ( SET | DECOMPOSE ) variable "=" expression | variable "=" expression
+// assignment = ( SET | DECOMPOSE | PARAMETER ) variable "=" expression | variable "=" expression
 const auto binding_def = (word_of(binding_words) > variable > '=' > expression)
     | (x3::attr(Kw::assign) >> variable >> '=' > expression);
 // for = FOR variable "=" expression TO expression [ STEP expression ]

@@ -60,6 +60,7 @@ struct Simulator::Impl {
   std::vector<TraceSample> trace;
   collision::StepCounts counts;
   std::optional<collision::Engine> engine;
+  bool engine_built = false;                 // build_engine() ran (engine empty: no enabled pair)
   std::vector<collision::BodyId> link_ids;  // per robot body (index into cell.robot.bodies)
   std::optional<collision::BodyId> tool_id;
   std::vector<robots::BodyReach> reach;      // robot bodies (index = body index), then the tool
@@ -104,6 +105,7 @@ struct Simulator::Impl {
   Location here_at(const JointVector& q) const { return base * robots::flange_pose(cell.robot, q) * tool; }
 
   void build_engine() {
+    engine_built = true;
     const auto& robot = cell.robot;
     collision::Engine e;
     std::unordered_map<std::string, collision::BodyId> by_name;
@@ -165,7 +167,7 @@ struct Simulator::Impl {
 
   // Checks the arm at `q`; fills `report` on contact.
   bool collides(const JointVector& q, CollisionReport& report) {
-    if (!engine) return false;
+    if (!engine || !cell.collision.enabled) return false;
     robots::link_frames(cell.robot, q, frames);
     const auto& bodies = cell.robot.bodies;
     for (std::size_t i = 0; i < bodies.size(); ++i)
@@ -344,6 +346,26 @@ MotionResult Simulator::hand_immediate(HandState state, double hand_time_s) {
   if (hand_time_s > 0) impl_->time += hand_time_s;
   return {};
 }
+
+MotionResult Simulator::wait(double seconds) {
+  if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
+  if (seconds > 0) impl_->time += seconds;
+  return {};
+}
+
+void Simulator::set_collision_enabled(bool on) {
+  impl_->cell.collision.enabled = on;
+  if (on && !impl_->engine_built) impl_->build_engine();
+}
+
+bool Simulator::collision_enabled() const { return impl_->cell.collision.enabled; }
+
+void Simulator::set_clearance(double clearance_mm) {
+  impl_->cell.collision.clearance_mm = clearance_mm;
+  if (impl_->engine) impl_->engine->set_clearance(clearance_mm);
+}
+
+double Simulator::clearance_mm() const { return impl_->cell.collision.clearance_mm; }
 
 HandState Simulator::hand() const { return impl_->hand; }
 bool Simulator::hand_pending() const { return impl_->hand_request.has_value(); }

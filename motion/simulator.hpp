@@ -88,6 +88,15 @@ class Simulator {
   MotionResult hand_immediate(HandState state, double hand_time_s = kDefaultHandTime);
   HandState hand() const;
   bool hand_pending() const;
+  // WAIT / WAIT.EVENT: finishes the pending motion (its failure is returned, the clock then
+  // untouched), then advances the clock by `seconds` (negative: 0) without motion.
+  MotionResult wait(double seconds);
+  // ENABLE / DISABLE COLLISION and PARAMETER COLLISION.CLEARANCE at run time (dialect §6):
+  // the cell's settings, applied from the next checked pose.
+  void set_collision_enabled(bool on);
+  bool collision_enabled() const;
+  void set_clearance(double clearance_mm);
+  double clearance_mm() const;
   // INRANGE: 0 reachable within limits in the requested configuration, 1 out of reach, 2 a joint
   // limit in the way (same IK as a joint motion to `target`).
   int inrange(const Location& target) const;

@@ -41,7 +41,13 @@ TEST_CASE("program names: load order, any case, replacement", "[interpreter]") {
 
 TEST_CASE("a CALL to a program loaded later resolves at run time", "[interpreter]") {
   InterpreterFixture f;
-  REQUIRE(f.load(".PROGRAM main()\nCALL later()\n.END\n").empty());
+  const auto diags = f.load(".PROGRAM main()\nCALL later()\n.END\n");
+  REQUIRE(diags.size() == 1);  // a warning at load time, an error when the CALL runs
+  CHECK(diags[0].warning);
+  CHECK(diags[0].message == "*Undefined program or variable name*");
+  CHECK(diags[0].detail == "later");
+  CHECK(diags[0].step == 1);
+  CHECK(f.interp.has_program("main"));
   auto r = f.interp.run("main");
   REQUIRE(r.status == RunStatus::error);
   CHECK(r.error.message == "*Undefined program or variable name*");

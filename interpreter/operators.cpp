@@ -1,0 +1,87 @@
+#include "interpreter/operators.hpp"
+
+#include "interpreter/errors.hpp"
+#include "interpreter/limits.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <iterator>
+
+namespace asimov::val {
+
+using ast::Op;
+
+namespace {
+
+std::int32_t to_int32(double x) {
+  const double t = std::trunc(x);
+  if (!(t >= -2147483648.0 && t <= 2147483647.0))
+    raise(ErrorKind::illegal_value, fmt::format("{} is not a 32-bit integer", format_number(x)));
+  return static_cast<std::int32_t>(t);
+}
+
+template <typename T>
+bool compare(Op op, const T& a, const T& b) {
+  switch (op) {
+    case Op::eq: return a == b;
+    case Op::ne: return a != b;
+    case Op::lt: return a < b;
+    case Op::gt: return a > b;
+    case Op::le: return a <= b;
+    case Op::ge: return a >= b;
+    default: return false;
+  }
+}
+
+bool is_relational(Op op) { return op >= Op::eq && op <= Op::ge; }
+
+}  // namespace
+
+const char* op_text(Op op) {
+  static constexpr const char* kText[] = {"-", "+", "NOT", "*", "/", "MOD", "+", "-", "==", "<>", "<",
+                                          ">", "<=", ">=", "AND", "BAND", "OR", "XOR", "BOR", "BXOR", ":"};
+  static_assert(std::size(kText) == static_cast<std::size_t>(Op::count));
+  return kText[static_cast<std::size_t>(op)];
+}
+
+Value apply_binary(Op op, const Value& a, const Value& b) {
+  if (op == Op::compound) {
+    if (kind_of(a) != Kind::trans || kind_of(b) != Kind::trans)
+      raise(ErrorKind::illegal_value, "\":\" needs two transformations");
+    return motion::Location(std::get<motion::Location>(a) * std::get<motion::Location>(b));
+  }
+  if (kind_of(a) == Kind::string || kind_of(b) == Kind::string) {
+    const std::string& x = to_string_value(a);
+    const std::string& y = to_string_value(b);
+    if (op == Op::add) {
+      if (x.size() + y.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
+      return x + y;
+    }
+    if (!is_relational(op)) raise(ErrorKind::illegal_value, fmt::format("\"{}\" on strings", op_text(op)));
+    return truth(compare(op, x, y));
+  }
+  const double x = to_real(a, op_text(op));
+  const double y = to_real(b, op_text(op));
+  switch (op) {
+    case Op::mul: return finite(x * y);
+    case Op::div:
+      if (y == 0) raise(ErrorKind::division_by_zero);
+      return finite(x / y);
+    case Op::mod:
+      if (y == 0) raise(ErrorKind::division_by_zero);
+      return finite(x - y * std::trunc(x / y));
+    case Op::add: return finite(x + y);
+    case Op::sub: return finite(x - y);
+    case Op::and_: return truth(x != 0 && y != 0);
+    case Op::or_: return truth(x != 0 || y != 0);
+    case Op::xor_: return truth((x != 0) != (y != 0));
+    case Op::band: return static_cast<double>(to_int32(x) & to_int32(y));
+    case Op::bor: return static_cast<double>(to_int32(x) | to_int32(y));
+    case Op::bxor: return static_cast<double>(to_int32(x) ^ to_int32(y));
+    default: return truth(compare(op, x, y));
+  }
+}
+
+}  // namespace asimov::val

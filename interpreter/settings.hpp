@@ -1,0 +1,22 @@
+// Settings of dialect §6: PARAMETER name = value / PARAMETER(name), and ENABLE / DISABLE /
+// SWITCH(name). Names are given in upper case; an unknown one is an *Illegal value*.
+#pragma once
+#include "motion/simulator.hpp"
+#include <string>
+
+namespace asimov::val {
+
+// What the interpreter keeps between runs (the simulator holds the collision settings).
+struct Settings {
+  double hand_time_s = motion::kDefaultHandTime;  // PARAMETER HAND.TIME [s]
+  bool cp = true;                                 // ENABLE CP: accepted, no effect
+};
+
+double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim);
+void set_parameter(const std::string& name, double value, Settings& s, motion::Simulator& sim);
+
+bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim);
+// False for the switches V+ has and the simulation ignores with a warning (SCALE.ACCEL, §7).
+bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim);
+
+}  // namespace asimov::val

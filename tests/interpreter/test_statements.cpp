@@ -1,0 +1,212 @@
+// Statements added for the whole dialect: PAUSE / HALT, WAIT / WAIT.EVENT, PROMPT, PARAMETER,
+// ENABLE / DISABLE / SWITCH, hand (OPEN ... RELAXI, MOVET), DURATION, and the §7 constructs
+// (SPEED ... MMPS, GETC ...). Each runs a program and checks its TYPE output or its error.
+#include "interpreter_fixture.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+using asimov::test::InterpreterFixture;
+using asimov::val::RunStatus;
+
+namespace {
+
+std::string program(const std::string& body) { return ".PROGRAM main()\n" + body + "\n.END\n"; }
+
+// Runs `body` as `main`; the output, or the error message and detail after "ERROR ".
+std::string outcome(const std::string& body, const std::string& input = "", bool interactive = false) {
+  InterpreterFixture f;
+  std::istringstream in(input);
+  f.interp.set_input(in, interactive);
+  f.interp.limits().max_wait_s = 2;
+  const auto r = f.run(program(body));
+  INFO(f.load_report);
+  REQUIRE(f.loaded);
+  if (r.status == RunStatus::error) return f.out.str() + "ERROR " + r.error.message + " " + r.error.detail;
+  REQUIRE(r.status == RunStatus::completed);
+  return f.out.str();
+}
+
+}  // namespace
+
+TEST_CASE("PAUSE stops with a paused status; PROCEED continues with the next step", "[statements]") {
+  InterpreterFixture f;
+  auto r = f.run(".PROGRAM main()\n  TYPE \"a\"\n  CALL sub()\n  TYPE \"c\"\n.END\n"
+                 ".PROGRAM sub()\n  PAUSE\n  TYPE \"b\"\n.END\n");
+  REQUIRE(f.loaded);
+  CHECK(r.status == RunStatus::paused);
+  CHECK(r.program == "sub");
+  CHECK(r.step == 1);
+  CHECK(asimov::val::format_pause(r) == "Program paused: sub, step 1");
+  CHECK(f.out.str() == "a\n");
+  REQUIRE(f.interp.can_resume());
+  r = f.interp.proceed();
+  CHECK(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "a\nb\nc\n");
+  CHECK_FALSE(f.interp.can_resume());
+}
+
+TEST_CASE("PAUSE waits for the motion; RETRY after PAUSE does not run PAUSE again", "[statements]") {
+  InterpreterFixture f;
+  auto r = f.run(program("  MOVE #PPOINT(10, -80, 100, 0, 20, 30)\n  PAUSE\n  TYPE \"after\""));
+  REQUIRE(r.status == RunStatus::paused);
+  CHECK_FALSE(f.sim.motion_pending());
+  CHECK(f.sim.time_s() > 0);
+  r = f.interp.retry();
+  CHECK(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "after\n");
+}
+
+TEST_CASE("HALT stops and cannot be resumed", "[statements]") {
+  InterpreterFixture f;
+  auto r = f.run(program("  TYPE \"a\"\n  HALT\n  TYPE \"b\""));
+  CHECK(r.status == RunStatus::halted);
+  CHECK(asimov::val::format_pause(r) == "Program halted: main, step 2");
+  CHECK_FALSE(f.interp.can_resume());
+  r = f.interp.proceed();
+  CHECK(r.error.message == "*No program to resume*");
+  CHECK(f.out.str() == "a\n");
+}
+
+TEST_CASE("STOP ends the execution from inside a CALL", "[statements]") {
+  InterpreterFixture f;
+  auto r = f.run(".PROGRAM main()\n  CALL sub()\n  TYPE \"not here\"\n.END\n.PROGRAM sub()\n  TYPE \"s\"\n  STOP\n.END\n");
+  CHECK(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "s\n");
+}
+
+TEST_CASE("WAIT advances the clock tick by tick; WAIT.EVENT , t waits t seconds", "[statements]") {
+  CHECK(outcome("TIMER 1 = 0\nWAIT TIMER(1) >= 0.5\nTYPE TIMER(1) >= 0.5, TIMER(1) < 0.5161") == "-1 -1\n");
+  CHECK(outcome("TIMER 2 = 10\nWAIT\nTYPE TIMER(2)") == "10.016\n");
+  CHECK(outcome("TIMER 3 = 0\nWAIT.EVENT , 1.5\nTYPE TIMER(3)") == "1.5\n");
+  CHECK(outcome("SIGNAL 2001\nWAIT SIG(2001)\nTYPE \"at once\"") == "at once\n");
+  CHECK(outcome("WAIT SIG(1001)") == "ERROR *Wait limit exceeded* still false after 2 s");
+  CHECK(outcome("WAIT.EVENT 1, 2") == "ERROR *Not supported in simulation* WAIT.EVENT");
+  CHECK(outcome("WAIT.EVENT , -1") == "ERROR *Illegal value* WAIT.EVENT -1");
+  CHECK(outcome("WAIT \"x\"") == "ERROR *Illegal value* WAIT condition, not a string");
+}
+
+TEST_CASE("WAIT waits for the motion first", "[statements]") {
+  InterpreterFixture f;
+  const auto r = f.run(program("  TIMER 1 = 0\n  MOVE #PPOINT(10, -80, 100, 0, 20, 30)\n  WAIT\n  TYPE TIMER(1) > 0.016"));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK_FALSE(f.sim.motion_pending());
+  CHECK(f.out.str() == "-1\n");
+}
+
+TEST_CASE("PROMPT reads a line into a string or a real", "[statements]") {
+  CHECK(outcome("PROMPT \"Name? \", $n\nPROMPT \"Count? \", n\nTYPE $n, \" \", n * 2", "Ada Lovelace\n 21 \n")
+        == "Name? \nCount? \nAda Lovelace 42\n");
+  CHECK(outcome("PROMPT \"n? \", a[3]\nTYPE a[3]", "-1.5e2\r\n") == "n? \n-150\n");
+  CHECK(outcome("PROMPT \"n? \", n", "abc\n") == "n? \nERROR *Illegal value* \"abc\" is not a number");
+  CHECK(outcome("PROMPT \"n? \", n", "inf\n") == "n? \nERROR *Illegal value* \"inf\" is not a number");
+  CHECK(outcome("PROMPT \"n? \", n", "") == "n? \nERROR *Illegal value* end of input at PROMPT");
+  // Interactive: bad input asks again, the reply is not followed by a newline of ours.
+  CHECK(outcome("PROMPT \"n? \", n\nTYPE n", "x\n5\n", true) == "n? n? 5\n");
+}
+
+TEST_CASE("PROMPT is checked at load time", "[statements]") {
+  InterpreterFixture f;
+  CHECK_FALSE(f.load(program("PROMPT \"n? \"")).empty());
+  CHECK_FALSE(f.load(program("PROMPT \"n? \", 1 + 2")).empty());
+  CHECK_FALSE(f.load(program("PROMPT 5, n")).empty());
+}
+
+TEST_CASE("PARAMETER sets and reads HAND.TIME and COLLISION.CLEARANCE", "[statements]") {
+  CHECK(outcome("TYPE PARAMETER(HAND.TIME), PARAMETER(collision.clearance)") == "0.05 0\n");
+  CHECK(outcome("PARAMETER HAND.TIME = 0.25\nTIMER 1 = 0\nCLOSEI\nTYPE TIMER(1), PARAMETER(HAND.TIME)") == "0.25 0.25\n");
+  CHECK(outcome("PARAMETER COLLISION.CLEARANCE = 5\nTYPE PARAMETER(COLLISION.CLEARANCE)") == "5\n");
+  CHECK(outcome("PARAMETER SPEED.X = 1") == "ERROR *Illegal value* unknown parameter SPEED.X");
+  CHECK(outcome("PARAMETER HAND.TIME = -1") == "ERROR *Illegal value* HAND.TIME = -1");
+  CHECK(outcome("TYPE PARAMETER(nothing)") == "ERROR *Illegal value* unknown parameter NOTHING");
+}
+
+TEST_CASE("ENABLE, DISABLE and SWITCH", "[statements]") {
+  CHECK(outcome("TYPE SWITCH(CP), SWITCH(COLLISION)") == "-1 -1\n");
+  CHECK(outcome("DISABLE CP, COLLISION\nTYPE SWITCH(CP), SWITCH(COLLISION)\nENABLE COLLISION\nTYPE SWITCH(COLLISION)")
+        == "0 0\n-1\n");
+  CHECK(outcome("ENABLE FOO") == "ERROR *Illegal value* unknown switch FOO");
+  CHECK(outcome("TYPE SWITCH(BAR)") == "ERROR *Illegal value* unknown switch BAR");
+  InterpreterFixture f;
+  const auto r = f.run(program("ENABLE SCALE.ACCEL\nTYPE \"ok\""));
+  CHECK(r.status == RunStatus::completed);
+  REQUIRE(r.warnings.size() == 1);
+  CHECK(r.warnings[0].detail == "ENABLE SCALE.ACCEL");
+  CHECK_FALSE(f.load(program("ENABLE 3")).empty());
+}
+
+TEST_CASE("the settings persist between runs", "[statements]") {
+  InterpreterFixture f;
+  f.run(program("DISABLE COLLISION\nPARAMETER HAND.TIME = 1"));
+  REQUIRE(f.interp.run("main").status == RunStatus::completed);
+  CHECK_FALSE(f.sim.collision_enabled());
+  f.load(".PROGRAM show()\nTYPE SWITCH(COLLISION), PARAMETER(HAND.TIME)\n.END\n");
+  f.interp.run("show");
+  CHECK(f.out.str() == "0 1\n");
+}
+
+TEST_CASE("OPEN, CLOSE, RELAX wait for the next motion; OPENI ... act at once", "[statements]") {
+  using asimov::motion::HandState;
+  InterpreterFixture f;
+  auto r = f.run(program("CLOSE"));
+  CHECK(f.sim.hand() == HandState::open);
+  CHECK(f.sim.hand_pending());
+  r = f.run(program("CLOSE\nMOVE #PPOINT(10, -80, 100, 0, 20, 30)"));
+  CHECK(f.sim.hand() == HandState::closed);
+  r = f.run(program("TIMER 1 = 0\nRELAXI\nTYPE TIMER(1)"));
+  CHECK(f.sim.hand() == HandState::relaxed);
+  r = f.run(program("OPENI"));
+  CHECK(f.sim.hand() == HandState::open);
+  r = f.run(program("CLOSEI"));
+  CHECK(f.sim.hand() == HandState::closed);
+  r = f.run(program("RELAX\nOPEN\nMOVE #PPOINT(0, -80, 100, 0, 20, 30)"));  // the later request wins
+  CHECK(f.sim.hand() == HandState::open);
+  CHECK(f.out.str() == "0.05\n");
+  CHECK_FALSE(f.load(program("OPEN 1")).empty());
+}
+
+TEST_CASE("MOVET and MOVEST set the hand when the motion starts", "[statements]") {
+  using asimov::motion::HandState;
+  InterpreterFixture f;
+  auto r = f.run(program("MOVET #PPOINT(10, -80, 100, 0, 20, 30), 0\nBREAK\nHERE p\nMOVEST p, 1\nBREAK\nMOVET p, 0"));
+  INFO(asimov::val::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.sim.hand() == HandState::closed);
+  CHECK_FALSE(f.load(program("MOVET p")).empty());
+}
+
+TEST_CASE("DURATION sets a minimum motion time, once or ALWAYS", "[statements]") {
+  const std::string move = "MOVE #PPOINT(10, -80, 100, 0, 20, 30)\nMOVE #PPOINT(0, -90, 90, 0, 0, 0)\nBREAK\n";
+  const std::string timed = "TIMER 1 = 0\nMOVE #PPOINT(10, -80, 100, 0, 20, 30)\nBREAK\nt1 = TIMER(1)\n"
+                            "MOVE #PPOINT(0, -90, 90, 0, 0, 0)\nBREAK\nTYPE /F0.3, t1, \" \", TIMER(1) - t1\n";
+  CHECK(outcome("DURATION 2\n" + timed).substr(0, 6) == "2.000 ");
+  CHECK(outcome("DURATION 2\n" + timed) != "2.000 2.000\n");
+  CHECK(outcome("DURATION 2 ALWAYS\n" + timed) == "2.000 2.000\n");
+  CHECK(outcome("DURATION 2 ALWAYS\nDURATION 0 ALWAYS\n" + timed).substr(0, 6) != "2.000 ");
+  CHECK(outcome("DURATION -1") == "ERROR *Illegal value* DURATION -1");
+  CHECK(outcome(move + "TYPE \"ok\"") == "ok\n");
+}
+
+TEST_CASE("SPEED ... MMPS, V+ functions and statements stop the program", "[statements]") {
+  CHECK(outcome("SPEED 50 MMPS") == "ERROR *Not supported in simulation* SPEED MMPS");
+  CHECK(outcome("SPEED 50 IPS ALWAYS") == "ERROR *Not supported in simulation* SPEED IPS");
+  CHECK(outcome("x = GETC(1)") == "ERROR *Not supported in simulation* GETC");
+  CHECK(outcome("TYPE \"a\"\nx = IOSTAT(1, 0)") == "a\nERROR *Not supported in simulation* IOSTAT");
+  CHECK(outcome("$s = $LNGB(1)") == "ERROR *Not supported in simulation* $LNGB");
+  CHECK(outcome("$s = $ERROR(-1)") == "ERROR *Not supported in simulation* $ERROR");
+  CHECK(outcome("x = TASK()") == "ERROR *Not supported in simulation* TASK");
+  CHECK(outcome("FOPEN (5) \"x\"") == "ERROR *Not supported in simulation* FOPEN");
+  InterpreterFixture f;
+  CHECK_FALSE(f.load(program("MOVE a MMPS")).empty());  // units only after SPEED
+}
+
+TEST_CASE("the new keywords are reserved", "[statements]") {
+  InterpreterFixture f;
+  for (const char* word : {"wait", "prompt", "open", "closei", "movet", "duration", "enable", "parameter"}) {
+    const auto d = f.load(program(std::string(word) + " = 1"));
+    REQUIRE_FALSE(d.empty());
+    CHECK(d[0].message == "*Syntax error*");
+  }
+  CHECK(outcome("wait.x = 1\nopen_count = 2\nTYPE wait.x + open_count") == "3\n");
+}
