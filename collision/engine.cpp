@@ -175,6 +175,7 @@ struct Engine::Impl {
     // whose content meets it are the voxel pairs (tighter than whole voxels, same guarantee:
     // a contact point lies in both contents).
     const Box mb = vm.mapped_content(gb, vb);
+    const Box& cb = gb.content[vb];
     const CellRange ra = intersect(cell_range(ga, mb), vm.sub.a);
     if (ra.empty() || ga.count_nonempty(ra) == 0) return false;
     next_stamp();
@@ -187,6 +188,12 @@ struct Engine::Impl {
           const Box& ca = ga.content[va];
           if (ca.lo.x() > mb.hi.x() || mb.lo.x() > ca.hi.x() || ca.lo.y() > mb.hi.y() || mb.lo.y() > ca.hi.y() ||
               ca.lo.z() > mb.hi.z() || mb.lo.z() > ca.hi.z())
+            continue;
+          // And the reverse: A's content mapped into B's frame against B's (the other three
+          // face axes of the two oriented boxes).
+          const Box ab = vm.mapped_to_b(ca);
+          if (cb.lo.x() > ab.hi.x() || ab.lo.x() > cb.hi.x() || cb.lo.y() > ab.hi.y() || ab.lo.y() > cb.hi.y() ||
+              cb.lo.z() > ab.hi.z() || ab.lo.z() > cb.hi.z())
             continue;
           ++res.counts.voxel_pairs;
           for (const std::uint32_t fa : ga.faces_in(va))

@@ -46,6 +46,19 @@ Box VoxelMapping::mapped(const Box& c) const {
   return out;
 }
 
+Box VoxelMapping::mapped_to_b(const Box& c) const {
+  const Mat3 rt = r.transpose();
+  const Vec3 o = rt * (c.lo - t);
+  const Vec3 size = c.hi - c.lo;
+  Box out{o - Vec3::Constant(grow), o + Vec3::Constant(grow)};
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = rt.col(k) * size[k];
+    out.lo += e.cwiseMin(0.0);
+    out.hi += e.cwiseMax(0.0);
+  }
+  return out;
+}
+
 CellRange VoxelMapping::a_cells_of_block(const VoxelGrid& ga, const CellRange& block) const {
   const Vec3 corner = base + static_cast<double>(block.lo[0]) * dx + static_cast<double>(block.lo[1]) * dy +
                       static_cast<double>(block.lo[2]) * dz;

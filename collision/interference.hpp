@@ -40,6 +40,8 @@ struct VoxelMapping {
   Box mapped_content(const VoxelGrid& gb, std::size_t v) const { return mapped(gb.content[v]); }
   // Minimax box in A's frame of a box in B's frame, grown by `grow`.
   Box mapped(const Box& local) const;
+  // The reverse: minimax box in B's frame of a box in A's frame, grown by `grow`.
+  Box mapped_to_b(const Box& a_local) const;
 };
 VoxelMapping map_voxels(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb, const Pose& pose_b,
                         double grow);
