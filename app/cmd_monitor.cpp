@@ -17,6 +17,7 @@
 #include <cwchar>
 #include <filesystem>
 #include <iostream>
+#include <poll.h>
 #include <unistd.h>
 
 namespace asimov::app {
@@ -54,8 +55,18 @@ const char* prompt(EditLine* el) {
 
 // Reads one character for libedit. Ctrl-C at the prompt ends the line early; the caller sees
 // the flag and drops what was typed.
+// The flag is checked before each wait and at least every 100 ms, so a Ctrl-C that arrives
+// outside the read itself is not lost.
 int read_char(EditLine*, wchar_t* c) {
   for (;;) {
+    if (g_interrupted.load()) {
+      *c = L'\n';
+      return 1;
+    }
+    pollfd p{STDIN_FILENO, POLLIN, 0};
+    const int ready = ::poll(&p, 1, 100);
+    if (ready < 0 && errno != EINTR) return -1;
+    if (ready <= 0) continue;
     char byte = 0;
     const ssize_t n = ::read(STDIN_FILENO, &byte, 1);
     if (n == 1) {
@@ -63,11 +74,7 @@ int read_char(EditLine*, wchar_t* c) {
       return 1;
     }
     if (n == 0) return 0;
-    if (errno != EINTR) return -1;
-    if (g_interrupted.load()) {
-      *c = L'\n';
-      return 1;
-    }
+    if (errno != EINTR && errno != EAGAIN) return -1;
   }
 }
 
@@ -204,6 +211,7 @@ int monitor_command(const MonitorOptions& opt, std::istream& in, std::ostream& o
   val::Monitor monitor(interp, sim, out);
   interp.limits().interrupt = &g_interrupted;
   const bool tty = ::isatty(STDIN_FILENO) == 1 && &in == &std::cin;
+  interp.set_input(in, tty);  // PROMPT reads the next line of the session
   if (tty) {
     monitor.confirm = ask;
     install_sigint();  // scripted sessions keep the default: Ctrl-C ends them

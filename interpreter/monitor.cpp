@@ -322,6 +322,8 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
   if (execution) {
     state_ = r.status == RunStatus::completed     ? ExecState::completed
            : r.status == RunStatus::collision     ? ExecState::collision
+           : r.status == RunStatus::paused        ? ExecState::paused
+           : r.status == RunStatus::halted        ? ExecState::halted
            : r.error.message == kInterruptMessage ? ExecState::interrupted
                                                   : ExecState::error;
     state_step_ = r.step;
@@ -330,6 +332,8 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
     case RunStatus::completed:
       if (execution) out_ << "Program completed: " << shown_name << '\n';
       return CommandStatus::ok;
+    case RunStatus::paused:  // PAUSE (PROCEED continues) and HALT are not failures
+    case RunStatus::halted: out_ << format_pause(r) << '\n'; return CommandStatus::ok;
     case RunStatus::error: out_ << format_diagnostic(d); return CommandStatus::failed;
     case RunStatus::collision: {
       const auto& c = r.collision;
@@ -638,6 +642,8 @@ CommandStatus Monitor::cmd_status() {
   std::string state = "idle";
   if (state_ == ExecState::completed) state = "completed";
   if (state_ == ExecState::interrupted) state = fmt::format("interrupted at step {}", state_step_);
+  if (state_ == ExecState::paused) state = fmt::format("paused at step {}", state_step_);
+  if (state_ == ExecState::halted) state = fmt::format("halted at step {}", state_step_);
   if (state_ == ExecState::error) state = fmt::format("stopped by error at step {}", state_step_);
   if (state_ == ExecState::collision) state = fmt::format("stopped by collision at step {}", state_step_);
   const robots::Configuration c = sim_.configuration();
@@ -648,7 +654,6 @@ CommandStatus Monitor::cmd_status() {
   if (r.noflip >= 0) pending += r.noflip ? " NOFLIP" : " FLIP";
   const char* hand = sim_.hand() == motion::HandState::open ? "OPEN"
                    : sim_.hand() == motion::HandState::closed ? "CLOSED" : "RELAXED";
-  const auto& coll = sim_.cell().collision;
   out_ << "Program: " << (last_program_.empty() ? "none" : last_program_) << '\n'
        << "State: " << state << '\n'
        << "Monitor speed: " << format_number(monitor_speed_) << '\n'
@@ -659,8 +664,8 @@ CommandStatus Monitor::cmd_status() {
        << "Hand: " << hand << (sim_.hand_pending() ? " (change pending)" : "") << '\n'
        << "Tool: " << pose(sim_.tool()) << '\n'
        << "Base: " << pose(sim_.base()) << '\n'
-       << "Collision checking: " << (coll.enabled ? "on" : "off") << '\n'
-       << "Clearance: " << format_number(coll.clearance_mm) << " mm\n"
+       << "Collision checking: " << (sim_.collision_enabled() ? "on" : "off") << '\n'
+       << "Clearance: " << format_number(sim_.clearance_mm()) << " mm\n"
        << fmt::format("Simulated time: {:.3f} s\n", sim_.time_s());
   return CommandStatus::ok;
 }

@@ -42,7 +42,7 @@ std::string format_where(const motion::Location& tool, const robots::JointVector
 std::string format_location_table(const std::vector<GlobalEntry>& entries);
 
 enum class CommandStatus { ok, failed, quit };
-enum class ExecState { idle, completed, interrupted, error, collision };
+enum class ExecState { idle, completed, paused, halted, interrupted, error, collision };
 
 class Monitor {
  public:
