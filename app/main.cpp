@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   using namespace asimov::app;
   CLI::App cli{"asimov: VAL II programs in simulation, halted on contact"};
   cli.require_subcommand(0, 1);  // none: the monitor
+  cli.footer("Without a subcommand asimov starts the monitor (as `asimov monitor`).");
 
   RunOptions run;
   auto* run_cmd = cli.add_subcommand("run", "load FILE.v2 and run a program in the cell");
