@@ -17,6 +17,7 @@
 #include <cwchar>
 #include <filesystem>
 #include <iostream>
+#include <streambuf>
 #include <poll.h>
 #include <unistd.h>
 
@@ -36,6 +37,20 @@ void install_sigint() {
   sa.sa_flags = 0;  // no SA_RESTART: a read at the prompt returns EINTR
   sigaction(SIGINT, &sa, nullptr);
 }
+
+// stdin one byte at a time, as libedit reads it: PROMPT replies and Y/N answers read through
+// it never swallow a command typed ahead.
+class UnbufferedStdin : public std::streambuf {
+ protected:
+  int_type underflow() override {
+    if (::read(STDIN_FILENO, &c_, 1) != 1) return traits_type::eof();
+    setg(&c_, &c_, &c_ + 1);
+    return traits_type::to_int_type(c_);
+  }
+
+ private:
+  char c_ = 0;
+};
 
 std::string history_path() {
   const char* home = std::getenv("HOME");
@@ -211,7 +226,9 @@ int monitor_command(const MonitorOptions& opt, std::istream& in, std::ostream& o
   val::Monitor monitor(interp, sim, out);
   interp.limits().interrupt = &g_interrupted;
   const bool tty = ::isatty(STDIN_FILENO) == 1 && &in == &std::cin;
-  interp.set_input(in, tty);  // PROMPT reads the next line of the session
+  UnbufferedStdin tty_buffer;
+  std::istream tty_in(&tty_buffer);
+  interp.set_input(tty ? tty_in : in, tty);  // PROMPT reads the next line of the session
   if (tty) {
     monitor.confirm = ask;
     install_sigint();  // scripted sessions keep the default: Ctrl-C ends them
