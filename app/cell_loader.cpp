@@ -1,5 +1,7 @@
 #include "app/cell_loader.hpp"
 
+#include "collision/mesh_io.hpp"
+#include "collision/voxel_grid.hpp"
 #include "robots/puma560.hpp"
 #include "robots/urdf_loader.hpp"
 
@@ -69,9 +71,42 @@ class Reader {
     return motion::trans(v[0], v[1], v[2], v[3], v[4], v[5]);
   }
 
-  // A shape entry: {box: [sx, sy, sz]} or {cylinder: {radius: r, height: h[, segments: n]}}.
-  collision::Polyhedron shape(const YAML::Node& node, const std::string& what) const {
+  // A shape entry: {box: [sx, sy, sz]}, {cylinder: {radius: r, height: h[, segments: n]}},
+  // {sphere: {radius: r[, tolerance_mm: t]}} or {mesh: file.stl|obj[, scale: s | [sx, sy, sz]]}.
+  // Mesh warnings (dropped faces, open meshes) are appended to `warnings`.
+  collision::Polyhedron shape(const YAML::Node& node, const std::string& what,
+                              std::vector<std::string>& warnings) const {
     if (!node.IsMap()) fail(node, what + " must be a map");
+    if (const auto mesh = node["mesh"]) {
+      if (!mesh.IsScalar()) fail(mesh, what + ".mesh must be a file name");
+      collision::Vec3 scale = collision::Vec3::Ones();
+      if (const auto s = node["scale"]) {
+        if (s.IsScalar()) {
+          scale.setConstant(positive(s, what + ".scale"));
+        } else {
+          const auto v = numbers(s, 3, what + ".scale");
+          for (double x : v)
+            if (!(x > 0)) fail(s, what + ".scale factors must be > 0");
+          scale = {v[0], v[1], v[2]};
+        }
+      }
+      const auto path = (base_dir_ / mesh.Scalar()).lexically_normal().string();
+      try {
+        auto loaded = collision::read_mesh(path, scale);
+        if (loaded.mesh.triangles.empty()) fail(mesh, fmt::format("{}: no valid face in {}", what, path));
+        for (auto& w : loaded.warnings) warnings.push_back(std::move(w));
+        return std::move(loaded.mesh);
+      } catch (const collision::MeshError& e) {
+        fail(mesh, fmt::format("{}: {}", what, e.what()));
+      }
+    }
+    if (const auto sphere = node["sphere"]) {
+      if (!sphere.IsMap()) fail(sphere, what + ".sphere must be {radius: r[, tolerance_mm: t]}");
+      const double r = positive(sphere["radius"] ? sphere["radius"] : sphere, what + ".sphere.radius");
+      const double tol = sphere["tolerance_mm"] ? positive(sphere["tolerance_mm"], what + ".sphere.tolerance_mm")
+                                                : std::max(0.5, r * 1e-3);
+      return collision::make_sphere(r, tol);
+    }
     if (const auto box = node["box"]) {
       const auto s = numbers(box, 3, what + ".box");
       for (double x : s)
@@ -89,7 +124,7 @@ class Reader {
       }
       return collision::make_cylinder(r, h, segments);
     }
-    fail(node, what + " needs a shape: box or cylinder");
+    fail(node, what + " needs a shape: box, cylinder, sphere or mesh");
   }
 
   void expect_keys(const YAML::Node& node, std::initializer_list<const char*> keys, const std::string& what) const {
@@ -137,8 +172,9 @@ class Reader {
                                 cell.robot.lower[bad], cell.robot.upper[bad]));
     }
     if (const auto ts = root["tool_shape"]) {
-      expect_keys(ts, {"box", "cylinder", "at"}, "tool_shape");
-      cell.tool_shape = collision::transformed(shape(ts, "tool_shape"), pose(ts["at"], "tool_shape.at"));
+      expect_keys(ts, {"box", "cylinder", "sphere", "mesh", "scale", "at"}, "tool_shape");
+      cell.tool_shape =
+          collision::transformed(shape(ts, "tool_shape", cell.warnings), pose(ts["at"], "tool_shape.at"));
     }
     std::set<std::string> names;
     for (const auto& b : cell.robot.bodies) names.insert(b.name);
@@ -146,12 +182,12 @@ class Reader {
     if (const auto objects = root["objects"]) {
       if (!objects.IsSequence()) fail(objects, "objects must be a list");
       for (const auto& o : objects) {
-        expect_keys(o, {"name", "box", "cylinder", "at"}, "an object");
+        expect_keys(o, {"name", "box", "cylinder", "sphere", "mesh", "scale", "at"}, "an object");
         if (!o["name"]) fail(o, "every object needs a name");
         motion::CellObject obj;
         obj.name = o["name"].as<std::string>();
         if (!names.insert(obj.name).second) fail(o["name"], fmt::format("duplicate body name '{}'", obj.name));
-        obj.mesh = shape(o, "object '" + obj.name + "'");
+        obj.mesh = shape(o, "object '" + obj.name + "'", cell.warnings);
         obj.pose = pose(o["at"], "object '" + obj.name + "' at");
         cell.objects.push_back(std::move(obj));
       }
@@ -159,9 +195,11 @@ class Reader {
     if (const auto c = root["collision"]) {
       expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled"}, "collision");
       auto& s = cell.collision;
-      if (c["halvings"]) {
+      if (c["halvings"] && c["halvings"].IsScalar() && c["halvings"].Scalar() == "auto") {
+        s.halvings = collision::kAutoHalvings;
+      } else if (c["halvings"]) {
         const double m = number(c["halvings"], "collision.halvings");
-        if (m < 0 || m > 20 || m != std::floor(m)) fail(c["halvings"], "collision.halvings must be an integer 0..20");
+        if (m < 0 || m > 20 || m != std::floor(m)) fail(c["halvings"], "collision.halvings must be auto or an integer 0..20");
         s.halvings = static_cast<int>(m);
       }
       if (c["step_mm"]) s.step_mm = positive(c["step_mm"], "collision.step_mm");

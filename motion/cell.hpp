@@ -32,6 +32,7 @@ struct Cell {
   std::vector<CellObject> objects;
   CollisionSettings collision;
   robots::JointVector start_joints;      // display [deg]; READY unless the cell says otherwise
+  std::vector<std::string> warnings;     // load-time notes on the cell's data (e.g. open meshes)
 };
 
 }  // namespace asimov::motion

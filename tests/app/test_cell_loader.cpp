@@ -1,6 +1,10 @@
 #include "app/cell_loader.hpp"
 
+#include "collision/voxel_grid.hpp"
+
 #include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
 
 using namespace asimov;
 using app::CellError;
@@ -119,4 +123,64 @@ TEST_CASE("robot: a missing or non-URDF robot is a cell error at the robot key")
   CHECK(std::string(e.what()).find("arm.urdf") != std::string::npos);
   e = error_of("robot: [1, 2]\n");
   CHECK(std::string(e.what()).find("puma560 or a .urdf") != std::string::npos);
+}
+
+namespace {
+// Writes an ASCII STL of the closed unit-free box [0,10]^3 (12 facets) or, with `open`, 11 of them.
+std::filesystem::path write_stl(const std::string& name, bool open, const std::string& bad_coordinate = "") {
+  const auto box = collision::make_box({10, 10, 10});
+  std::string text = "solid t\n";
+  for (std::size_t i = 0; i < box.triangles.size() - (open ? 1 : 0); ++i) {
+    text += " facet normal 0 0 0\n  outer loop\n";
+    for (auto v : box.triangles[i]) {
+      const auto& p = box.vertices[v];
+      text += "   vertex " + (bad_coordinate.empty() || i != 3 ? std::to_string(p.x()) : bad_coordinate) + " " +
+              std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+    }
+    text += "  endloop\n endfacet\n";
+  }
+  text += "endsolid t\n";
+  const auto dir = std::filesystem::temp_directory_path() / "asimov-cell-tests";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / name) << text;
+  return dir / name;
+}
+}  // namespace
+
+TEST_CASE("objects from STL meshes (relative to the cell) with scale, and spheres") {
+  const auto stl = write_stl("cube.stl", false);
+  const auto cell = load_cell_text(
+      "objects:\n"
+      "  - {name: cube, mesh: cube.stl, scale: 2, at: [500, 0, 0, 0, 0, 0]}\n"
+      "  - {name: ball, sphere: {radius: 50, tolerance_mm: 0.1}}\n"
+      "collision: {halvings: auto}\n",
+      "c.yaml", stl.parent_path().string());
+  REQUIRE(cell.objects.size() == 2);
+  CHECK(cell.objects[0].mesh.triangles.size() == 12);
+  double max_x = 0;
+  for (const auto& v : cell.objects[0].mesh.vertices) max_x = std::max(max_x, v.x());
+  CHECK(max_x == Approx(10));  // half side 5, scaled by 2
+  CHECK(cell.warnings.empty());
+  for (const auto& v : cell.objects[1].mesh.vertices) CHECK(v.norm() == Approx(50));
+  CHECK(cell.collision.halvings == collision::kAutoHalvings);
+}
+
+TEST_CASE("mesh problems: an open mesh warns, a NaN or a missing file is an error at the mesh key") {
+  const auto open = write_stl("open.stl", true);
+  const auto cell = load_cell_text("objects: [{name: shell, mesh: open.stl}]\n", "c.yaml", open.parent_path().string());
+  REQUIRE_FALSE(cell.warnings.empty());
+  CHECK(cell.warnings.front().find("open.stl") != std::string::npos);
+
+  const auto nan = write_stl("nan.stl", false, "nan");
+  try {
+    load_cell_text("objects:\n  - {name: n, mesh: nan.stl}\n", "c.yaml", nan.parent_path().string());
+    FAIL("a NaN coordinate was accepted");
+  } catch (const CellError& e) {
+    CHECK(e.line == 2);
+    CHECK(std::string(e.what()).find("nan.stl") != std::string::npos);
+  }
+  auto e = error_of("objects:\n  - {name: m, mesh: nowhere.stl}\n");
+  CHECK(e.line == 2);
+  e = error_of("collision: {halvings: sometimes}\n");
+  CHECK(std::string(e.what()).find("auto") != std::string::npos);
 }
