@@ -33,6 +33,17 @@ const SimpleForm* simple_form(ast::Kw kw) {
   return nullptr;
 }
 
+void mark_plain(Node& n) {
+  bool plain = n.kind == NodeKind::number || n.kind == NodeKind::variable
+      || n.kind == NodeKind::unary || (n.kind == NodeKind::binary && n.op != ast::Op::compound);
+  if (n.kind == NodeKind::variable && n.subscripted && n.kids.empty()) plain = false;  // a[]
+  for (Node& k : n.kids) {
+    mark_plain(k);
+    plain = plain && k.plain;
+  }
+  n.plain = plain;
+}
+
 StaticKind static_kind(const Node& n) {
   switch (n.kind) {
     case NodeKind::number: case NodeKind::unary: return StaticKind::real;

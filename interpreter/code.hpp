@@ -28,6 +28,8 @@ struct Node {
   std::string text;             // string literal, or the variable's name for messages
   Ref ref;                      // variable
   bool subscripted = false;     // variable written with [...]
+  bool plain = false;           // only numbers, variables, unary and arithmetic / relational /
+                                // logical operators below: the evaluator's real fast path
   std::vector<Node> kids;
   std::vector<ast::Format> formats;  // $ENCODE: one per item; code 0 = the next of `kids`
 };
@@ -69,6 +71,8 @@ const SimpleForm* simple_form(ast::Kw kw);
 // strings and numbers is a load-time error).
 enum class StaticKind { unknown, real, string };
 StaticKind static_kind(const Node& n);
+// Sets Node::plain over the tree (bottom-up).
+void mark_plain(Node& n);
 
 struct Param {
   std::string name;                // normalized, with prefix

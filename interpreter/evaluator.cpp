@@ -50,10 +50,8 @@ RunResult Evaluator::run(int slot) {
     if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
     Frame top;
     top.program = program;
-    for (std::size_t i = 0; i < program->params.size() + program->autos.size(); ++i) {
-      top.owned.push_back(std::make_unique<Variable>());
-      top.params.push_back(top.owned.back().get());
-    }
+    top.owned.resize(program->params.size() + program->autos.size());
+    for (Variable& v : top.owned) top.params.push_back(&v);
     top.temps.resize(static_cast<std::size_t>(program->temps));
     stack_.push_back(std::move(top));
   });
@@ -179,6 +177,8 @@ void Evaluator::execute(const Instr& in) {
   Frame& f = stack_.back();
   switch (in.code) {
     case Code::assign: {
+      if (double x; in.args[0].plain && in.target.text[0] != '$' && in.target.text[0] != '#' && try_real(in.args[0], x))
+        return store_real(in.target, x);
       Value v = eval(in.args[0]);
       const char prefix = in.target.text[0];
       if (prefix == '$') {
@@ -330,15 +330,15 @@ void Evaluator::execute(const Instr& in) {
     }
     case Code::jump: f.pc = in.jump; return;
     case Code::jump_false:
-      if (to_real(eval(in.args[0]), "condition") == 0) f.pc = in.jump;
+      if (real(in.args[0], "condition") == 0) f.pc = in.jump;
       return;
     case Code::jump_true:
-      if (to_real(eval(in.args[0]), "condition") != 0) f.pc = in.jump;
+      if (real(in.args[0], "condition") != 0) f.pc = in.jump;
       return;
     case Code::for_init: {
-      const double from = to_real(eval(in.args[0]));
-      const double to = to_real(eval(in.args[1]));
-      const double step = in.args.size() > 2 ? to_real(eval(in.args[2])) : 1.0;
+      const double from = real(in.args[0], "FOR start");
+      const double to = real(in.args[1], "FOR limit");
+      const double step = in.args.size() > 2 ? real(in.args[2], "FOR step") : 1.0;
       if (step == 0) raise(ErrorKind::illegal_value, "FOR with STEP 0");
       store(in.target, from);
       f.temps[static_cast<std::size_t>(in.temp)] = to;
@@ -349,8 +349,8 @@ void Evaluator::execute(const Instr& in) {
     case Code::for_next: {
       const double to = f.temps[static_cast<std::size_t>(in.temp)];
       const double step = f.temps[static_cast<std::size_t>(in.temp) + 1];
-      const double v = finite(to_real(read(in.target)) + step);
-      store(in.target, v);
+      const double v = finite(real(in.target, "FOR variable") + step);
+      store_real(in.target, v);
       if (step > 0 ? v <= to : v >= to) f.pc = in.jump;
       return;
     }
@@ -369,21 +369,20 @@ void Evaluator::call(const Instr& in) {
     raise(ErrorKind::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
   Frame frame;
   frame.program = program;
+  frame.owned.reserve(program->params.size() + program->autos.size());  // pointers stay valid
+  frame.params.reserve(program->params.size() + program->autos.size());
   for (std::size_t i = 0; i < program->params.size(); ++i) {
     const bool given = i < in.args.size() && in.args[i].kind != NodeKind::absent;
     if (given && in.by_ref[i]) {
       frame.params.push_back(&variable(in.args[i]));  // the caller's variable itself
       continue;
     }
-    auto owned = std::make_unique<Variable>();
-    if (given) owned->scalar = eval(in.args[i]);
-    frame.params.push_back(owned.get());
-    frame.owned.push_back(std::move(owned));
+    Variable& owned = frame.owned.emplace_back();
+    if (given) owned.scalar = eval(in.args[i]);
+    frame.params.push_back(&owned);
   }
-  for (std::size_t i = 0; i < program->autos.size(); ++i) {  // a fresh AUTO copy per call
-    frame.owned.push_back(std::make_unique<Variable>());
-    frame.params.push_back(frame.owned.back().get());
-  }
+  for (std::size_t i = 0; i < program->autos.size(); ++i)  // a fresh AUTO copy per call
+    frame.params.push_back(&frame.owned.emplace_back());
   frame.temps.resize(static_cast<std::size_t>(program->temps));
   stack_.push_back(std::move(frame));
 }
@@ -528,7 +527,7 @@ Variable& Evaluator::variable(const Node& n) {
 Index Evaluator::index(const Node& n) {
   Index idx{0, 0, 0};
   for (std::size_t i = 0; i < n.kids.size(); ++i) {
-    const int k = to_index(to_real(eval(n.kids[i]), "index"));
+    const int k = to_index(real(n.kids[i], "index"));
     if (k < 0 || k > kMaxArrayIndex) raise(ErrorKind::illegal_value, fmt::format("index {} of {}", k, n.text));
     idx[i] = k;
   }
@@ -544,7 +543,9 @@ static std::string element_name(const Node& n, const Index& idx) {
   return s + "]";
 }
 
-Value Evaluator::read(const Node& n) {
+Value Evaluator::read(const Node& n) { return lookup(n); }
+
+const Value& Evaluator::lookup(const Node& n) {
   Variable& v = variable(n);
   if (!n.subscripted) {
     if (v.is_array()) raise(ErrorKind::illegal_value, fmt::format("{} is an array", n.text));
@@ -589,6 +590,7 @@ bool Evaluator::defined(const Node& n) {
 }
 
 Value Evaluator::eval(const Node& n) {
+  if (double x; n.plain && try_real(n, x)) return x;
   switch (n.kind) {
     case NodeKind::number: return n.number;
     case NodeKind::string: return n.text;
@@ -734,6 +736,54 @@ void Evaluator::warn_once(const std::string& keyword, const Instr& in) {
   w.step = in.line - current_program_->line;
   w.source_line = (*current_program_->text)[static_cast<std::size_t>(in.line - 1)];
   warnings_.push_back(std::move(w));
+}
+
+// --- the real fast path -------------------------------------------------------------------
+
+bool Evaluator::try_real(const Node& n, double& out) {
+  switch (n.kind) {
+    case NodeKind::number: out = n.number; return true;
+    case NodeKind::variable: {
+      const double* d = std::get_if<double>(&lookup(n));
+      if (d) out = *d;
+      return d != nullptr;
+    }
+    case NodeKind::unary: {
+      double x;
+      if (!try_real(n.kids[0], x)) return false;
+      out = n.op == Op::neg ? -x + 0.0 : n.op == Op::not_ ? truth(x == 0) : x;
+      return true;
+    }
+    case NodeKind::binary: {
+      double a, b;
+      if (!try_real(n.kids[0], a) || !try_real(n.kids[1], b)) return false;
+      out = real_binary(n.op, a, b);
+      return true;
+    }
+    default: return false;
+  }
+}
+
+double Evaluator::real(const Node& n, const char* what) {
+  if (double x; n.plain && try_real(n, x)) return x;
+  return to_real(eval(n), what);
+}
+
+// store() for a real, without building a Value; the same errors.
+void Evaluator::store_real(const Node& target, double x) {
+  Variable& v = variable(target);
+  if (!target.subscripted) {
+    if (v.is_array() || (v.scalar && kind_of(*v.scalar) != Kind::real)) return store(target, x);
+    v.scalar = x;
+    return;
+  }
+  const Index idx = index(target);
+  if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", target.text));
+  if (!v.elements.empty() && kind_of(v.elements.begin()->second) != Kind::real)
+    raise(ErrorKind::illegal_value, fmt::format("{} holds a {}, not a real", target.text,
+                                                kind_name(kind_of(v.elements.begin()->second))));
+  auto [it, added] = v.elements.try_emplace(idx, x);
+  if (!added) it->second = x;
 }
 
 }  // namespace asimov::val

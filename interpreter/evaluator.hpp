@@ -46,7 +46,7 @@ class Evaluator {
   struct Frame {
     std::shared_ptr<const Program> program;
     std::vector<Variable*> params;                 // by reference or into `owned`
-    std::vector<std::unique_ptr<Variable>> owned;  // parameters passed by value or omitted
+    std::vector<Variable> owned;                   // by value, omitted, AUTO (reserved: stable)
     std::vector<double> temps;                     // FOR limits and steps
     int pc = 0;                                    // next instruction
   };
@@ -94,7 +94,13 @@ class Evaluator {
   Variable& variable(const Node& n);
   Index index(const Node& n);
   Value read(const Node& n);
+  const Value& lookup(const Node& n);
   void store(const Node& target, Value value);
+  // The real fast path over Node::plain trees (no Value built): false, with nothing raised,
+  // when a variable holds another kind; the generic path then evaluates (plain trees only read).
+  bool try_real(const Node& n, double& out);
+  double real(const Node& n, const char* what);
+  void store_real(const Node& target, double x);
   bool defined(const Node& n);
 
   motion::Simulator& sim_;

@@ -12,7 +12,9 @@ using ast::Op;
 
 Node ExpressionCompiler::expression(const ast::Expr& e) {
   std::size_t pos = 0;
-  return climb(operand(e.first), e.rest, pos, 1);
+  Node n = climb(operand(e.first), e.rest, pos, 1);
+  mark_plain(n);
+  return n;
 }
 
 // Precedence climbing over the flat operator list the parser produced.

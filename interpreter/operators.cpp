@@ -15,12 +15,16 @@ using ast::Op;
 
 namespace {
 
+}  // namespace
+
 std::int32_t to_int32(double x) {
   const double t = std::trunc(x);
   if (!(t >= -2147483648.0 && t <= 2147483647.0))
     raise(ErrorKind::illegal_value, fmt::format("{} is not a 32-bit integer", format_number(x)));
   return static_cast<std::int32_t>(t);
 }
+
+namespace {
 
 template <typename T>
 bool compare(Op op, const T& a, const T& b) {
@@ -62,26 +66,9 @@ Value apply_binary(Op op, const Value& a, const Value& b) {
     if (!is_relational(op)) raise(ErrorKind::illegal_value, fmt::format("\"{}\" on strings", op_text(op)));
     return truth(compare(op, x, y));
   }
-  const double x = to_real(a, op_text(op));
-  const double y = to_real(b, op_text(op));
-  switch (op) {
-    case Op::mul: return finite(x * y);
-    case Op::div:
-      if (y == 0) raise(ErrorKind::division_by_zero);
-      return finite(x / y);
-    case Op::mod:
-      if (y == 0) raise(ErrorKind::division_by_zero);
-      return finite(x - y * std::trunc(x / y));
-    case Op::add: return finite(x + y);
-    case Op::sub: return finite(x - y);
-    case Op::and_: return truth(x != 0 && y != 0);
-    case Op::or_: return truth(x != 0 || y != 0);
-    case Op::xor_: return truth((x != 0) != (y != 0));
-    case Op::band: return static_cast<double>(to_int32(x) & to_int32(y));
-    case Op::bor: return static_cast<double>(to_int32(x) | to_int32(y));
-    case Op::bxor: return static_cast<double>(to_int32(x) ^ to_int32(y));
-    default: return truth(compare(op, x, y));
-  }
+  return real_binary(op, to_real(a, op_text(op)), to_real(b, op_text(op)));
 }
+
+void raise_division_by_zero() { raise(ErrorKind::division_by_zero); }
 
 }  // namespace asimov::val

@@ -29,10 +29,7 @@ const std::string& to_string_value(const Value& v) {
   raise(ErrorKind::illegal_value, fmt::format("string expected, not a {}", kind_name(kind_of(v))));
 }
 
-double finite(double x) {
-  if (!std::isfinite(x)) raise(ErrorKind::illegal_value, "result is not a finite number");
-  return x;
-}
+void raise_not_finite() { raise(ErrorKind::illegal_value, "result is not a finite number"); }
 
 int to_index(double x) {
   const double r = std::round(x);  // halves away from zero

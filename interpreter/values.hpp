@@ -3,6 +3,7 @@
 #include "motion/location.hpp"
 #include "robots/robot.hpp"
 #include <array>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -22,7 +23,11 @@ const char* kind_name(Kind kind);
 double to_real(const Value& v, const char* what = "number expected");
 const std::string& to_string_value(const Value& v);
 // The checked result of arithmetic: non-finite is an *Illegal value*.
-double finite(double x);
+[[noreturn]] void raise_not_finite();
+inline double finite(double x) {
+  if (!std::isfinite(x)) raise_not_finite();
+  return x;
+}
 // Integer contexts (indices, counts): nearest, halves away from zero.
 int to_index(double x);
 
