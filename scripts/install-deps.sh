@@ -9,9 +9,9 @@ packages=(
   libyaml-cpp-dev libcli11-dev libedit-dev libtinyxml2-dev nlohmann-json3-dev
   libbenchmark-dev
 )
-# Peers for bench/ only (FCL, KDL); the build skips the peer benchmarks without them.
+# Peers for bench/ only (FCL, KDL, Lua 5.4); the peer benchmarks are skipped without them.
 if [ "${ASIMOV_WITH_PEERS:-1}" = 1 ]; then
-  packages+=(libfcl-dev liborocos-kdl-dev)
+  packages+=(libfcl-dev liborocos-kdl-dev lua5.4)
 fi
 
 missing=()
