@@ -60,6 +60,7 @@ struct Robot {
   double max_tool_rot_speed = 90;   // straight-line rotation [deg/s]
   double max_tool_rot_accel = 360;  // [deg/s^2]
   std::vector<LinkBody> bodies;
+  std::vector<std::string> warnings;  // load-time warnings (URDF mesh problems), for the user
   int joint_count() const { return static_cast<int>(chain.empty() ? dh.size() : chain.size()); }
   bool is_chain() const { return !chain.empty(); }
   bool prismatic(int j) const { return is_chain() && chain[static_cast<std::size_t>(j)].type == JointType::prismatic; }

@@ -1,7 +1,7 @@
 // URDF -> Robot (chain form). See urdf_loader.hpp for the folding rules.
 #include "robots/urdf_loader.hpp"
 
-#include "robots/mesh_io.hpp"
+#include "collision/mesh_io.hpp"
 
 #include <tinyxml2.h>
 
@@ -25,6 +25,7 @@ using tinyxml2::XMLElement;
 constexpr double kMm = 1000;  // metres -> mm
 constexpr double kDeg = 180 / std::numbers::pi;
 constexpr int kCylinderSegments = 24;
+constexpr double kSphereToleranceMm = 0.5;  // chordal tolerance, at least 1e-3 of the radius
 
 struct Geometry {
   Pose pose = Pose::Identity();  // in the URDF link frame [mm]
@@ -113,7 +114,10 @@ class Parser {
     }
     if (const XMLElement* c = geometry->FirstChildElement("cylinder"))
       return collision::make_cylinder(positive(c, "radius") * kMm, positive(c, "length") * kMm, kCylinderSegments);
-    if (const XMLElement* s = geometry->FirstChildElement("sphere")) return make_sphere(positive(s, "radius") * kMm);
+    if (const XMLElement* s = geometry->FirstChildElement("sphere")) {
+      const double r = positive(s, "radius") * kMm;
+      return collision::make_sphere(r, std::max(kSphereToleranceMm, r * 1e-3));  // as cell files
+    }
     if (const XMLElement* m = geometry->FirstChildElement("mesh")) {
       std::string file = required(m, "filename");
       if (file.rfind("package://", 0) == 0)
@@ -122,12 +126,11 @@ class Parser {
       std::filesystem::path p(file);
       if (p.is_relative()) p = std::filesystem::path(base_dir_) / p;
       const Vec3 scale = triple(m, "scale", Vec3::Ones()) * kMm;
-      std::string ext = p.extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
-      if (ext != ".stl") fail(m, "mesh '" + file + "': only STL meshes are supported");
-      try {
-        return read_stl(p.string(), scale);
-      } catch (const MeshError& err) {
+      try {  // STL or OBJ by extension; collision::MeshError names the file and face
+        collision::LoadedMesh loaded = collision::read_mesh(p.string(), scale);
+        for (auto& w : loaded.warnings) warnings_.push_back(source_ + ":" + std::to_string(m->GetLineNum()) + ": " + w);
+        return std::move(loaded.mesh);
+      } catch (const collision::MeshError& err) {
         fail(m, err.what());
       }
     }
@@ -289,12 +292,14 @@ class Parser {
       for (const auto& g : l.geometry) body = collision::merged(body, collision::transformed(g.mesh, in_frame * g.pose));
       r.bodies.push_back({f, l.name, std::move(body)});
     }
+    r.warnings = warnings_;
     return r;
   }
 
  private:
   std::string source_;
   std::string base_dir_;
+  mutable std::vector<std::string> warnings_;  // mesh warnings, "urdf:line: mesh: face N: ..."
 };
 }  // namespace
 

@@ -1,9 +1,8 @@
 // URDF arms: the PUMA written as URDF reproduces the DH FK, the generic 6-axis arm loads and
 // its numeric IK converges, the displacement bound holds for a chain, bad input is reported
-// with file and line, STL meshes and tessellated spheres.
+// with file and line, STL meshes (collision::read_mesh) and tessellated spheres.
 #include "robots/displacement_bound.hpp"
 #include "robots/ik.hpp"
-#include "robots/mesh_io.hpp"
 #include "robots/puma560.hpp"
 #include "robots/urdf_loader.hpp"
 
@@ -16,6 +15,7 @@
 #include <fstream>
 #include <numbers>
 #include <random>
+#include <unistd.h>
 
 using namespace asimov;
 using namespace asimov::robots;
@@ -252,10 +252,12 @@ TEST_CASE("URDF: bad input is reported with file and line", "[urdf][errors]") {
 }
 
 TEST_CASE("STL: ASCII and binary cubes, sphere tessellation", "[urdf][mesh]") {
-  const auto dir = std::filesystem::temp_directory_path();
+  // Meshes go through collision::read_mesh; its MeshError becomes a UrdfError at the <mesh> line.
+  const auto dir = std::filesystem::temp_directory_path() / ("asimov_test_urdf_stl_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
   const collision::Polyhedron box = collision::make_box(Vec3(1, 2, 3));
-  const std::string ascii = (dir / "asimov_test_cube_ascii.stl").string();
-  const std::string binary = (dir / "asimov_test_cube_binary.stl").string();
+  const std::string ascii = (dir / "cube_ascii.stl").string();
+  const std::string binary = (dir / "cube_binary.STL").string();
   {
     std::ofstream a(ascii);
     a << "solid cube\n";
@@ -279,21 +281,40 @@ TEST_CASE("STL: ASCII and binary cubes, sphere tessellation", "[urdf][mesh]") {
       b.write(reinterpret_cast<const char*>(&attr), 2);
     }
   }
-  for (const auto& path : {ascii, binary}) {
-    const collision::Polyhedron m = read_stl(path, Vec3(1000, 1000, 1000));
+  // One revolute joint; link b carries `geometry` (the file names are relative to `dir`).
+  const auto urdf = [](const std::string& geometry) {
+    return "<?xml version=\"1.0\"?>\n<robot name=\"t\">\n<link name=\"a\"/>\n<link name=\"b\">\n"
+           "<collision><geometry>" + geometry + "</geometry></collision>\n</link>\n"
+           "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>"
+           "<limit lower=\"-1\" upper=\"1\" velocity=\"1\"/></joint>\n</robot>\n";
+  };
+  for (const auto& name : {"cube_ascii.stl", "cube_binary.STL"}) {
+    const Robot r = load_urdf_text(urdf(std::string("<mesh filename=\"") + name + "\"/>"), "m.urdf", dir.string());
+    REQUIRE(r.bodies.size() == 1);
+    const collision::Polyhedron& m = r.bodies[0].mesh;
     CHECK(m.vertices.size() == 8);  // welded
     CHECK(m.triangles.size() == 12);
-    CHECK(volume(m) == Approx(6e9));
+    CHECK(volume(m) == Approx(6e9));  // metres -> mm
+    CHECK(r.warnings.empty());
   }
   {
     std::ofstream bad(ascii);
-    bad << "solid x\n facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 nan 0\n";
+    bad << "solid x\n facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 nan 0\n   vertex 0 1 0\n"
+           "  endloop\n endfacet\nendsolid x\n";
   }
-  CHECK_THROWS_WITH(read_stl(ascii, Vec3::Ones()), Catch::Contains(":5: bad vertex"));
-  std::filesystem::remove(ascii);
-  std::filesystem::remove(binary);
-  const collision::Polyhedron s = make_sphere(50, 8, 16);
-  const double v = volume(s);
-  CHECK(v > 0.85 * 4.0 / 3 * std::numbers::pi * 125000);
+  std::string what = "no error";
+  try {
+    (void)load_urdf_text(urdf("<mesh filename=\"cube_ascii.stl\"/>"), "bad.urdf", dir.string());
+  } catch (const UrdfError& e) {
+    what = e.what();
+    CHECK(e.line() == 5);
+  }
+  CHECK_THAT(what, Catch::StartsWith("bad.urdf:5: ") && Catch::Contains("cube_ascii.stl: face 1: non-finite"));
+  CHECK_THAT(error_of(urdf("<mesh filename=\"arm.dae\"/>")), Catch::StartsWith("bad.urdf:5: ") && Catch::Contains("unknown mesh format"));
+  std::filesystem::remove_all(dir);
+  const Robot sphere = load_urdf_text(urdf("<sphere radius=\"0.05\"/>"), "s.urdf");
+  REQUIRE(sphere.bodies.size() == 1);
+  const double v = volume(sphere.bodies[0].mesh);
+  CHECK(v > 4.0 / 3 * std::numbers::pi * std::pow(50 - 0.5, 3));  // every face within 0.5 mm of the sphere
   CHECK(v < 4.0 / 3 * std::numbers::pi * 125000);
 }
