@@ -53,9 +53,10 @@ constexpr std::array<std::string_view, 40> kInstructions = {
     "READY", "RELAX", "RELAXI", "RIGHTY", "SET", "SIGNAL", "SINGLE", "SPEED", "TOOL", "TYPE"};
 
 // Statements DO refuses: control flow and declarations (dialect §9).
-constexpr std::array<std::string_view, 22> kNotForDo = {
+constexpr std::array<std::string_view, 24> kNotForDo = {
     "if", "else", "elseif", "elif", "end", "while", "do", "until", "for", "case", "value",
-    "any", "goto", "exit", "next", "return", "auto", "local", "global", ".program", ".end", "stop"};
+    "any", "goto", "exit", "next", "return", "auto", "local", "global", ".program", ".end", "stop",
+    "pause", "halt"};
 
 constexpr const char* kDoProgram = "do.tmp";      // DO runs as this one-statement program
 constexpr const char* kExecProgram = "exec.tmp";  // EXECUTE prog(args) calls prog from this one
