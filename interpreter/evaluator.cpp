@@ -555,9 +555,9 @@ const Value& Evaluator::lookup(const Node& n) {
   if (n.kids.empty()) raise(ErrorKind::illegal_value, fmt::format("{}[] here", n.text));
   const Index idx = index(n);
   if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", n.text));
-  const auto it = v.elements.find(idx);
-  if (it == v.elements.end()) raise(ErrorKind::undefined_value, element_name(n, idx));
-  return it->second;
+  const Value* e = v.elements.get(idx);
+  if (!e) raise(ErrorKind::undefined_value, element_name(n, idx));
+  return *e;
 }
 
 void Evaluator::store(const Node& target, Value value) {
@@ -576,7 +576,7 @@ void Evaluator::store(const Node& target, Value value) {
   const Index idx = index(target);
   if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", target.text));
   if (!v.elements.empty()) check_kind(v.elements.begin()->second);
-  v.elements[idx] = std::move(value);
+  v.elements.set(idx, std::move(value));
 }
 
 bool Evaluator::defined(const Node& n) {
@@ -782,8 +782,8 @@ void Evaluator::store_real(const Node& target, double x) {
   if (!v.elements.empty() && kind_of(v.elements.begin()->second) != Kind::real)
     raise(ErrorKind::illegal_value, fmt::format("{} holds a {}, not a real", target.text,
                                                 kind_name(kind_of(v.elements.begin()->second))));
-  auto [it, added] = v.elements.try_emplace(idx, x);
-  if (!added) it->second = x;
+  if (Value* e = v.elements.get(idx)) *e = x;
+  else v.elements.set(idx, x);
 }
 
 }  // namespace asimov::val

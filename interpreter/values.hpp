@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace asimov::val {
 
@@ -33,10 +34,69 @@ int to_index(double x);
 
 using Index = std::array<int, 3>;
 
+// The elements of an array, sorted by index (listings, STORE, LAST). Elements of the form
+// a[i] (i.e. [i,0,0]) are also found in O(1) through a dense table of pointers into the map
+// (its nodes never move); other indices take the map lookup.
+class Elements {
+ public:
+  using Map = std::map<Index, Value>;
+  Elements() = default;
+  Elements(const Elements& other) : map_(other.map_) { reindex(); }
+  Elements(Elements&&) noexcept = default;  // map nodes move with the map
+  Elements& operator=(const Elements& other) {
+    if (this != &other) map_ = other.map_, reindex();
+    return *this;
+  }
+  Elements& operator=(Elements&&) noexcept = default;
+
+  bool empty() const { return map_.empty(); }
+  std::size_t size() const { return map_.size(); }
+  Map::const_iterator begin() const { return map_.begin(); }
+  Map::const_iterator end() const { return map_.end(); }
+  Map::iterator begin() { return map_.begin(); }
+  Map::iterator end() { return map_.end(); }
+  Map::const_reverse_iterator rbegin() const { return map_.rbegin(); }
+  Map::const_reverse_iterator rend() const { return map_.rend(); }
+
+  // The element, or null.
+  Value* get(const Index& i) {
+    if (i[1] == 0 && i[2] == 0 && i[0] >= 0) return static_cast<std::size_t>(i[0]) < dense_.size() ? dense_[static_cast<std::size_t>(i[0])] : nullptr;
+    const auto it = map_.find(i);
+    return it == map_.end() ? nullptr : &it->second;
+  }
+  std::size_t count(const Index& i) const { return const_cast<Elements*>(this)->get(i) ? 1 : 0; }
+  // Inserts or assigns.
+  Value& set(const Index& i, Value v) {
+    if (Value* e = get(i)) return *e = std::move(v);
+    Value& e = map_.emplace(i, std::move(v)).first->second;
+    note(i, &e);
+    return e;
+  }
+  Value& operator[](const Index& i) {
+    if (Value* e = get(i)) return *e;
+    return set(i, Value{});
+  }
+
+ private:
+  void note(const Index& i, Value* e) {
+    if (i[1] != 0 || i[2] != 0 || i[0] < 0) return;
+    const auto k = static_cast<std::size_t>(i[0]);
+    if (k >= dense_.size()) dense_.resize(k + 1, nullptr);
+    dense_[k] = e;
+  }
+  void reindex() {
+    dense_.clear();
+    for (auto& [i, v] : map_) note(i, &v);
+  }
+
+  Map map_;
+  std::vector<Value*> dense_;  // [i] -> the element a[i], or null
+};
+
 // One named variable: a scalar or an array, never both. Elements grow on assignment.
 struct Variable {
   std::optional<Value> scalar;            // scalar value, when assigned
-  std::map<Index, Value> elements;        // array elements, when assigned
+  Elements elements;                      // array elements, when assigned
   bool is_array() const { return !elements.empty(); }
 };
 
