@@ -629,8 +629,11 @@ class Checker {
     }
     const int loop_end = here();
     for (int n : b.nexts) at(n).jump = loop_end;
-    if (b.kind == Kw::while_) {
-      emit(Code::jump).jump = b.start;
+    if (b.kind == Kw::while_) {  // the test again at the bottom (one dispatch per iteration less)
+      Instr& again = emit(Code::jump_true);
+      again.args = at(b.test).args;
+      again.line = at(b.test).line;
+      again.jump = b.start + 1;
     } else {  // FOR
       Instr& next = emit(Code::for_next);
       const Instr& init = at(b.test);

@@ -122,7 +122,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     while (!stack_.empty()) {
       Frame& f = stack_.back();
       if (f.pc >= static_cast<int>(f.program->code.size())) {  // .END returns
-        stack_.pop_back();
+        pop_frame();
         continue;
       }
       const Instr& in = f.program->code[static_cast<std::size_t>(f.pc)];
@@ -355,7 +355,7 @@ void Evaluator::execute(const Instr& in) {
       return;
     }
     case Code::call: return call(in);
-    case Code::return_: stack_.pop_back(); return;
+    case Code::return_: pop_frame(); return;
     case Code::stop: stack_.clear(); return;
   }
 }
@@ -368,6 +368,10 @@ void Evaluator::call(const Instr& in) {
   if (in.args.size() > program->params.size())
     raise(ErrorKind::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
   Frame frame;
+  if (!spare_.empty()) {  // a used frame keeps its vectors' capacity: no allocation per CALL
+    frame = std::move(spare_.back());
+    spare_.pop_back();
+  }
   frame.program = program;
   frame.owned.reserve(program->params.size() + program->autos.size());  // pointers stay valid
   frame.params.reserve(program->params.size() + program->autos.size());
@@ -385,6 +389,17 @@ void Evaluator::call(const Instr& in) {
     frame.params.push_back(&frame.owned.emplace_back());
   frame.temps.resize(static_cast<std::size_t>(program->temps));
   stack_.push_back(std::move(frame));
+}
+
+void Evaluator::pop_frame() {
+  Frame& f = stack_.back();
+  f.program.reset();
+  f.params.clear();
+  f.owned.clear();
+  f.temps.clear();
+  f.pc = 0;
+  if (spare_.size() < 64) spare_.push_back(std::move(f));
+  stack_.pop_back();
 }
 
 void Evaluator::finish_motion() {

@@ -77,6 +77,7 @@ class Evaluator {
   void start_motion(const MotionRequest& m);
   void execute(const Instr& in);
   void call(const Instr& in);
+  void pop_frame();
   void motion(const Instr& in);
   void type(const Instr& in);
   std::vector<Value> eval_all(const std::vector<Node>& nodes);
@@ -123,6 +124,7 @@ class Evaluator {
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
+  std::vector<Frame> spare_;                  // popped frames, emptied, reused by CALL
 };
 
 }  // namespace asimov::val
