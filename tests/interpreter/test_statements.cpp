@@ -2,6 +2,7 @@
 // ENABLE / DISABLE / SWITCH, hand (OPEN ... RELAXI, MOVET), DURATION, and the §7 constructs
 // (SPEED ... MMPS, GETC ...). Each runs a program and checks its TYPE output or its error.
 #include "interpreter_fixture.hpp"
+#include "collision/polyhedron.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -209,4 +210,43 @@ TEST_CASE("the new keywords are reserved", "[statements]") {
     CHECK(d[0].message == "*Syntax error*");
   }
   CHECK(outcome("wait.x = 1\nopen_count = 2\nTYPE wait.x + open_count") == "3\n");
+}
+
+TEST_CASE("DISABLE COLLISION lets a colliding motion through; the clearance widens contact", "[statements][collision]") {
+  using namespace asimov;
+  // A box at the tool point halfway through a J1 sweep (as in test_motion_programs).
+  motion::Location work;
+  {
+    InterpreterFixture probe;
+    REQUIRE(probe.run(program(" MOVE #PPOINT(25, -60, 150, 10, 40, 20)")).status == RunStatus::completed);
+    work = probe.sim.here();
+  }
+  auto run_in_box_cell = [&](const std::string& prefix, std::string& text) {
+    motion::Cell cell = test::empty_puma_cell();
+    motion::CellObject box;
+    box.name = "box";
+    box.mesh = collision::make_box(collision::Vec3(60, 60, 60));
+    box.pose = motion::Location::Identity();
+    box.pose.translation() = work.translation();
+    cell.objects.push_back(box);
+    motion::Simulator sim(cell);
+    std::ostringstream out;
+    val::Interpreter interp(sim, out);
+    REQUIRE(interp.load_source(program(prefix + "\nMOVE #PPOINT(10, -60, 150, 10, 40, 20)\nMOVE #PPOINT(40, -60, 150, 10, 40, 20)\n"
+                                       "BREAK\nTYPE SWITCH(COLLISION)"), "box.v2").empty());
+    const val::RunResult r = interp.run("main");
+    text = out.str();
+    return r;
+  };
+  std::string text;
+  CHECK(run_in_box_cell("", text).status == RunStatus::collision);
+  auto r = run_in_box_cell("DISABLE COLLISION", text);
+  CHECK(r.status == RunStatus::completed);
+  CHECK(text == "0\n");
+  r = run_in_box_cell("DISABLE COLLISION\nENABLE COLLISION", text);
+  CHECK(r.status == RunStatus::collision);
+  // With a clearance the contact is found earlier along the same sweep.
+  const double t_plain = run_in_box_cell("", text).collision.time_s;
+  const double t_clear = run_in_box_cell("PARAMETER COLLISION.CLEARANCE = 20", text).collision.time_s;
+  CHECK(t_clear < t_plain);
 }
