@@ -20,6 +20,7 @@ struct CollisionSettings {
   int halvings = 9;            // M for every body unless a body says otherwise
   double step_mm = 1.0;        // no body point moves more than this between checked poses
   double clearance_mm = 0.0;   // contact when distance <= clearance
+  double toc_tolerance_s = 1e-6;  // contact time: bisect until t_hit - t_free <= this (four-step.md §6.4)
   std::vector<std::pair<std::string, std::string>> ignore;  // user-disabled pairs (body names)
   bool enabled = true;
 };

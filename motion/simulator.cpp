@@ -23,6 +23,7 @@ using robots::JointVector;
 constexpr int kStaticGroup = 1000;  // link0 and every cell object: never tested together
 constexpr int kToolGroup = 6;       // the tool is rigid with link6
 constexpr double kMinStepMm = 1e-3; // guards against a zero or negative step_mm
+constexpr int kMaxBisectionRounds = 4;  // contact-time bisections per contact (another pair met)
 
 MotionResult error(const char* message, std::string detail = {}) {
   MotionResult r;
@@ -56,6 +57,9 @@ struct Simulator::Impl {
   robots::ConfigurationRequest request;
   double time = 0;
   std::uint64_t poses = 0;
+  std::uint64_t bisection = 0;               // poses checked by contact-time bisection
+  bool last_free = false;                    // the last visited pose was checked and found free
+  std::vector<collision::BodyPair> hit_pairs;  // bisection: pairs colliding at the first hit
   bool tracing = false;
   std::vector<TraceSample> trace;
   collision::StepCounts counts;
@@ -82,6 +86,9 @@ struct Simulator::Impl {
     JointVector from, to;
     int intervals = 1;
     LinePlan line;
+    LinePath path;                               // straight: the tool-point line, and what maps
+    Location base_inv, tool_inv;                 //   it to the flange, for poses between samples
+    robots::Configuration config;
     Profile profile;
     double t0 = 0;
     int tag = 0;
@@ -165,15 +172,17 @@ struct Simulator::Impl {
     engine.emplace(std::move(e));
   }
 
-  // Checks the arm at `q`; fills `report` on contact.
-  bool collides(const JointVector& q, CollisionReport& report) {
-    if (!engine || !cell.collision.enabled) return false;
+  // Poses the moving bodies at `q` in the engine.
+  void pose_bodies(const JointVector& q) {
     robots::link_frames(cell.robot, q, frames);
     const auto& bodies = cell.robot.bodies;
     for (std::size_t i = 0; i < bodies.size(); ++i)
       if (bodies[i].link > 0) engine->set_pose(link_ids[i], cell.base * frames[static_cast<std::size_t>(bodies[i].link)]);
     if (tool_id) engine->set_pose(*tool_id, cell.base * frames.back());
-    const collision::QueryResult r = engine->check();
+  }
+
+  // Adds a query's counts; on contact fills `report` (bodies, point, faces, joints `q`).
+  bool record(const collision::QueryResult& r, const JointVector& q, CollisionReport& report) {
     counts.pairs_enabled += r.counts.pairs_enabled;
     counts.pairs_after_minimax += r.counts.pairs_after_minimax;
     counts.pairs_after_voxels += r.counts.pairs_after_voxels;
@@ -183,16 +192,92 @@ struct Simulator::Impl {
     report.body_a = engine->body_name(r.contact.body_a);
     report.body_b = engine->body_name(r.contact.body_b);
     report.point = r.contact.point;
+    report.face_a = r.contact.face_a;
+    report.face_b = r.contact.face_b;
     report.joints = q;
     return true;
+  }
+
+  // Checks the arm at `q`; fills `report` on contact.
+  bool collides(const JointVector& q, CollisionReport& report) {
+    if (!engine || !cell.collision.enabled) return false;
+    pose_bodies(q);
+    return record(engine->check(), q, report);
+  }
+
+  // Contact time (four-step.md §6.4). `report` holds the contact at the checked pose of
+  // report.time_s; the pose `q_free` at `t_free` was checked free against every pair. Bisects in
+  // time on the exact path `at(t, q_ref)` (joints at time t; q_ref: the nearest free joints, an
+  // IK seed) with only the pairs that collide at the colliding pose, until t_hit - t_free <=
+  // toc_tolerance_s, then checks the halting pose against every pair: should another pair meet
+  // there (a contact between the samples that the sampled poses missed), that contact is
+  // bisected from the start again. Leaves the report at t_hit, time_free_s = t_free and `q_free`
+  // at the halting pose; returns false when the halting pose could not be verified free (then
+  // it is the original free pose).
+  template <class PathAt>
+  bool bisect_contact(double t_free, JointVector& q_free, PathAt&& at, CollisionReport& report) {
+    const double t_start = t_free;
+    const JointVector q_start = q_free;
+    const double tol = cell.collision.toc_tolerance_s >= 0 ? cell.collision.toc_tolerance_s : 1e-6;
+    for (int round = 0; round < kMaxBisectionRounds; ++round) {
+      pose_bodies(report.joints);
+      hit_pairs.clear();
+      CollisionReport probe;
+      for (const collision::BodyPair& pair : engine->enabled_pairs())
+        if (record(engine->check_pairs(std::span(&pair, 1)), report.joints, probe)) hit_pairs.push_back(pair);
+      if (hit_pairs.empty()) break;  // cannot happen (check() found one)
+      double t_hit = report.time_s;
+      while (t_hit - t_free > tol) {
+        const double t = t_free + (t_hit - t_free) / 2;
+        if (!(t > t_free && t < t_hit)) break;  // the bracket is one ulp wide
+        const JointVector q = at(t, q_free);
+        pose_bodies(q);
+        ++bisection;
+        if (record(engine->check_pairs(hit_pairs), q, report)) {
+          t_hit = t;
+        } else {
+          t_free = t;
+          q_free = q;
+        }
+      }
+      report.time_s = t_hit;
+      report.time_free_s = t_free;
+      if (t_free == t_start) return true;  // q_start: checked against every pair already
+      pose_bodies(q_free);
+      ++bisection;
+      CollisionReport other;
+      if (!record(engine->check(), q_free, other)) return true;
+      other.time_s = t_free;  // an earlier contact of another pair: bisect it from the start
+      report = std::move(other);
+      t_free = t_start;
+      q_free = q_start;
+    }
+    report.time_free_s = t_start;
+    q_free = q_start;
+    return false;
+  }
+
+  // Halts the pending motion on the contact found at the checked pose of `report.time_s`;
+  // `t_prev` is the time of the pose before (the current joints), `was_free` whether it was
+  // checked and free (then the contact time is bisected). The arm stays at the last free pose,
+  // the clock at the contact time.
+  template <class PathAt>
+  MotionResult halt(CollisionReport report, double t_prev, bool was_free, PathAt&& at, int tag) {
+    report.time_free_s = t_prev;
+    last_free = was_free && bisect_contact(t_prev, joints, at, report);
+    time = report.time_s;
+    return collision_result(std::move(report), tag);
   }
 
   // One checked pose at time t: counts it, traces it, checks it.
   bool visit(const JointVector& q, double t, CollisionReport& report) {
     ++poses;
     if (tracing) trace.push_back({t, q, here_at(q)});
-    if (!collides(q, report)) return false;
-    report.time_s = t;
+    if (!collides(q, report)) {
+      last_free = engine && cell.collision.enabled;
+      return false;
+    }
+    report.time_s = report.time_free_s = t;
     return true;
   }
 
@@ -246,6 +331,7 @@ void Simulator::set_tool(const Location& tool) { impl_->tool = tool; }
 robots::Configuration Simulator::configuration() const { return robots::configuration_of(impl_->cell.robot, impl_->joints); }
 robots::ConfigurationRequest& Simulator::request() { return impl_->request; }
 double Simulator::time_s() const { return impl_->time; }
+std::uint64_t Simulator::bisection_checks() const { return impl_->bisection; }
 std::uint64_t Simulator::poses_checked() const { return impl_->poses; }
 bool Simulator::motion_pending() const { return impl_->pending.active; }
 void Simulator::set_trace(bool on) { impl_->tracing = on; }
@@ -329,6 +415,10 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   s.pending.from = s.joints;
   s.pending.to = plan.samples.back().joints;
   s.pending.line = std::move(plan);
+  s.pending.path = req.path;
+  s.pending.base_inv = s.base.inverse();
+  s.pending.tool_inv = s.tool.inverse();
+  s.pending.config = current;
   s.pending.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(2 + n)), speed.duration_s);
   s.pending.t0 = s.time;
   s.pending.tag = tag;
@@ -390,26 +480,42 @@ MotionResult Simulator::finish_motion() {
     if (s.visit(s.joints, s.time, report)) return s.collision_result(std::move(report), p.tag);
   }
   JointVector q(s.joints.size());
+  double t_prev = s.time;  // time of the current joints
   if (p.straight) {
     const auto& samples = p.line.samples;
     for (std::size_t i = 1; i < samples.size(); ++i) {
       const double t = p.t0 + p.profile.time_at(samples[i].s);
+      const bool was_free = s.last_free;
       if (s.visit(samples[i].joints, t, report)) {
-        s.time = t;
-        return s.collision_result(std::move(report), p.tag);
+        // Between samples: the line's pose at sigma(t), IK in the motion's configuration seeded
+        // with the nearest free joints, as plan_line solves its samples; where that fails or
+        // jumps, the joints interpolated between the two samples.
+        const LineSample &a = samples[i - 1], &b = samples[i];
+        const auto at = [&s, &p, &a, &b](double tm, const JointVector& ref) {
+          const double sigma = std::clamp(p.profile.sigma(tm - p.t0), a.s, b.s);
+          const JointVector lin = interpolate_joints(a.joints, b.joints, b.s > a.s ? (sigma - a.s) / (b.s - a.s) : 1.0);
+          const Location flange = p.base_inv * line_pose(p.path, sigma) * p.tool_inv;
+          const robots::IkResult ik = robots::solve_ik(s.cell.robot, flange, ref, p.config, false);
+          if (ik.status != robots::IkStatus::ok || (ik.joints - lin).cwiseAbs().maxCoeff() > kMaxJointJumpDeg) return lin;
+          return ik.joints;
+        };
+        return s.halt(std::move(report), t_prev, was_free, at, p.tag);
       }
       s.joints = samples[i].joints;
+      t_prev = t;
     }
   } else {
+    const auto at = [&p](double tm, const JointVector&) {
+      return interpolate_joints(p.from, p.to, p.profile.sigma(tm - p.t0));
+    };
     for (int i = 1; i <= p.intervals; ++i) {
       const double sigma = static_cast<double>(i) / p.intervals;
       q = i == p.intervals ? p.to : interpolate_joints(p.from, p.to, sigma);
       const double t = p.t0 + p.profile.time_at(sigma);
-      if (s.visit(q, t, report)) {
-        s.time = t;
-        return s.collision_result(std::move(report), p.tag);
-      }
+      const bool was_free = s.last_free;
+      if (s.visit(q, t, report)) return s.halt(std::move(report), t_prev, was_free, at, p.tag);
       s.joints = q;
+      t_prev = t;
     }
   }
   s.joints = p.to;

@@ -21,11 +21,20 @@ struct MotionError {
   std::string detail;   // short detail, e.g. "J3 = 231.000 > 225.000"
 };
 
+// Contact time (four-step.md §6.4): when the checked pose at t_{k+1} collides and the one at
+// t_k was found free, the time is bisected on the exact path between them with the pairs that
+// collide at t_{k+1}, until time_s - time_free_s <= CollisionSettings::toc_tolerance_s. The arm
+// halts at the pose of time_free_s (collision-free); body names, point, faces and joints are
+// those of the contact at time_s.
 struct CollisionReport {
   std::string body_a, body_b;
-  collision::Vec3 point = collision::Vec3::Zero();  // world [mm]
-  double time_s = 0;                                // simulated time of the first colliding pose
-  robots::JointVector joints;                       // display [deg] at the first colliding pose
+  collision::Vec3 point = collision::Vec3::Zero();  // world [mm], on both bodies' surfaces
+  double time_s = 0;                                // contact time t_hit [s] (simulated clock)
+  double time_free_s = 0;                           // time of the halting pose t_free [s] (= time_s when
+                                                    //   the start pose already collides)
+  robots::JointVector joints;                       // display [deg] at t_hit
+  std::uint32_t face_a = 0, face_b = 0;             // triangle indices in body_a's / body_b's mesh
+                                                    //   (0 for a containment contact)
   int tag = 0;                                      // step tag of the motion instruction
 };
 
@@ -106,8 +115,11 @@ class Simulator {
   void set_trace(bool on);
   const std::vector<TraceSample>& trace() const;
 
-  // Collision counts summed over all checked poses (per step of the engine).
+  // Collision counts summed over all engine queries (checked poses and contact-time bisection).
   const collision::StepCounts& collision_counts() const;
+  // Poses checked by contact-time bisection (not in poses_checked() nor in the trace): one
+  // engine query per pose, on the pairs that collided at the first colliding checked pose.
+  std::uint64_t bisection_checks() const;
   bool collision_engine_used() const;  // false when the cell has no enabled pair
 
  private:
