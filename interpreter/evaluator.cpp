@@ -82,7 +82,8 @@ RunResult Evaluator::resume(bool retry) {
     // After a collision the step that found the contact runs again (PROCEED and RETRY);
     // RETRY after an error re-runs the failing step; PROCEED after an error skips it.
     // After PAUSE both continue with the next step.
-    if (s.status == RunStatus::paused) return;
+    // After Ctrl-C (or PAUSE) both run the step not yet run.
+    if (s.status == RunStatus::paused || s.interrupted) return;
     if (!stack_.empty() && (retry || s.status == RunStatus::collision)) --stack_.back().pc;
     if (retry && s.status == RunStatus::collision && last_motion_) start_motion(*last_motion_);
   });
@@ -163,7 +164,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     result.line = result.step = 0;
   } else if (!stack_.empty() || result.status == RunStatus::collision) {
     stopped_ = Stopped{std::move(stack_), result.status, name, speed_always_, speed_next_, last_motion_,
-                       duration_always_, duration_next_};
+                       duration_always_, duration_next_,
+                       result.error.message == error_message(ErrorKind::interrupted)};
   }
   stack_.clear();
   result.warnings = std::move(warnings_);

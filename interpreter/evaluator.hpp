@@ -70,6 +70,7 @@ class Evaluator {
     std::optional<MotionRequest> motion;
     double duration_always = 0;
     std::optional<double> duration_next;
+    bool interrupted = false;                   // Ctrl-C: pc is the step not yet run
   };
 
   // The one protected boundary: runs `setup` then the loop; raises become the result.

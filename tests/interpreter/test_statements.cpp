@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <sstream>
 
 using asimov::test::InterpreterFixture;
@@ -249,4 +250,29 @@ TEST_CASE("DISABLE COLLISION lets a colliding motion through; the clearance wide
   const double t_plain = run_in_box_cell("", text).collision.time_s;
   const double t_clear = run_in_box_cell("PARAMETER COLLISION.CLEARANCE = 20", text).collision.time_s;
   CHECK(t_clear < t_plain);
+}
+
+TEST_CASE("RETRY after an interrupt runs the interrupted step (also inside WAIT)", "[statements][resume]") {
+  InterpreterFixture f;
+  std::atomic<bool> interrupt{true};
+  f.interp.limits().interrupt = &interrupt;
+  REQUIRE(f.load(program("TYPE 1\nTYPE 2")).empty());
+  auto r = f.interp.run("main");
+  REQUIRE(r.error.message == "*Program interrupted*");
+  interrupt = false;
+  r = f.interp.retry();
+  CHECK(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "1\n2\n");
+  // An interrupt seen inside WAIT stops at the WAIT; PROCEED waits again.
+  REQUIRE(f.load(".PROGRAM w()\nTYPE \"a\"\nWAIT SIG(2001)\nTYPE \"b\"\n.END\n.PROGRAM s()\nSIGNAL 2001\n.END\n").empty());
+  f.out.str("");
+  f.interp.limits().interrupt = nullptr;
+  f.interp.limits().max_wait_s = 1;
+  r = f.interp.run("w");
+  CHECK(r.error.message == "*Wait limit exceeded*");
+  CHECK(r.step == 2);
+  CHECK(f.interp.run("s").status == RunStatus::completed);  // a DO SIGNAL at the monitor
+  r = f.interp.retry();
+  CHECK(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "a\nb\n");
 }
