@@ -96,6 +96,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   statements_ = 0;
   warnings_.clear();
   memory_.globals.resize(memory_.symbols.globals.size());
+  globals_.resize(memory_.globals.size());  // no global is added while a run goes on
+  for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
 
   auto locate = [&](Diagnostic& d, const Program* p, int line) {
     if (!p) return;
@@ -537,7 +539,7 @@ motion::Location Evaluator::as_transformation(const Value& v) {
 // --- expressions ----------------------------------------------------------------------------
 
 Variable& Evaluator::variable(const Node& n) {
-  if (n.ref.scope == Scope::global) return memory_.globals[static_cast<std::size_t>(n.ref.slot)];
+  if (n.ref.scope == Scope::global) return *globals_[static_cast<std::size_t>(n.ref.slot)];
   return *stack_.back().params[static_cast<std::size_t>(n.ref.slot)];
 }
 

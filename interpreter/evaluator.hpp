@@ -126,6 +126,7 @@ class Evaluator {
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
   std::vector<Frame> spare_;                  // popped frames, emptied, reused by CALL
+  std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
 };
 
 }  // namespace asimov::val
