@@ -303,21 +303,7 @@ void Evaluator::execute(const Instr& in) {
       sim_.set_base(motion::trans(x[0], x[1], x[2], x[3], 0, 0));
       return;
     }
-    case Code::configure: {
-      robots::ConfigurationRequest& r = sim_.request();
-      switch (in.word) {
-        case ast::Kw::righty: r.righty = 1; break;
-        case ast::Kw::lefty: r.righty = 0; break;
-        case ast::Kw::above: r.above = 1; break;
-        case ast::Kw::below: r.above = 0; break;
-        case ast::Kw::noflip: r.noflip = 1; break;
-        case ast::Kw::flip: r.noflip = 0; break;
-        case ast::Kw::single: r.single = true; break;
-        case ast::Kw::multiple: r.single = false; break;
-        default: break;
-      }
-      return;
-    }
+    case Code::configure: return request_configuration(in.word, sim_.request());
     case Code::break_: return finish_motion();
     case Code::speed: {
       const double s = to_real(eval(in.args[0]));

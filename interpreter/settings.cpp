@@ -38,4 +38,18 @@ bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator
   return true;
 }
 
+void request_configuration(ast::Kw word, robots::ConfigurationRequest& r) {
+  switch (word) {
+    case ast::Kw::righty: r.righty = 1; break;
+    case ast::Kw::lefty: r.righty = 0; break;
+    case ast::Kw::above: r.above = 1; break;
+    case ast::Kw::below: r.above = 0; break;
+    case ast::Kw::noflip: r.noflip = 1; break;
+    case ast::Kw::flip: r.noflip = 0; break;
+    case ast::Kw::single: r.single = true; break;
+    case ast::Kw::multiple: r.single = false; break;
+    default: break;
+  }
+}
+
 }  // namespace asimov::val

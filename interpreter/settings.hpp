@@ -1,6 +1,8 @@
 // Settings of dialect §6: PARAMETER name = value / PARAMETER(name), and ENABLE / DISABLE /
-// SWITCH(name). Names are given in upper case; an unknown one is an *Illegal value*.
+// SWITCH(name) (names in upper case; an unknown one is an *Illegal value*); and the
+// configuration words of §5.
 #pragma once
+#include "interpreter/ast.hpp"
 #include "motion/simulator.hpp"
 #include <string>
 
@@ -18,5 +20,9 @@ void set_parameter(const std::string& name, double value, Settings& s, motion::S
 bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim);
 // False for the switches V+ has and the simulation ignores with a warning (SCALE.ACCEL, §7).
 bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim);
+
+// RIGHTY, LEFTY, ABOVE, BELOW, FLIP, NOFLIP, SINGLE, MULTIPLE: a request for the next joint
+// motions to transformations (dialect §5).
+void request_configuration(ast::Kw word, robots::ConfigurationRequest& r);
 
 }  // namespace asimov::val
