@@ -20,9 +20,19 @@ struct MonitorOptions {
   bool strict = false;              // the first failed command ends the session (exit 2)
 };
 
+struct PairsOptions {
+  std::string cell;         // CELL.yaml; empty: the built-in default cell
+  std::string cache;        // --cache FILE; empty: CELL.yaml.pairs, for the built-in cell
+                            //   $XDG_CACHE_HOME (or ~/.cache)/asimov/default-cell.pairs
+  bool no_cache = false;    // --no-cache: neither read nor write a cache
+  int samples = 10000;      // --samples N: random poses for NEVER
+};
+
 int run_command(const RunOptions& options, std::ostream& out, std::ostream& err);
 int check_command(const std::string& file, std::ostream& out, std::ostream& err);
 // The VAL monitor (cmd_monitor.cpp): interactive with libedit when stdin is a terminal.
 int monitor_command(const MonitorOptions& options, std::istream& in, std::ostream& out, std::ostream& err);
+// The generated participation matrix of a cell (cmd_pairs.cpp), cached next to the cell file.
+int pairs_command(const PairsOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace asimov::app

@@ -1,5 +1,5 @@
 // asimov: runs VAL II programs in simulation and halts them the instant the arm touches
-// something. Subcommands: run, check, monitor; no subcommand starts the monitor (README.md
+// something. Subcommands: run, check, pairs, monitor; no subcommand starts the monitor (README.md
 // has the contract).
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
@@ -26,6 +26,13 @@ int main(int argc, char** argv) {
   auto* check_cmd = cli.add_subcommand("check", "load and check FILE.v2; nothing runs");
   check_cmd->add_option("file", check_file, "the .v2 file")->required();
 
+  PairsOptions pairs;
+  auto* pairs_cmd = cli.add_subcommand("pairs", "print the generated collision pair matrix of a cell (cached)");
+  pairs_cmd->add_option("cell", pairs.cell, "cell file (YAML); default: the built-in cell");
+  pairs_cmd->add_option("--samples", pairs.samples, "random poses for NEVER (default 10000)")->check(CLI::NonNegativeNumber);
+  pairs_cmd->add_option("--cache", pairs.cache, "cache file (default: CELL.yaml.pairs)");
+  pairs_cmd->add_flag("--no-cache", pairs.no_cache, "neither read nor write a cache");
+
   MonitorOptions monitor;
   auto* monitor_cmd = cli.add_subcommand("monitor", "the VAL monitor: commands from the terminal or stdin");
   monitor_cmd->add_option("files", monitor.files, "FILE.v2 files to load first");
@@ -44,6 +51,7 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) return run_command(run, std::cout, std::cerr);
     if (*check_cmd) return check_command(check_file, std::cout, std::cerr);
+    if (*pairs_cmd) return pairs_command(pairs, std::cout, std::cerr);
     return monitor_command(monitor, std::cin, std::cout, std::cerr);  // `monitor` or no subcommand
   } catch (const std::exception& e) {
     // The layers report problems as values; anything reaching here is a defect, still no crash.

@@ -7,6 +7,7 @@
 #include "collision/engine.hpp"
 #include "motion/profile.hpp"
 #include "motion/sampler.hpp"
+#include "motion/scene.hpp"
 #include "robots/ik.hpp"
 
 #include <algorithm>
@@ -14,14 +15,11 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
-#include <unordered_map>
 
 namespace asimov::motion {
 namespace {
 using robots::JointVector;
 
-constexpr int kStaticGroup = 1000;  // link0 and every cell object: never tested together
-constexpr int kToolGroup = 6;       // the tool is rigid with link6
 constexpr double kMinStepMm = 1e-3; // guards against a zero or negative step_mm
 constexpr int kMaxBisectionRounds = 4;  // contact-time bisections per contact (another pair met)
 
@@ -96,7 +94,7 @@ struct Simulator::Impl {
 
   explicit Impl(Cell c) : cell(std::move(c)) {
     const auto& robot = cell.robot;
-    joints = cell.start_joints.size() == robot.joint_count() ? cell.start_joints : ready(robot);
+    joints = start_joints(cell);
     base = cell.base;
     tool = cell.tool;
     frames.reserve(static_cast<std::size_t>(robot.joint_count()) + 1);
@@ -115,45 +113,20 @@ struct Simulator::Impl {
     engine_built = true;
     const auto& robot = cell.robot;
     collision::Engine e;
-    std::unordered_map<std::string, collision::BodyId> by_name;
-    const int halvings = cell.collision.halvings;
-    for (const auto& b : robot.bodies) {
-      collision::BodyDef def;
-      def.name = b.name;
-      def.mesh = b.mesh;
-      def.group = b.link == 0 ? kStaticGroup : b.link;
-      def.is_static = b.link == 0;
-      def.halvings = halvings;
-      const auto id = e.add_body(std::move(def));
-      link_ids.push_back(id);
-      by_name[b.name] = id;
+    // Bodies, groups and joined pairs: motion/scene.hpp (shared with `asimov pairs`).
+    Scene scene = scene_bodies(cell);
+    std::vector<collision::BodyId> statics, scene_ids;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {  // robot bodies, "tool", objects
+      SceneBody& b = scene.bodies[i];
+      const auto id = e.add_body({.name = std::move(b.name), .mesh = std::move(b.mesh), .group = b.group,
+                                  .is_static = b.is_static, .halvings = cell.collision.halvings});
+      scene_ids.push_back(id);
+      if (i < robot.bodies.size()) link_ids.push_back(id);
+      else if (b.object < 0) tool_id = id;
+      else statics.push_back(id);
     }
-    if (cell.tool_shape) {
-      collision::BodyDef def{"tool", *cell.tool_shape, kToolGroup, false, halvings};
-      tool_id = e.add_body(std::move(def));
-      by_name["tool"] = *tool_id;
-    }
-    std::vector<collision::BodyId> statics;
-    for (const auto& o : cell.objects) {
-      collision::BodyDef def{o.name, o.mesh, kStaticGroup, true, halvings};
-      const auto id = e.add_body(std::move(def));
-      statics.push_back(id);
-      by_name[o.name] = id;
-    }
-    // Joined parts: adjacent links touch at their joint; the tool is fixed to the flange, next
-    // to the J5 body (link5).
-    for (std::size_t i = 0; i < robot.bodies.size(); ++i)
-      for (std::size_t j = 0; j < robot.bodies.size(); ++j)
-        if (i != j && std::abs(robot.bodies[i].link - robot.bodies[j].link) <= 1)
-          e.set_pair_enabled(link_ids[i], link_ids[j], false);
-    if (tool_id)
-      for (std::size_t i = 0; i < robot.bodies.size(); ++i)
-        if (robot.bodies[i].link >= robot.joint_count() - 1) e.set_pair_enabled(*tool_id, link_ids[i], false);
-    for (const auto& [a, b] : cell.collision.ignore) {
-      const auto ia = by_name.find(a), ib = by_name.find(b);
-      if (ia != by_name.end() && ib != by_name.end() && ia->second != ib->second)
-        e.set_pair_enabled(ia->second, ib->second, false);
-    }
+    for (const collision::BodyPair& p : scene.adjacent) e.set_pair_enabled(scene_ids[p.a], scene_ids[p.b], false);
+    for (const collision::BodyPair& p : scene.ignored) e.set_pair_enabled(scene_ids[p.a], scene_ids[p.b], false);
     if (!e.has_enabled_pairs()) return;  // never call the engine
     e.set_clearance(cell.collision.clearance_mm);
     for (std::size_t i = 0; i < cell.objects.size(); ++i) e.set_pose(statics[i], cell.objects[i].pose);
