@@ -71,4 +71,13 @@ StaticKind static_kind(const Node& n) {
   return StaticKind::unknown;
 }
 
+void locate_at(Diagnostic& d, const Program& p, int line) {
+  d.program = p.name;
+  d.file = p.file;
+  d.line = line;
+  d.step = line - p.line;
+  if (line >= 1 && static_cast<std::size_t>(line) <= p.text->size())
+    d.source_line = (*p.text)[static_cast<std::size_t>(line - 1)];
+}
+
 }  // namespace asimov::val

@@ -3,6 +3,7 @@
 #pragma once
 #include "interpreter/ast.hpp"
 #include "interpreter/functions.hpp"
+#include "interpreter/interpreter.hpp"
 #include <memory>
 #include <string>
 #include <vector>
@@ -90,5 +91,8 @@ struct Program {
   int temps = 0;                   // frame temporaries (FOR limits and steps)
   std::shared_ptr<const std::vector<std::string>> text;  // the file's lines, for reports
 };
+
+// Fills the program, file, line, step and source line of `d` for `line` of `p`.
+void locate_at(Diagnostic& d, const Program& p, int line);
 
 }  // namespace asimov::val

@@ -101,12 +101,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 
   auto locate = [&](Diagnostic& d, const Program* p, int line) {
     if (!p) return;
-    d.program = p->name;
-    d.file = p->file;
-    d.line = line;
-    d.step = line - p->line;
-    if (line >= 1 && static_cast<std::size_t>(line) <= p->text->size())
-      d.source_line = (*p->text)[static_cast<std::size_t>(line - 1)];
+    locate_at(d, *p, line);
     result.program = p->name;
     result.line = line;
     result.step = d.step;
@@ -735,11 +730,7 @@ void Evaluator::warn_once(const std::string& keyword, const Instr& in) {
   w.message = std::string(error_message(ErrorKind::not_supported));
   w.detail = keyword;
   w.warning = true;
-  w.program = current_program_->name;
-  w.file = current_program_->file;
-  w.line = in.line;
-  w.step = in.line - current_program_->line;
-  w.source_line = (*current_program_->text)[static_cast<std::size_t>(in.line - 1)];
+  locate_at(w, *current_program_, in.line);
   warnings_.push_back(std::move(w));
 }
 
@@ -749,6 +740,14 @@ bool Evaluator::try_real(const Node& n, double& out) {
   switch (n.kind) {
     case NodeKind::number: out = n.number; return true;
     case NodeKind::variable: {
+      if (!n.subscripted) {  // a scalar: no call (undefined and arrays go through lookup)
+        const Variable& v = variable(n);
+        if (v.scalar && !v.is_array()) {
+          const double* d = std::get_if<double>(&*v.scalar);
+          if (d) out = *d;
+          return d != nullptr;
+        }
+      }
       const double* d = std::get_if<double>(&lookup(n));
       if (d) out = *d;
       return d != nullptr;
@@ -761,7 +760,12 @@ bool Evaluator::try_real(const Node& n, double& out) {
     }
     case NodeKind::binary: {
       double a, b;
-      if (!try_real(n.kids[0], a) || !try_real(n.kids[1], b)) return false;
+      const Node& l = n.kids[0];
+      const Node& r = n.kids[1];
+      if (l.kind == NodeKind::number) a = l.number;  // constant operands without a call
+      else if (!try_real(l, a)) return false;
+      if (r.kind == NodeKind::number) b = r.number;
+      else if (!try_real(r, b)) return false;
       out = real_binary(n.op, a, b);
       return true;
     }

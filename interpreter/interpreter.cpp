@@ -98,11 +98,7 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
       Diagnostic d;
       d.message = "*Undefined program or variable name*";
       d.detail = m.symbols.programs[static_cast<std::size_t>(in.program)];
-      d.file = p->file;
-      d.line = in.line;
-      d.program = p->name;
-      d.step = in.line - p->line;
-      d.source_line = (*p->text)[static_cast<std::size_t>(in.line - 1)];
+      locate_at(d, *p, in.line);
       d.warning = true;
       all.push_back(std::move(d));
     }
