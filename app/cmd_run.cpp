@@ -68,6 +68,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
     return kExitUsage;
   }
 
+  for (const auto& w : cell.warnings) err << "Warning: " << w << '\n';
   motion::Simulator sim(std::move(cell));
   sim.set_trace(!opt.trace.empty());
   val::Interpreter interp(sim, out);
@@ -111,6 +112,10 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
     case val::RunStatus::error:
       err << val::format_diagnostic(summary.result.error);
       rc = kExitProgramError;
+      break;
+    case val::RunStatus::paused:  // PAUSE / HALT end a batch run: nobody can PROCEED here
+    case val::RunStatus::halted:
+      err << val::format_pause(summary.result) << '\n';
       break;
     case val::RunStatus::collision:
       err << val::format_diagnostic(summary.result.error) << collision_lines(summary.result.collision);

@@ -28,6 +28,8 @@ const char* status_name(val::RunStatus s) {
     case val::RunStatus::completed: return "completed";
     case val::RunStatus::collision: return "collision";
     case val::RunStatus::error: return "error";
+    case val::RunStatus::paused: return "paused";
+    case val::RunStatus::halted: return "halted";
   }
   return "error";
 }

@@ -194,3 +194,14 @@ TEST_CASE("run: V+ constructs that only warn are reported once, in stderr and th
   REQUIRE(doc["warnings"].size() == 1);
   CHECK(doc["warnings"][0]["line"] == 3);
 }
+
+TEST_CASE("run: PAUSE ends a batch run with exit 0 and status paused") {
+  const auto file = write_file("pause.v2", ".PROGRAM p()\n    TYPE \"before\"\n    PAUSE\n    TYPE \"after\"\n.END\n");
+  const auto report = test::scratch_dir() / "pause.json";
+  const auto r = run_cli("run " + file.string() + " --report " + report.string());
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out == "before\n");
+  CHECK(r.err.find("Program paused: p, step 2") != std::string::npos);
+  CHECK(read_json(report)["status"] == "paused");
+}
