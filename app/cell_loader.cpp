@@ -198,7 +198,7 @@ class Reader {
       if (c["halvings"] && c["halvings"].IsScalar() && c["halvings"].Scalar() == "auto") {
         s.halvings = collision::kAutoHalvings;
       } else if (c["halvings"]) {
-        const double m = number(c["halvings"], "collision.halvings");
+        const double m = number(c["halvings"], "collision.halvings (auto or an integer 0..20)");
         if (m < 0 || m > 20 || m != std::floor(m)) fail(c["halvings"], "collision.halvings must be auto or an integer 0..20");
         s.halvings = static_cast<int>(m);
       }
