@@ -4,6 +4,8 @@
 #include "robots/ik_puma.hpp"
 #include "robots/puma560.hpp"
 
+#include "support/joints.hpp"
+
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
 #include <array>
@@ -14,15 +16,10 @@
 
 using namespace asimov::robots;
 
+using asimov::test::jv;
+
 namespace {
 constexpr double kDeg = std::numbers::pi / 180;
-
-JointVector jv(std::initializer_list<double> v) {
-  JointVector j(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) j[i++] = x;
-  return j;
-}
 
 double angle_diff_deg(double a, double b) { return std::abs(wrap_deg(a - b)); }
 

@@ -5,6 +5,8 @@
 #include "robots/puma560.hpp"
 #include "robots/urdf_loader.hpp"
 
+#include "support/joints.hpp"
+
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
 #include <chrono>
@@ -14,15 +16,10 @@
 using namespace asimov;
 using namespace asimov::robots;
 
+using asimov::test::random_joints;
+
 namespace {
 const std::string kData = std::string(ASIMOV_SOURCE_DIR) + "/robots/data/";
-
-JointVector random_joints(const Robot& r, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(0, 1);
-  JointVector q(r.joint_count());
-  for (int i = 0; i < r.joint_count(); ++i) q[i] = r.lower[i] + u(rng) * (r.upper[i] - r.lower[i]);
-  return q;
-}
 
 double wrapped_distance(const JointVector& a_rad, const JointVector& b_rad) {
   double m = 0;

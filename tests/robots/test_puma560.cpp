@@ -4,6 +4,8 @@
 #include "robots/displacement_bound.hpp"
 #include "robots/puma560.hpp"
 
+#include "support/joints.hpp"
+
 #include <catch2/catch.hpp>
 #include <array>
 #include <cmath>
@@ -13,15 +15,10 @@
 using namespace asimov;
 using namespace asimov::robots;
 
+using asimov::test::jv;
+
 namespace {
 constexpr double kDeg = std::numbers::pi / 180;
-
-JointVector jv(std::initializer_list<double> v) {
-  JointVector j(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) j[i++] = x;
-  return j;
-}
 
 Pose fk_dh_deg(const Robot& r, std::initializer_list<double> deg) {
   JointVector q = jv(deg) * kDeg;

@@ -2,19 +2,16 @@
 #include "collision/engine.hpp"
 #include "robots/puma560.hpp"
 
+#include "support/joints.hpp"
+
 #include <catch2/catch.hpp>
 
 using namespace asimov;
 using namespace asimov::robots;
 
-namespace {
-JointVector jv(std::initializer_list<double> v) {
-  JointVector j(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) j[i++] = x;
-  return j;
-}
+using asimov::test::jv;
 
+namespace {
 bool bodies_collide(const Robot& r, const std::vector<Pose>& f, std::size_t a, std::size_t b) {
   const auto& ba = r.bodies[a];
   const auto& bb = r.bodies[b];
