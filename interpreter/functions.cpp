@@ -12,7 +12,7 @@
 namespace asimov::val {
 namespace {
 
-constexpr std::array<FunctionInfo, 48> kFunctions = {{
+constexpr std::array<FunctionInfo, 49> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -24,7 +24,8 @@ constexpr std::array<FunctionInfo, 48> kFunctions = {{
     {"shift", 4, 4},    {"tool", 0, 0},     {"base", 0, 0},    {"len", 1, 1},
     {"$chr", 1, 1},     {"asc", 1, 2},      {"val", 1, 1},     {"defined", 1, 1},
     {"sig", 1, -1},     {"timer", 1, 1},    {"$mid", 3, 3},    {"last", 1, 1},
-    {"frame", 4, 4},    {"parameter", 1, 1}, {"switch", 1, 1},  {"", 0, -1},
+    {"frame", 4, 4},    {"parameter", 1, 1}, {"switch", 1, 1},  {"inrange", 1, 1},
+    {"", 0, -1},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
@@ -205,6 +206,7 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       t.translation() = as_pose(arg(args, 3), sim).translation();
       return t;
     }
+    case Func::inrange: return static_cast<double>(sim.inrange(as_pose(arg(args, 0), sim)));
     case Func::defined:  // DEFINED, SIG, TIMER, LAST...: the evaluator (they need its state)
     case Func::parameter:
     case Func::switch_:

@@ -222,8 +222,9 @@ const auto word_def = x3::lexeme[x3::alpha >> *name_char];
 const auto identifier_def = word[check_not_reserved];
 // label = integer 0..65535
 const auto label_def = x3::lexeme[x3::uint_ >> !name_char][check_label];
-// number = real | "^B" binary | "^H" hex | "^" octal | "'" char
+// number = real | "^D" real | "^B" binary | "^H" hex | "^" octal | "'" char   (^D: ignored)
 const auto number_def = real_literal[check_finite]
+    | x3::lexeme[x3::lit('^') >> x3::no_case['d'] >> real_literal[check_finite]]
     | x3::lexeme[x3::lit('^') >> x3::no_case['b'] >> x3::bin]
     | x3::lexeme[x3::lit('^') >> x3::no_case['h'] >> x3::hex]
     | x3::lexeme[x3::lit('^') >> x3::oct]

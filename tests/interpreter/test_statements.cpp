@@ -276,3 +276,26 @@ TEST_CASE("RETRY after an interrupt runs the interrupted step (also inside WAIT)
   CHECK(r.status == RunStatus::completed);
   CHECK(f.out.str() == "a\nb\n");
 }
+
+TEST_CASE("every V+ statement and function of dialect §7 loads and stops or warns", "[statements]") {
+  for (const char* line : {"ATTACH (lun) \"dev\"", "DETACH (lun)", "FOPEN (5) \"f\"", "FCLOSE (5)", "FCMND (5, 1) \"x\"",
+                           "READ (5) $s", "WRITE (5) \"x\"", "SELECT TASK = 2", "SET.EVENT 1", "CLEAR.EVENT 1",
+                           "EXECUTE 2 prog", "ABORT 2", "KILL 2", "CYCLE.END 2", "LOCK 1", "PRIORITY 5",
+                           "REACT 1001, handler", "REACTI 1001, handler", "REACTE handler", "IGNORE 1001",
+                           "TEACH p", "CALLS $name"}) {
+    const std::string text = line;
+    std::string keyword;
+    for (char c : text.substr(0, text.find(' '))) keyword += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    CHECK(outcome(text) == "ERROR *Not supported in simulation* " + keyword);
+  }
+  for (const char* f : {"GETC(1)", "IOSTAT(1)", "LNGB($s)", "FLTB($s)", "INTB($s)", "ERROR(-1, 0)", "TASK()"})
+    CHECK(outcome(std::string("x = ") + f).find("ERROR *Not supported in simulation* ") == 0);
+  for (const char* f : {"$LNGB(1)", "$FLTB(1)", "$INTB(1)", "$DECODE($s, \",\", 0)", "$ERROR(-1)"})
+    CHECK(outcome(std::string("$s = \"\"\n$t = ") + f).find("ERROR *Not supported in simulation* $") == 0);
+  // Warn once per execution and continue.
+  InterpreterFixture f;
+  const auto r = f.run(program("ATTACH ()\nDETACH ()\nSELECT ROBOT = 1\nACCEL 50, 50\nACCEL 60\nTYPE \"on\""));
+  CHECK(r.status == RunStatus::completed);
+  CHECK(r.warnings.size() == 4);
+  CHECK(f.out.str() == "on\n");
+}
