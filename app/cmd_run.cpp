@@ -9,7 +9,10 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <iostream>
 #include <ostream>
+
+#include <unistd.h>
 
 namespace asimov::app {
 namespace {
@@ -72,6 +75,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   motion::Simulator sim(std::move(cell));
   sim.set_trace(!opt.trace.empty());
   val::Interpreter interp(sim, out);
+  interp.set_input(std::cin, ::isatty(STDIN_FILENO) == 1);  // PROMPT asks again only at a terminal
   const auto diags = interp.load_file(opt.file);
   if (print_diagnostics(diags, err)) {
     const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), err);

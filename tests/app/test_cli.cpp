@@ -205,3 +205,13 @@ TEST_CASE("run: PAUSE ends a batch run with exit 0 and status paused") {
   CHECK(r.err.find("Program paused: p, step 2") != std::string::npos);
   CHECK(read_json(report)["status"] == "paused");
 }
+
+TEST_CASE("run: PROMPT reads standard input; bad input when not at a terminal is an error") {
+  const auto file = write_file("prompt.v2", ".PROGRAM p()\n    PROMPT \"n? \", n\n    TYPE \"twice: \", 2 * n\n.END\n");
+  const auto ok = run_cli("run " + file.string(), "21\n");
+  CHECK(ok.exit_code == 0);
+  CHECK(ok.out.find("twice: 42") != std::string::npos);
+  const auto bad = run_cli("run " + file.string(), "abc\n");
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.err.find("*Illegal value*") != std::string::npos);
+}
