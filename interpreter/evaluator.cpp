@@ -408,28 +408,8 @@ void Evaluator::motion(const Instr& in) {
       || in.code == Code::draw || in.code == Code::movest;
   std::optional<Value> target;
   switch (in.code) {
-    case Code::ready: {  // the arm straight up: #PPOINT(0,-90,90,0,0,0)
-      robots::JointVector j = robots::JointVector::Zero(sim_.robot().joint_count());
-      if (j.size() >= 3) {
-        j[1] = -90;
-        j[2] = 90;
-      }
-      target = j;
-      break;
-    }
-    case Code::align: {  // tool Z onto the nearest world axis (ties: Z, X, Y), smallest rotation
-      motion::Location t = sim_.here();
-      const Eigen::Vector3d z = t.linear().col(2);
-      int axis = 2;
-      if (std::fabs(z.x()) > std::fabs(z[axis])) axis = 0;
-      if (std::fabs(z.y()) > std::fabs(z[axis])) axis = 1;
-      const Eigen::Vector3d goal = Eigen::Vector3d::Unit(axis) * (z[axis] < 0 ? -1.0 : 1.0);
-      const Eigen::Vector3d v = z.cross(goal);
-      if (v.norm() > 1e-12)
-        t.linear() = Eigen::AngleAxisd(std::atan2(v.norm(), z.dot(goal)), v.normalized()).toRotationMatrix() * t.linear();
-      target = t;
-      break;
-    }
+    case Code::ready: target = motion::ready_target(sim_.robot()); break;  // the robot's READY
+    case Code::align: target = motion::align_target(sim_.here()); break;
     case Code::drive: {  // DRIVE j, change, speed: one joint, relative, at speed % of its maximum
       const int j = to_index(to_real(eval(in.args[0]), "joint"));
       const double change = to_real(eval(in.args[1]), "DRIVE change");
@@ -444,11 +424,11 @@ void Evaluator::motion(const Instr& in) {
       m.line = in.line;
       return start_motion(m);  // the program speed does not apply and is not consumed
     }
-    case Code::draw: {  // SHIFT(HERE BY dx, dy, dz), HERE after the previous motion
-      motion::Location t = sim_.here();
-      for (std::size_t k = 0; k < in.args.size(); ++k)
-        if (in.args[k].kind != NodeKind::absent) t.translation()[static_cast<Eigen::Index>(k)] += to_real(eval(in.args[k]), "DRAW");
-      target = t;
+    case Code::draw: {  // SHIFT(HERE BY dx, dy, dz), HERE after the previous motion; omitted = 0
+      double d[3] = {0, 0, 0};
+      for (std::size_t k = 0; k < in.args.size() && k < 3; ++k)
+        if (in.args[k].kind != NodeKind::absent) d[k] = to_real(eval(in.args[k]), "DRAW");
+      target = motion::draw_target(sim_.here(), d[0], d[1], d[2]);
       break;
     }
     case Code::move: case Code::moves: target = eval(in.args[0]); break;
@@ -460,12 +440,12 @@ void Evaluator::motion(const Instr& in) {
     case Code::appro: case Code::appros: {
       const Value loc = eval(in.args[0]);
       const double d = to_real(eval(in.args[1]), "APPRO distance");
-      target = motion::Location(as_pose(loc, sim_) * motion::trans(0, 0, -d, 0, 0, 0));
+      target = motion::appro_target(as_pose(loc, sim_), d);
       break;
     }
     default: {  // DEPART: HERE is taken once the previous motion has ended
       const double d = to_real(eval(in.args[0]), "DEPART distance");
-      target = motion::Location(sim_.here() * motion::trans(0, 0, -d, 0, 0, 0));
+      target = motion::depart_target(sim_.here(), d);
       break;
     }
   }
