@@ -23,6 +23,13 @@ struct CollisionSettings {
   double toc_tolerance_s = 1e-6;  // contact time: bisect until t_hit - t_free <= this (four-step.md §6.4)
   std::vector<std::pair<std::string, std::string>> ignore;  // user-disabled pairs (body names)
   bool enabled = true;
+  // Step 1. false: joined pairs (adjacent links, tool-link n-1) and `ignore` are disabled, every
+  // other pair is tested. true: the generated matrix of `asimov pairs` (collision/auto_pairs.hpp:
+  // robot self-pairs touching at the start joints, in >= 95 % or in none of `pair_samples`
+  // random poses are disabled too; robot-object pairs stay tested).
+  bool generated_pairs = false;
+  int pair_samples = 10000;    // N of the generated matrix
+  std::string pairs_cache;     // its cache file (collision::generate_pairs_cached); empty: none
 };
 
 struct Cell {

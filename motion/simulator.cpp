@@ -115,6 +115,16 @@ struct Simulator::Impl {
     collision::Engine e;
     // Bodies, groups and joined pairs: motion/scene.hpp (shared with `asimov pairs`).
     Scene scene = scene_bodies(cell);
+    std::optional<collision::AutoPairs> generated;
+    if (cell.collision.generated_pairs) {
+      const collision::AutoPairsInput in = auto_pairs_input(cell, scene, cell.collision.pair_samples);
+      try {
+        generated = cell.collision.pairs_cache.empty() ? collision::generate_pairs(in)
+                                                      : collision::generate_pairs_cached(in, cell.collision.pairs_cache);
+      } catch (const std::exception&) {  // the cache could not be written: the matrix is still good
+        generated = collision::generate_pairs(in);
+      }
+    }
     std::vector<collision::BodyId> statics, scene_ids;
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {  // robot bodies, "tool", objects
       SceneBody& b = scene.bodies[i];
@@ -125,8 +135,12 @@ struct Simulator::Impl {
       else if (b.object < 0) tool_id = id;
       else statics.push_back(id);
     }
-    for (const collision::BodyPair& p : scene.adjacent) e.set_pair_enabled(scene_ids[p.a], scene_ids[p.b], false);
-    for (const collision::BodyPair& p : scene.ignored) e.set_pair_enabled(scene_ids[p.a], scene_ids[p.b], false);
+    if (generated) {
+      collision::apply_pairs(*generated, e);  // body ids are the scene indices (a fresh engine)
+    } else {
+      for (const collision::BodyPair& p : scene.adjacent) e.set_pair_enabled(scene_ids[p.a], scene_ids[p.b], false);
+      for (const collision::BodyPair& p : scene.ignored) e.set_pair_enabled(scene_ids[p.a], scene_ids[p.b], false);
+    }
     if (!e.has_enabled_pairs()) return;  // never call the engine
     e.set_clearance(cell.collision.clearance_mm);
     for (std::size_t i = 0; i < cell.objects.size(); ++i) e.set_pose(statics[i], cell.objects[i].pose);
