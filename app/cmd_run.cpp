@@ -106,6 +106,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   summary.poses_checked = sim.poses_checked();
   summary.counts = sim.collision_counts();
   summary.engine_used = sim.collision_engine_used();
+  summary.bisection_checks = sim.bisection_checks();
 
   for (const auto& w : summary.result.warnings) err << "Warning: " << val::format_diagnostic(w);
   int rc = kExitCompleted;

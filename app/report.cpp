@@ -56,7 +56,10 @@ nlohmann::json run_report(const RunSummary& s) {
     doc["collision"] = {{"bodies", {c.body_a, c.body_b}},
                         {"point_mm", vec(c.point)},
                         {"joints_deg", joints(c.joints)},
-                        {"time_s", c.time_s}};
+                        {"time_s", c.time_s},
+                        {"time_free_s", c.time_free_s},
+                        {"toc_bracket_s", c.time_s - c.time_free_s},
+                        {"faces", {c.face_a, c.face_b}}};
   }
   if (r.status == val::RunStatus::error) doc["error"] = error_object(r.error);
   if (!r.warnings.empty()) {
@@ -69,7 +72,8 @@ nlohmann::json run_report(const RunSummary& s) {
                              {"pairs_after_minimax", s.counts.pairs_after_minimax},
                              {"pairs_after_voxels", s.counts.pairs_after_voxels},
                              {"voxel_pairs", s.counts.voxel_pairs},
-                             {"face_pairs", s.counts.face_pairs}};
+                             {"face_pairs", s.counts.face_pairs},
+                             {"bisection_checks", s.bisection_checks}};
   return doc;
 }
 

@@ -13,6 +13,7 @@ struct RunSummary {
   std::uint64_t poses_checked = 0;
   collision::StepCounts counts;     // summed over every checked pose
   bool engine_used = false;         // false when the cell has no enabled pair
+  std::uint64_t bisection_checks = 0;  // poses checked by contact-time bisection (not in poses_checked)
 };
 
 // Report for a run that could not start (load errors): status "error".

@@ -65,6 +65,13 @@ TEST_CASE("crash demo halts with exit 3; the contact point lies on both bodies")
   CHECK((a.rfind("link", 0) == 0 || b.rfind("link", 0) == 0));
   CHECK((a == "box" || b == "box"));
 
+  // Contact time bisected to 1e-6 s (motion/README.md): t_free <= t_hit within the bracket.
+  const double t_hit = doc["collision"]["time_s"], t_free = doc["collision"]["time_free_s"];
+  CHECK(t_free < t_hit);
+  CHECK(doc["collision"]["toc_bracket_s"].get<double>() <= 1e-6);
+  CHECK(doc["collision_engine"]["bisection_checks"].get<std::uint64_t>() > 0);
+  CHECK(doc["collision"]["faces"].size() == 2);
+
   const auto cell = app::default_cell();
   robots::JointVector q(cell.robot.joint_count());
   for (int i = 0; i < q.size(); ++i) q[i] = doc["collision"]["joints_deg"][static_cast<std::size_t>(i)];
