@@ -31,8 +31,8 @@ collision: {halvings: 9, step_mm: 1.0, clearance_mm: 0}
 
 class Reader {
  public:
-  Reader(std::string source, std::filesystem::path base_dir)
-      : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
+  Reader(std::string source, std::filesystem::path base_dir, bool source_is_text)
+      : source_(std::move(source)), base_dir_(std::move(base_dir)), source_is_text_(source_is_text) {}
 
   [[noreturn]] void fail(const YAML::Node& node, const std::string& what) const {
     const auto mark = node.Mark();
@@ -159,6 +159,7 @@ class Reader {
     expect_keys(root, {"robot", "base", "tool", "tool_shape", "objects", "collision", "start"}, "the cell");
     motion::Cell cell;
     cell.robot = robot(root["robot"]);
+    cell.warnings = cell.robot.warnings;  // URDF mesh notes, already prefixed with urdf:line
     cell.base = pose(root["base"], "base");
     cell.tool = pose(root["tool"], "tool");
     const int n = cell.robot.joint_count();
@@ -193,7 +194,9 @@ class Reader {
       }
     }
     if (const auto c = root["collision"]) {
-      expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled"}, "collision");
+      expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled", "toc_tolerance_s", "pairs",
+                      "pair_samples"},
+                  "collision");
       auto& s = cell.collision;
       if (c["halvings"] && c["halvings"].IsScalar() && c["halvings"].Scalar() == "auto") {
         s.halvings = collision::kAutoHalvings;
@@ -208,6 +211,19 @@ class Reader {
         if (s.clearance_mm < 0) fail(c["clearance_mm"], "collision.clearance_mm must be >= 0");
       }
       if (c["enabled"]) s.enabled = c["enabled"].as<bool>();
+      if (c["toc_tolerance_s"]) s.toc_tolerance_s = positive(c["toc_tolerance_s"], "collision.toc_tolerance_s");
+      if (const auto pairs = c["pairs"]) {
+        const auto v = pairs.IsScalar() ? pairs.Scalar() : std::string();
+        if (v != "joined" && v != "generated") fail(pairs, "collision.pairs must be joined or generated");
+        s.generated_pairs = v == "generated";
+        // Shared with `asimov pairs CELL.yaml`: both build the same input, so one cache serves both.
+        if (s.generated_pairs && !source_is_text_) s.pairs_cache = source_ + ".pairs";
+      }
+      if (c["pair_samples"]) {
+        const double n = number(c["pair_samples"], "collision.pair_samples");
+        if (n < 1 || n > 1e7 || n != std::floor(n)) fail(c["pair_samples"], "collision.pair_samples must be 1..10000000");
+        s.pair_samples = static_cast<int>(n);
+      }
       if (const auto ig = c["ignore"]) {
         if (!ig.IsSequence()) fail(ig, "collision.ignore must be a list of [body, body] pairs");
         for (const auto& pair : ig) {
@@ -225,6 +241,7 @@ class Reader {
  private:
   std::string source_;
   std::filesystem::path base_dir_;  // relative file names in the cell resolve here
+  bool source_is_text_;             // no file behind the text: nowhere to put a pairs cache
 };
 
 }  // namespace
@@ -234,9 +251,10 @@ std::string CellError::format() const {
   return fmt::format("{}: {}", file, what());
 }
 
-motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name,
-                           const std::string& base_dir) {
-  Reader reader(source_name, base_dir);
+namespace {
+motion::Cell parse_cell(const std::string& yaml, const std::string& source_name, const std::string& base_dir,
+                        bool from_file) {
+  Reader reader(source_name, base_dir, !from_file);
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
@@ -250,13 +268,19 @@ motion::Cell load_cell_text(const std::string& yaml, const std::string& source_n
                     e.mark.is_null() ? 0 : e.mark.column + 1);
   }
 }
+}  // namespace
+
+motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name,
+                           const std::string& base_dir) {
+  return parse_cell(yaml, source_name, base_dir, false);
+}
 
 motion::Cell load_cell_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CellError("cannot read cell file", path, 0, 0);
   std::ostringstream text;
   text << in.rdbuf();
-  return load_cell_text(text.str(), path, std::filesystem::path(path).parent_path().string());
+  return parse_cell(text.str(), path, std::filesystem::path(path).parent_path().string(), true);
 }
 
 const std::string& default_cell_yaml() {

@@ -184,3 +184,23 @@ TEST_CASE("mesh problems: an open mesh warns, a NaN or a missing file is an erro
   e = error_of("collision: {halvings: sometimes}\n");
   CHECK(std::string(e.what()).find("auto") != std::string::npos);
 }
+
+TEST_CASE("collision keys: contact-time tolerance, generated pairs with a cache beside the cell file") {
+  auto cell = load_cell_text("collision: {toc_tolerance_s: 1.0e-5, pairs: generated, pair_samples: 500}\n", "c.yaml");
+  CHECK(cell.collision.toc_tolerance_s == 1e-5);
+  CHECK(cell.collision.generated_pairs);
+  CHECK(cell.collision.pair_samples == 500);
+  CHECK(cell.collision.pairs_cache.empty());  // text without a file: no cache
+  CHECK_FALSE(load_cell_text("collision: {pairs: joined}\n", "c.yaml").collision.generated_pairs);
+
+  const auto dir = std::filesystem::temp_directory_path() / "asimov-cell-tests";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "gen.yaml") << "collision: {pairs: generated}\n";
+  cell = app::load_cell_file((dir / "gen.yaml").string());
+  CHECK(cell.collision.pairs_cache == (dir / "gen.yaml").string() + ".pairs");
+
+  auto e = error_of("collision: {pairs: sometimes}\n");
+  CHECK(std::string(e.what()).find("joined or generated") != std::string::npos);
+  e = error_of("collision: {toc_tolerance_s: 0}\n");
+  CHECK(std::string(e.what()).find("> 0") != std::string::npos);
+}
