@@ -6,6 +6,8 @@
 #include "motion/simulator.hpp"
 #include "robots/puma560.hpp"
 
+#include "support/joints.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -15,14 +17,9 @@ using namespace asimov;
 using namespace asimov::motion;
 using robots::JointVector;
 
-namespace {
-JointVector jv(std::initializer_list<double> v) {
-  JointVector j(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) j[i++] = x;
-  return j;
-}
+using asimov::test::jv;
 
+namespace {
 CellObject box(const std::string& name, const collision::Vec3& size, const collision::Vec3& at) {
   CellObject o;
   o.name = name;

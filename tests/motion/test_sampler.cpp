@@ -3,6 +3,8 @@
 #include "motion/sampler.hpp"
 #include "robots/puma560.hpp"
 
+#include "support/joints.hpp"
+
 #include <catch2/catch.hpp>
 #include <random>
 
@@ -10,14 +12,9 @@ using namespace asimov;
 using namespace asimov::motion;
 using robots::JointVector;
 
-namespace {
-JointVector jv(std::initializer_list<double> v) {
-  JointVector j(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) j[i++] = x;
-  return j;
-}
+using asimov::test::jv;
 
+namespace {
 struct Arm {
   robots::Robot robot = robots::puma560();
   collision::Polyhedron tool = collision::transformed(collision::make_box(collision::Vec3(50, 80, 140)),

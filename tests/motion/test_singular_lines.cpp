@@ -4,6 +4,8 @@
 #include "motion/simulator.hpp"
 #include "robots/puma560.hpp"
 
+#include "support/joints.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
@@ -12,14 +14,9 @@ using namespace asimov;
 using namespace asimov::motion;
 using robots::JointVector;
 
-namespace {
-JointVector jv(std::initializer_list<double> v) {
-  JointVector j(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) j[i++] = x;
-  return j;
-}
+using asimov::test::jv;
 
+namespace {
 Cell cell_at(const JointVector& start) {
   Cell c;
   c.robot = robots::puma560();

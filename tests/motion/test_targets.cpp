@@ -4,6 +4,8 @@
 #include "robots/puma560.hpp"
 #include "robots/urdf_loader.hpp"
 
+#include "support/joints.hpp"
+
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
 #include <cmath>
@@ -12,14 +14,9 @@ using namespace asimov;
 using namespace asimov::motion;
 using robots::JointVector;
 
-namespace {
-JointVector jv(std::initializer_list<double> v) {
-  JointVector j(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double x : v) j[i++] = x;
-  return j;
-}
+using asimov::test::jv;
 
+namespace {
 void check_loc(const Location& got, const Location& want, double tol = 1e-12) {
   INFO("got\n" << got.matrix() << "\nwant\n" << want.matrix());
   CHECK((got.matrix() - want.matrix()).cwiseAbs().maxCoeff() <= tol);
