@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <set>
 #include <sstream>
 
@@ -289,5 +290,16 @@ const std::string& default_cell_yaml() {
 }
 
 motion::Cell default_cell() { return load_cell_text(default_cell_yaml(), "<default cell>"); }
+
+std::optional<motion::Cell> load_cell_for_command(const std::string& path, std::ostream& err) {
+  try {
+    motion::Cell cell = path.empty() ? default_cell() : load_cell_file(path);
+    for (const auto& w : cell.warnings) err << "Warning: " << w << '\n';
+    return cell;
+  } catch (const CellError& e) {
+    err << "*Cell error*  " << e.format() << '\n';
+    return std::nullopt;
+  }
+}
 
 }  // namespace asimov::app

@@ -2,6 +2,8 @@
 // embedded YAML document parsed by the same code, so it cannot drift from the format.
 #pragma once
 #include "motion/cell.hpp"
+#include <iosfwd>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -21,6 +23,11 @@ motion::Cell load_cell_text(const std::string& yaml, const std::string& source_n
                            const std::string& base_dir = ".");
 motion::Cell load_cell_file(const std::string& path);
 motion::Cell default_cell();
+
+// The commands' common front door: the cell at `path` (empty: the default cell). Problems are
+// printed to `err` ("*Cell error*  file:line:column: ..."; warnings as "Warning: ...") and an
+// empty result means the command should exit with kExitUsage.
+std::optional<motion::Cell> load_cell_for_command(const std::string& path, std::ostream& err);
 const std::string& default_cell_yaml();
 
 }  // namespace asimov::app

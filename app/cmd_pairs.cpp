@@ -27,14 +27,9 @@ std::string default_cell_cache() {
 }  // namespace
 
 int pairs_command(const PairsOptions& opt, std::ostream& out, std::ostream& err) {
-  motion::Cell cell;
-  try {
-    cell = opt.cell.empty() ? default_cell() : load_cell_file(opt.cell);
-  } catch (const CellError& e) {
-    err << "*Cell error*  " << e.format() << '\n';
-    return kExitUsage;
-  }
-  for (const auto& w : cell.warnings) err << "Warning: " << w << '\n';
+  const auto loaded = load_cell_for_command(opt.cell, err);
+  if (!loaded) return kExitUsage;
+  const motion::Cell& cell = *loaded;
   const motion::Scene scene = motion::scene_bodies(cell);
   for (const auto& name : scene.unknown_ignored) err << "Warning: collision.ignore names no body: " << name << '\n';
   const collision::AutoPairsInput in = motion::auto_pairs_input(cell, scene, opt.samples);

@@ -63,16 +63,9 @@ int check_command(const std::string& file, std::ostream& out, std::ostream& err)
 
 int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (!file_readable(opt.file, err)) return kExitUsage;
-  motion::Cell cell;
-  try {
-    cell = opt.cell.empty() ? default_cell() : load_cell_file(opt.cell);
-  } catch (const CellError& e) {
-    err << "*Cell error*  " << e.format() << '\n';
-    return kExitUsage;
-  }
-
-  for (const auto& w : cell.warnings) err << "Warning: " << w << '\n';
-  motion::Simulator sim(std::move(cell));
+  auto cell = load_cell_for_command(opt.cell, err);
+  if (!cell) return kExitUsage;
+  motion::Simulator sim(std::move(*cell));
   sim.set_trace(!opt.trace.empty());
   val::Interpreter interp(sim, out);
   interp.set_input(std::cin, ::isatty(STDIN_FILENO) == 1);  // PROMPT asks again only at a terminal
