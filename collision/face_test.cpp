@@ -3,23 +3,13 @@
 // to small exact sub-tests: coplanar sets are decided in all three axis projections (each is
 // a necessary condition, and one of them is injective on the common plane, so together they
 // are exact), and zero-area triangles are tested edge by edge as the segment they are.
+#include "collision/exact_fp.hpp"  // first: no FMA contraction below
 #include "collision/face_test.hpp"
 
 #include "collision/face_distance.hpp"
 #include "collision/predicates.hpp"
 
 #include <algorithm>
-
-// CMake builds this file with -ffp-contract=off; the pragmas keep that true for other
-// builds too (a fused a*b-c breaks Dekker's split and Shewchuk's bounds).
-#if defined(__clang__)
-#pragma clang fp contract(off)
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
-#if defined(__FAST_MATH__)
-#error "face_test.cpp must not be built with -ffast-math"
-#endif
 
 namespace asimov::collision {
 namespace {

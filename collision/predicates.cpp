@@ -3,6 +3,7 @@
 // coordinates as a non-overlapping floating-point expansion (two_sum, Dekker two_product).
 // Assumes IEEE doubles, round-to-nearest, no FMA contraction (this file is built with
 // -ffp-contract=off) and no overflow/underflow of coordinate products.
+#include "collision/exact_fp.hpp"  // first: no FMA contraction below
 #include "collision/predicates.hpp"
 
 #include <array>
@@ -10,20 +11,6 @@
 #include <cmath>
 #include <cstddef>
 #include <utility>
-
-// CMake builds this file with -ffp-contract=off; the pragmas keep that true for other
-// builds too (a fused a*b-c breaks Dekker's split and Shewchuk's bounds).
-#if defined(__clang__)
-#pragma clang fp contract(off)
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
-#if defined(__FAST_MATH__)
-#error "predicates.cpp must not be built with -ffast-math: the error bounds need IEEE arithmetic"
-#endif
-#if !defined(FLT_EVAL_METHOD) || FLT_EVAL_METHOD != 0
-#error "predicates.cpp needs FLT_EVAL_METHOD == 0 (SSE2 doubles, not x87 extended precision)"
-#endif
 
 namespace asimov::collision {
 namespace {
