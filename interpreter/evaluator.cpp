@@ -33,7 +33,7 @@ struct PauseStop {
 Evaluator::Evaluator(motion::Simulator& sim, std::ostream& out, Memory& memory, const Limits& limits)
     : sim_(sim), out_(out), memory_(memory), limits_(limits) {}
 
-RunResult Evaluator::run(int slot) {
+RunResult Evaluator::run(int slot, bool resumable) {
   std::optional<Stopped> earlier = std::move(stopped_);  // a run keeps a stopped execution
   stopped_.reset();
   stack_.clear();
@@ -55,6 +55,7 @@ RunResult Evaluator::run(int slot) {
     top.temps.resize(static_cast<std::size_t>(program->temps));
     stack_.push_back(std::move(top));
   });
+  if (!resumable) stopped_.reset();
   if (!stopped_) stopped_ = std::move(earlier);  // only the latest stopped execution is kept
   return r;
 }

@@ -34,11 +34,19 @@ class Evaluator {
  public:
   Evaluator(motion::Simulator& sim, std::ostream& out, Memory& memory, const Limits& limits);
   // Runs the program in `slot` to its end. A stopped execution kept from earlier survives.
-  RunResult run(int slot);
+  // `resumable` false (a monitor DO): this run's own stop is not kept either.
+  RunResult run(int slot, bool resumable = true);
   // The execution the last error or collision stopped (dialect §9 PROCEED / RETRY).
   bool can_resume() const;
   RunResult resume(bool retry);
   void abort();
+
+  // Speeds for the monitor's SPEED and STATUS (dialect §5): the monitor speed, and the
+  // ALWAYS and one-shot program speeds as the last execution left them.
+  double monitor_speed() const { return speed_monitor_; }
+  void set_monitor_speed(double percent) { speed_monitor_ = percent; }
+  double program_speed() const { return speed_always_; }
+  std::optional<double> next_speed() const { return speed_next_; }
   // PROMPT's input (null: std::cin).
   void set_input(std::istream* in, bool interactive) { in_ = in, interactive_ = interactive; }
 

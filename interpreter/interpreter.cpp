@@ -159,4 +159,21 @@ void Interpreter::abort() {
 
 Memory& Interpreter::memory() { return impl_->memory; }
 
+RunResult Interpreter::run_detached(const std::string& name) {
+  Memory& m = impl_->memory;
+  const int slot = m.symbols.program(normalize_name(name));
+  m.programs.resize(m.symbols.programs.size());
+  return impl_->eval().run(slot, false);
+}
+
+double Interpreter::monitor_speed() const { return impl_->evaluator ? impl_->evaluator->monitor_speed() : 100.0; }
+
+void Interpreter::set_monitor_speed(double percent) { impl_->eval().set_monitor_speed(percent); }
+
+double Interpreter::program_speed() const { return impl_->evaluator ? impl_->evaluator->program_speed() : 100.0; }
+
+std::optional<double> Interpreter::next_program_speed() const {
+  return impl_->evaluator ? impl_->evaluator->next_speed() : std::nullopt;
+}
+
 }  // namespace asimov::val

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,15 @@ class Interpreter {
 
   // For the monitor (monitor.cpp): what LOAD put in memory, read and changed in place.
   Memory& memory();
+  // Runs `name` for a monitor DO: a stop there is not resumable, and the execution stopped
+  // before (if any) stays resumable.
+  RunResult run_detached(const std::string& name);
+  // Speeds (dialect §5): the monitor speed, and the program speeds (ALWAYS, and the one-shot
+  // SPEED still pending) as the last execution left them.
+  double monitor_speed() const;
+  void set_monitor_speed(double percent);
+  double program_speed() const;
+  std::optional<double> next_program_speed() const;
 
  private:
   struct Impl;

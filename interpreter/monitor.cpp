@@ -356,7 +356,7 @@ Monitor::TemporaryRun Monitor::run_temporary(const char* name, const std::string
   TemporaryRun t;
   for (const Diagnostic& d : diags)
     if (!d.warning && !t.error) t.error = d;
-  if (!t.error) t.result = interp_.run(name);
+  if (!t.error) t.result = name == std::string(kDoProgram) ? interp_.run_detached(name) : interp_.run(name);
   const auto it = m.symbols.program_slots.find(name);
   if (it != m.symbols.program_slots.end() && static_cast<std::size_t>(it->second) < m.programs.size())
     m.programs[static_cast<std::size_t>(it->second)].reset();
@@ -621,15 +621,14 @@ CommandStatus Monitor::cmd_delete(Args rest) {
 
 CommandStatus Monitor::cmd_speed(Args rest) {
   if (rest.empty()) {
-    out_ << "Monitor speed: " << format_number(monitor_speed_) << '\n';
+    out_ << "Monitor speed: " << format_number(interp_.monitor_speed()) << '\n';
     return CommandStatus::ok;
   }
   char* end = nullptr;
   const double s = std::strtod(rest.c_str(), &end);
   if (end == rest.c_str() || !trim(end).empty()) return fail("*Syntax error*", "SPEED needs a number");
   if (!(s > 0 && s <= 100)) return fail("*Illegal value*", "SPEED " + rest + " (0 < n <= 100)");
-  if (run_instruction(fmt::format("SPEED {} MONITOR", format_real(s))) != CommandStatus::ok) return CommandStatus::failed;
-  monitor_speed_ = s;
+  interp_.set_monitor_speed(s);
   return CommandStatus::ok;
 }
 
@@ -656,8 +655,10 @@ CommandStatus Monitor::cmd_status() {
                    : sim_.hand() == motion::HandState::closed ? "CLOSED" : "RELAXED";
   out_ << "Program: " << (last_program_.empty() ? "none" : last_program_) << '\n'
        << "State: " << state << '\n'
-       << "Monitor speed: " << format_number(monitor_speed_) << '\n'
-       << "Program speed: 100 ALWAYS (each execution starts so)\n"
+       << "Monitor speed: " << format_number(interp_.monitor_speed()) << '\n'
+       << "Program speed: " << format_number(interp_.program_speed()) << " ALWAYS"
+       << (interp_.next_program_speed() ? ", " + format_number(*interp_.next_program_speed()) + " next motion" : "")
+       << '\n'
        << "Configuration: " << (c.righty ? "RIGHTY" : "LEFTY") << ' ' << (c.above ? "ABOVE" : "BELOW") << ' '
        << (c.noflip ? "NOFLIP" : "FLIP") << ' ' << (r.single ? "SINGLE" : "MULTIPLE") << '\n'
        << "Pending configuration: " << (pending.empty() ? "none" : pending.substr(1)) << '\n'

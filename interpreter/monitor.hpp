@@ -102,7 +102,6 @@ class Monitor {
   std::string last_program_;          // EXECUTE without a name runs this one
   ExecState state_ = ExecState::idle; // of the last EXECUTE
   int state_step_ = 0;                // where it stopped
-  double monitor_speed_ = 100;        // SPEED [n]
 };
 
 }  // namespace asimov::val
