@@ -207,21 +207,11 @@ int scripted(val::Monitor& monitor, std::istream& in, std::ostream& out, bool st
 }  // namespace
 
 int monitor_command(const MonitorOptions& opt, std::istream& in, std::ostream& out, std::ostream& err) {
-  for (const std::string& f : opt.files) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(f, ec)) {
-      err << fmt::format("*File not found*  {}\n", f);
-      return kExitUsage;
-    }
-  }
-  motion::Cell cell;
-  try {
-    cell = opt.cell.empty() ? default_cell() : load_cell_file(opt.cell);
-  } catch (const CellError& e) {
-    err << "*Cell error*  " << e.format() << '\n';
-    return kExitUsage;
-  }
-  motion::Simulator sim(std::move(cell));
+  for (const std::string& f : opt.files)
+    if (!require_file(f, err)) return kExitUsage;
+  auto cell = load_cell_for_command(opt.cell, err);
+  if (!cell) return kExitUsage;
+  motion::Simulator sim(std::move(*cell));
   val::Interpreter interp(sim, out);
   val::Monitor monitor(interp, sim, out);
   interp.limits().interrupt = &g_interrupted;

@@ -33,15 +33,6 @@ const val::Diagnostic* first_error(const std::vector<val::Diagnostic>& diags) {
   return nullptr;
 }
 
-bool file_readable(const std::string& path, std::ostream& err) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    err << fmt::format("*File not found*  {}\n", path);
-    return false;
-  }
-  return true;
-}
-
 int write_report(const std::string& path, const nlohmann::json& doc, std::ostream& err) {
   std::string why;
   if (path.empty() || write_json_file(path, doc, why)) return kExitCompleted;
@@ -51,8 +42,17 @@ int write_report(const std::string& path, const nlohmann::json& doc, std::ostrea
 
 }  // namespace
 
+bool require_file(const std::string& path, std::ostream& err) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    err << fmt::format("*File not found*  {}\n", path);
+    return false;
+  }
+  return true;
+}
+
 int check_command(const std::string& file, std::ostream& out, std::ostream& err) {
-  if (!file_readable(file, err)) return kExitUsage;
+  if (!require_file(file, err)) return kExitUsage;
   motion::Simulator sim(default_cell());
   val::Interpreter interp(sim, out);
   const auto diags = interp.load_file(file);
@@ -62,7 +62,7 @@ int check_command(const std::string& file, std::ostream& out, std::ostream& err)
 }
 
 int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
-  if (!file_readable(opt.file, err)) return kExitUsage;
+  if (!require_file(opt.file, err)) return kExitUsage;
   auto cell = load_cell_for_command(opt.cell, err);
   if (!cell) return kExitUsage;
   motion::Simulator sim(std::move(*cell));

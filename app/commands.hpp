@@ -28,6 +28,9 @@ struct PairsOptions {
   int samples = 10000;      // --samples N: random poses for NEVER
 };
 
+// True when `path` is a regular file; otherwise prints "*File not found*  path" to `err`.
+bool require_file(const std::string& path, std::ostream& err);
+
 int run_command(const RunOptions& options, std::ostream& out, std::ostream& err);
 int check_command(const std::string& file, std::ostream& out, std::ostream& err);
 // The VAL monitor (cmd_monitor.cpp): interactive with libedit when stdin is a terminal.
