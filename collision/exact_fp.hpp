@@ -11,7 +11,7 @@
 #pragma GCC optimize("fp-contract=off")
 #endif
 #if defined(__FAST_MATH__)
-#error "exact predicates must not be built with -ffast-math: the error bounds need IEEE arithmetic"
+#error "exact predicates must not be built with fast-math: the error bounds need IEEE arithmetic"
 #endif
 #if !defined(FLT_EVAL_METHOD) || FLT_EVAL_METHOD != 0
 #error "exact predicates need FLT_EVAL_METHOD == 0 (SSE2 doubles, not x87 extended precision)"
