@@ -1,5 +1,6 @@
 // End-to-end: the asimov executable as users and suites call it (README "Command line").
 #include "app/cell_loader.hpp"
+#include "support/cell_bodies.hpp"
 #include "support/geometry.hpp"
 #include "support/run_cli.hpp"
 
@@ -20,19 +21,6 @@ std::filesystem::path write_file(const std::string& name, const std::string& tex
   return p;
 }
 
-// World pose and mesh of a body of the default cell at the given joints.
-std::pair<collision::Polyhedron, collision::Pose> body_in_world(const motion::Cell& cell, const std::string& name,
-                                                                const robots::JointVector& joints) {
-  std::vector<collision::Pose> frames;
-  robots::link_frames(cell.robot, joints, frames);
-  for (const auto& b : cell.robot.bodies)
-    if (b.name == name) return {b.mesh, cell.base * frames[static_cast<std::size_t>(b.link)]};
-  if (name == "tool") return {*cell.tool_shape, cell.base * frames.back()};
-  for (const auto& o : cell.objects)
-    if (o.name == name) return {o.mesh, o.pose};
-  FAIL("no body named " << name);
-  return {};
-}
 
 }  // namespace
 
@@ -78,7 +66,7 @@ TEST_CASE("crash demo halts with exit 3; the contact point lies on both bodies")
   const auto p = doc["collision"]["point_mm"];
   const collision::Vec3 point(p[0], p[1], p[2]);
   for (const auto& name : {a, b}) {
-    const auto [mesh, pose] = body_in_world(cell, name, q);
+    const auto [mesh, pose] = test::body_in_world(cell, name, q);
     CHECK(test::point_surface_distance(point, mesh, pose) <= 0.01);
   }
 }

@@ -1,5 +1,6 @@
 // Programs that move the PUMA 560 in an empty cell: targets reach the simulator, forward
 // processing, HERE/DECOMPOSE, SPEED, motion errors, collisions.
+#include "support/cell_bodies.hpp"
 #include "interpreter_fixture.hpp"
 #include "collision/polyhedron.hpp"
 #include "motion/location.hpp"
@@ -159,12 +160,7 @@ TEST_CASE("a collision ends the run and names the motion's step", "[motion][coll
     work = probe.sim.here();
   }
   motion::Cell cell = test::empty_puma_cell();
-  motion::CellObject box;
-  box.name = "box";
-  box.mesh = collision::make_box(collision::Vec3(60, 60, 60));
-  box.pose = motion::Location::Identity();
-  box.pose.translation() = work.translation();
-  cell.objects.push_back(box);
+  cell.objects.push_back(test::box_object("box", collision::Vec3(60, 60, 60), work.translation()));
   motion::Simulator sim(cell);
   std::ostringstream out;
   val::Interpreter interp(sim, out);

@@ -1,6 +1,7 @@
 // Statements added for the whole dialect: PAUSE / HALT, WAIT / WAIT.EVENT, PROMPT, PARAMETER,
 // ENABLE / DISABLE / SWITCH, hand (OPEN ... RELAXI, MOVET), DURATION, and the §7 constructs
 // (SPEED ... MMPS, GETC ...). Each runs a program and checks its TYPE output or its error.
+#include "support/cell_bodies.hpp"
 #include "interpreter_fixture.hpp"
 #include "collision/polyhedron.hpp"
 
@@ -224,12 +225,7 @@ TEST_CASE("DISABLE COLLISION lets a colliding motion through; the clearance wide
   }
   auto run_in_box_cell = [&](const std::string& prefix, std::string& text) {
     motion::Cell cell = test::empty_puma_cell();
-    motion::CellObject box;
-    box.name = "box";
-    box.mesh = collision::make_box(collision::Vec3(60, 60, 60));
-    box.pose = motion::Location::Identity();
-    box.pose.translation() = work.translation();
-    cell.objects.push_back(box);
+    cell.objects.push_back(test::box_object("box", collision::Vec3(60, 60, 60), work.translation()));
     motion::Simulator sim(cell);
     std::ostringstream out;
     val::Interpreter interp(sim, out);

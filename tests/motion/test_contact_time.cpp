@@ -1,11 +1,12 @@
 // Contact time by bisection (four-step.md §6.4): a J1 sweep of the PUMA into a wall, whose
 // contact time follows analytically from the vertices and the profile, and a straight line
 // lowering a tool onto a plate, whose contact depth follows from the line.
-#include "collision/face_distance.hpp"
 #include "motion/profile.hpp"
 #include "motion/simulator.hpp"
 #include "robots/puma560.hpp"
 
+#include "support/cell_bodies.hpp"
+#include "support/geometry.hpp"
 #include "support/joints.hpp"
 
 #include <catch2/catch.hpp>
@@ -20,14 +21,6 @@ using robots::JointVector;
 using asimov::test::jv;
 
 namespace {
-CellObject box(const std::string& name, const collision::Vec3& size, const collision::Vec3& at) {
-  CellObject o;
-  o.name = name;
-  o.mesh = collision::make_box(size);
-  o.pose = Location::Identity();
-  o.pose.translation() = at;
-  return o;
-}
 
 // World vertices of every moving body (links k > 0, then the tool) at display joints q.
 std::vector<collision::Vec3> moving_vertices(const Cell& cell, const JointVector& q, bool tool_only = false) {
@@ -43,14 +36,6 @@ std::vector<collision::Vec3> moving_vertices(const Cell& cell, const JointVector
   return out;
 }
 
-double surface_distance(const collision::Polyhedron& mesh, const collision::Pose& pose, const collision::Vec3& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& t : mesh.triangles) {
-    const collision::TriangleVerts tv{pose * mesh.vertices[t[0]], pose * mesh.vertices[t[1]], pose * mesh.vertices[t[2]]};
-    best = std::min(best, (collision::triangle_closest_point(p, tv) - p).norm());
-  }
-  return best;
-}
 }  // namespace
 
 TEST_CASE("contact time: a J1 sweep into a wall is bisected to the analytic time", "[simulator][collision][toc]") {
@@ -60,7 +45,7 @@ TEST_CASE("contact time: a J1 sweep into a wall is bisected to the analytic time
   cell.start_joints = start;
   // The wall fills y >= Y0 over x in [-200, 1000], z in [0, 800].
   constexpr double Y0 = 200;
-  cell.objects.push_back(box("wall", {1200, 50, 800}, {400, Y0 + 25, 400}));
+  cell.objects.push_back(test::box_object("wall", {1200, 50, 800}, {400, Y0 + 25, 400}));
 
   // J1 turns every point about the world z axis: a vertex at radius r and angle phi first
   // reaches the plane y = Y0 at theta = asin(Y0 / r) - phi. The first contact of the arm with
@@ -132,7 +117,7 @@ TEST_CASE("contact time: a straight line lowers a tool onto a plate", "[simulato
   REQUIRE(low < start.translation().z() - 100);  // the rod hangs below the flange
   const double top = low - 60;                      // the plate's top face, 60 mm below the rod
   // A 200 mm square plate under the rod: only the rod is above it.
-  cell.objects.push_back(box("plate", {200, 200, 10}, {start.translation().x(), start.translation().y(), top - 5}));
+  cell.objects.push_back(test::box_object("plate", {200, 200, 10}, {start.translation().x(), start.translation().y(), top - 5}));
 
   Simulator sim(cell);
   REQUIRE(sim.start_move(trans(0, 0, -150, 0, 0, 0) * start, true, {}, 9).status == MotionStatus::ok);
@@ -152,11 +137,8 @@ TEST_CASE("contact time: a straight line lowers a tool onto a plate", "[simulato
   CHECK(low_free < top + 1e-3);
   CHECK(std::abs(c.point.z() - top) < 1e-3);
   for (const auto& name : {std::string("tool"), std::string("plate")}) {
-    std::vector<collision::Pose> f;
-    robots::link_frames(cell.robot, c.joints, f);
-    const bool tool = name == "tool";
-    CHECK(surface_distance(tool ? *cell.tool_shape : cell.objects[0].mesh, tool ? f.back() : cell.objects[0].pose,
-                           c.point) < 0.01);
+    const auto [mesh, pose] = test::body_in_world(cell, name, c.joints);
+    CHECK(test::point_surface_distance(c.point, mesh, pose) < 0.01);
   }
   WARN("straight line: tool " << top - low_hit << " mm into the plate at t_hit, " << low_free - top
                               << " mm above at t_free, " << sim.bisection_checks() << " bisection checks");

@@ -1,15 +1,15 @@
 // The simulated arm: planning errors before any pose is checked, free motions reaching their
 // targets, a halt at the first contact with a point on both bodies, BASE/TOOL semantics, time.
 #include "collision/engine.hpp"
-#include "collision/face_distance.hpp"
 #include "motion/simulator.hpp"
 #include "robots/puma560.hpp"
 
+#include "support/cell_bodies.hpp"
+#include "support/geometry.hpp"
 #include "support/joints.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <limits>
 
 using namespace asimov;
 using namespace asimov::motion;
@@ -26,37 +26,8 @@ Cell basic_cell(double step_mm = 2.0) {
   return c;
 }
 
-CellObject box(const std::string& name, const collision::Vec3& size, const collision::Vec3& at) {
-  CellObject o;
-  o.name = name;
-  o.mesh = collision::make_box(size);
-  o.pose = Location::Identity();
-  o.pose.translation() = at;
-  return o;
-}
 
-// Distance from a world point to the surface of a mesh placed at `pose`.
-double surface_distance(const collision::Polyhedron& mesh, const collision::Pose& pose, const collision::Vec3& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& t : mesh.triangles) {
-    const collision::TriangleVerts tv{pose * mesh.vertices[t[0]], pose * mesh.vertices[t[1]], pose * mesh.vertices[t[2]]};
-    best = std::min(best, (collision::triangle_closest_point(p, tv) - p).norm());
-  }
-  return best;
-}
 
-// Mesh and world pose of a named body at display joints.
-std::pair<collision::Polyhedron, collision::Pose> body_at(const Cell& cell, const std::string& name, const JointVector& q) {
-  std::vector<collision::Pose> f;
-  robots::link_frames(cell.robot, q, f);
-  for (const auto& b : cell.robot.bodies)
-    if (b.name == name) return {b.mesh, cell.base * f[static_cast<std::size_t>(b.link)]};
-  if (name == "tool") return {*cell.tool_shape, cell.base * f.back()};
-  for (const auto& o : cell.objects)
-    if (o.name == name) return {o.mesh, o.pose};
-  FAIL("unknown body " << name);
-  return {};
-}
 }  // namespace
 
 TEST_CASE("simulator: a free joint move reaches its target", "[simulator]") {
@@ -121,7 +92,7 @@ TEST_CASE("simulator: errors come before any pose is checked", "[simulator]") {
 TEST_CASE("simulator: a move into a box halts at the first contact", "[simulator][collision]") {
   Cell cell = basic_cell();
   // The forearm sweeps from vertical to horizontal-forward about the elbow (x = 0, z = 431.8).
-  cell.objects.push_back(box("block", {100, 200, 100}, {220, -150, 660}));
+  cell.objects.push_back(test::box_object("block", {100, 200, 100}, {220, -150, 660}));
   Simulator sim(cell);
   REQUIRE(sim.start_joint_move(jv({0, -90, 180, 0, 0, 0}), {}, 42).status == MotionStatus::ok);
   const MotionResult r = sim.finish_motion();
@@ -131,8 +102,8 @@ TEST_CASE("simulator: a move into a box halts at the first contact", "[simulator
   CHECK((c.body_a == "block" || c.body_b == "block"));
   INFO("bodies " << c.body_a << " / " << c.body_b << ", point " << c.point.transpose());
   for (const auto& name : {c.body_a, c.body_b}) {
-    const auto [mesh, pose] = body_at(cell, name, c.joints);
-    CHECK(surface_distance(mesh, pose, c.point) < 0.01);
+    const auto [mesh, pose] = test::body_in_world(cell, name, c.joints);
+    CHECK(test::point_surface_distance(c.point, mesh, pose) < 0.01);
   }
   // Halted at the last free pose, before the colliding one, and the clock at the contact.
   CHECK(sim.joints()[2] < c.joints[2]);
@@ -142,8 +113,8 @@ TEST_CASE("simulator: a move into a box halts at the first contact", "[simulator
   CHECK(c.time_s > 0);
   CHECK_FALSE(sim.motion_pending());
   // The halting pose is collision-free for the reported pair.
-  const auto [ma, pa] = body_at(cell, c.body_a, sim.joints());
-  const auto [mb, pb] = body_at(cell, c.body_b, sim.joints());
+  const auto [ma, pa] = test::body_in_world(cell, c.body_a, sim.joints());
+  const auto [mb, pb] = test::body_in_world(cell, c.body_b, sim.joints());
   CHECK_FALSE(collision::brute_force_collides(ma, pa, mb, pb));
 }
 
@@ -154,7 +125,7 @@ TEST_CASE("simulator: a straight line into a box halts too", "[simulator][collis
   REQUIRE(probe.finish_motion().status == MotionStatus::ok);
   const Location start = probe.here();
   // A thin plate 150 mm below the flange, across the path of a 300 mm downward line.
-  cell.objects.push_back(box("plate", {400, 400, 10}, start.translation() + collision::Vec3(0, 0, -150)));
+  cell.objects.push_back(test::box_object("plate", {400, 400, 10}, start.translation() + collision::Vec3(0, 0, -150)));
   Simulator sim(cell);
   REQUIRE(sim.start_joint_move(jv({0, -60, 150, 0, 70, 0}), {}, 1).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
@@ -166,8 +137,8 @@ TEST_CASE("simulator: a straight line into a box halts too", "[simulator][collis
   CHECK(r.collision.tag == 9);
   CHECK((r.collision.body_a == "plate" || r.collision.body_b == "plate"));
   for (const auto& name : {r.collision.body_a, r.collision.body_b}) {
-    const auto [mesh, pose] = body_at(cell, name, r.collision.joints);
-    CHECK(surface_distance(mesh, pose, r.collision.point) < 0.01);
+    const auto [mesh, pose] = test::body_in_world(cell, name, r.collision.joints);
+    CHECK(test::point_surface_distance(r.collision.point, mesh, pose) < 0.01);
   }
   // Stopped on the line, above the plate.
   const double drop = start.translation().z() - sim.here().translation().z();
@@ -178,7 +149,7 @@ TEST_CASE("simulator: a straight line into a box halts too", "[simulator][collis
 
 TEST_CASE("simulator: the start pose of the first motion is checked", "[simulator][collision]") {
   Cell cell = basic_cell();
-  cell.objects.push_back(box("pole", {300, 30, 30}, {20, -150, 700}));  // through the READY forearm
+  cell.objects.push_back(test::box_object("pole", {300, 30, 30}, {20, -150, 700}));  // through the READY forearm
   Simulator sim(cell);
   REQUIRE(sim.start_joint_move(jv({0, -90, 95, 0, 0, 0}), {}, 5).status == MotionStatus::ok);
   const MotionResult r = sim.finish_motion();
@@ -192,7 +163,7 @@ TEST_CASE("simulator: straight line, BASE and TOOL", "[simulator]") {
   Cell cell = basic_cell(5);
   cell.tool = trans(0, 0, 100, 0, 0, 0);
   cell.tool_shape = collision::transformed(collision::make_box({40, 40, 80}), collision::Pose(Eigen::Translation3d(0, 0, 100)));
-  cell.objects.push_back(box("table", {700, 1200, 40}, {750, 0, -420}));
+  cell.objects.push_back(test::box_object("table", {700, 1200, 40}, {750, 0, -420}));
   Simulator sim(cell);
   sim.set_trace(true);
   REQUIRE(sim.start_joint_move(jv({10, -60, 150, 20, 40, 30}), {}, 1).status == MotionStatus::ok);
@@ -237,7 +208,7 @@ TEST_CASE("simulator: straight line, BASE and TOOL", "[simulator]") {
 TEST_CASE("simulator: collision checking off never uses the engine", "[simulator]") {
   Cell cell = basic_cell();
   cell.collision.enabled = false;
-  cell.objects.push_back(box("pole", {60, 60, 60}, {20, -150, 700}));
+  cell.objects.push_back(test::box_object("pole", {60, 60, 60}, {20, -150, 700}));
   Simulator sim(cell);
   CHECK_FALSE(sim.collision_engine_used());
   REQUIRE(sim.start_joint_move(jv({0, -90, 95, 0, 0, 0}), {}, 5).status == MotionStatus::ok);
