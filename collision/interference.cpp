@@ -1,5 +1,7 @@
 #include "collision/interference.hpp"
 
+#include "collision/minimax.hpp"
+
 namespace asimov::collision {
 
 SubMatrices interference_sub_matrices(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb,
@@ -34,29 +36,11 @@ CellRange VoxelMapping::a_cells(const VoxelGrid& ga, int i, int j, int k) const 
   return intersect(cell_range(ga, Box{corner + lo_off, corner + hi_off}), sub.a);
 }
 
-Box VoxelMapping::mapped(const Box& c) const {
-  const Vec3 o = r * c.lo + t;
-  const Vec3 size = c.hi - c.lo;
-  Box out{o - Vec3::Constant(grow), o + Vec3::Constant(grow)};
-  for (int k = 0; k < 3; ++k) {
-    const Vec3 e = r.col(k) * size[k];
-    out.lo += e.cwiseMin(0.0);
-    out.hi += e.cwiseMax(0.0);
-  }
-  return out;
-}
+Box VoxelMapping::mapped(const Box& c) const { return basic_axes_box(r * c.lo + t, r, c.hi - c.lo, grow); }
 
 Box VoxelMapping::mapped_to_b(const Box& c) const {
   const Mat3 rt = r.transpose();
-  const Vec3 o = rt * (c.lo - t);
-  const Vec3 size = c.hi - c.lo;
-  Box out{o - Vec3::Constant(grow), o + Vec3::Constant(grow)};
-  for (int k = 0; k < 3; ++k) {
-    const Vec3 e = rt.col(k) * size[k];
-    out.lo += e.cwiseMin(0.0);
-    out.hi += e.cwiseMax(0.0);
-  }
-  return out;
+  return basic_axes_box(rt * (c.lo - t), rt, c.hi - c.lo, grow);
 }
 
 CellRange VoxelMapping::a_cells_of_block(const VoxelGrid& ga, const CellRange& block) const {

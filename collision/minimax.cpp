@@ -33,16 +33,18 @@ Container make_container(const std::vector<Vec3>& vertices) {
   return c;
 }
 
-Box minimax_box(const Container& c, const Pose& pose) {
-  const Mat3 r = pose.linear();
-  const Vec3 o = pose * c.origin;
-  Box b{o, o};
+Box basic_axes_box(const Vec3& origin, const Mat3& r, const Vec3& size, double grow) {
+  Box b{origin - Vec3::Constant(grow), origin + Vec3::Constant(grow)};
   for (int k = 0; k < 3; ++k) {
-    const Vec3 v = r.col(k) * c.size[k];
+    const Vec3 v = r.col(k) * size[k];
     b.lo += v.cwiseMin(0.0);
     b.hi += v.cwiseMax(0.0);
   }
   return b;
+}
+
+Box minimax_box(const Container& c, const Pose& pose) {
+  return basic_axes_box(pose * c.origin, pose.linear(), c.size);
 }
 
 Box grown(const Box& b, double margin) {

@@ -19,6 +19,10 @@ struct Container {
 
 Container make_container(const std::vector<Vec3>& vertices);
 
+// The thesis's minimax formula on basic axes already mapped: corner `origin`, edges
+// r.col(k) * size[k]; lo_i = origin_i - grow + sum_k min(0, edge_k,i), hi likewise.
+Box basic_axes_box(const Vec3& origin, const Mat3& r, const Vec3& size, double grow = 0);
+
 // Minimax box of the container mapped by `pose`: O' = M O, v'_k = R v_k, and
 // min_i = O'_i + sum_k min(0, v'_k,i), max_i likewise; no corner is transformed.
 Box minimax_box(const Container& c, const Pose& pose);
