@@ -1,11 +1,11 @@
 // Engine::check() against brute force over all face pairs: a finely tessellated cylinder
 // (2,000 faces) and a coarser cylinder (200 faces) under fixed-seed random poses.
 // Run: bench_collision [--benchmark_filter=...]. Counters: colliding fraction, mean face pairs.
+#include "bench/scenes.hpp"
 #include "collision/engine.hpp"
 
 #include <benchmark/benchmark.h>
 
-#include <random>
 #include <vector>
 
 using namespace asimov::collision;
@@ -24,21 +24,7 @@ const Polyhedron& small_mesh() {
 // Poses of the small body around the big one (which stays at the origin): translations in
 // +-250 mm, so a fair share of the poses touch or cross the big cylinder's surface.
 const std::vector<Pose>& poses() {
-  static const std::vector<Pose> p = [] {
-    std::mt19937_64 rng(2180);
-    std::normal_distribution<double> n(0, 1);
-    std::uniform_real_distribution<double> u(-250, 250);
-    std::vector<Pose> out;
-    for (int i = 0; i < 1024; ++i) {
-      Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
-      q.normalize();
-      Pose pose = Pose::Identity();
-      pose.linear() = q.toRotationMatrix();
-      pose.translation() = Vec3(u(rng), u(rng), u(rng));
-      out.push_back(pose);
-    }
-    return out;
-  }();
+  static const std::vector<Pose> p = asimov::bench::random_poses(1024, 250, 2180);
   return p;
 }
 
