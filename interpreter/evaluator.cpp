@@ -415,12 +415,13 @@ void Evaluator::motion(const Instr& in) {
       const int j = to_index(to_real(eval(in.args[0]), "joint"));
       const double change = to_real(eval(in.args[1]), "DRIVE change");
       const double s = to_real(eval(in.args[2]), "DRIVE speed");
-      if (j < 1 || j > sim_.robot().joint_count()) raise(ErrorKind::illegal_value, fmt::format("joint {}", j));
       if (!(s >= 1 && s <= 100)) raise(ErrorKind::illegal_value, fmt::format("DRIVE speed {}", format_number(s)));
+      robots::JointVector target;
+      if (!motion::drive_target(sim_.joints(), j, change, target))
+        raise(ErrorKind::illegal_value, fmt::format("joint {}", j));
       MotionRequest m;
-      m.joints = sim_.joints();
-      (*m.joints)[j - 1] += change;
-      m.speed = {speed_monitor_, s};
+      m.joints = target;
+      m.speed = motion::drive_speed(speed_monitor_, s);
       m.program = current_program_;
       m.line = in.line;
       return start_motion(m);  // the program speed does not apply and is not consumed
