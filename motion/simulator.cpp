@@ -104,7 +104,6 @@ struct Simulator::Impl {
     if (cell.collision.enabled) build_engine();
   }
 
-
   Location here() const { return base * robots::flange_pose(cell.robot, joints) * tool; }
   Location here_at(const JointVector& q) const { return base * robots::flange_pose(cell.robot, q) * tool; }
 
