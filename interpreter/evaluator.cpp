@@ -202,7 +202,7 @@ void Evaluator::execute(const Instr& in) {
     case Code::here:
       if (in.target.text[0] == '$') raise(ErrorKind::illegal_value, "HERE needs a location variable");
       if (in.target.text[0] == '#') store(in.target, sim_.joints());
-      else store(in.target, sim_.here());
+      else store(in.target, finite_location(sim_.here()));  // huge BASE/TOOL may overflow
       return;
     case Code::decompose: {
       const Value v = eval(in.args[0]);

@@ -77,6 +77,11 @@ motion::Location as_pose(const Value& v, const motion::Simulator& sim) {
   return trans_only(v);
 }
 
+motion::Location finite_location(const motion::Location& t) {
+  if (!t.matrix().allFinite()) raise_not_finite();
+  return t;
+}
+
 Value call_function(Func f, const std::vector<std::optional<Value>>& args,
                     const motion::Simulator& sim) {
   auto x = [&](std::size_t i) { return real_arg(args, i); };
@@ -130,8 +135,8 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       }
       return r;
     }
-    case Func::here: return sim.here();
-    case Func::dest: return sim.dest();
+    case Func::here: return finite_location(sim.here());
+    case Func::dest: return finite_location(sim.dest());
     case Func::null: return motion::Location(motion::Location::Identity());
     case Func::tool: return sim.tool();
     case Func::base: return sim.base();
@@ -144,19 +149,19 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       for (int i = 0; i < n; ++i) j[i] = x(static_cast<std::size_t>(i));
       return j;
     }
-    case Func::inverse: return motion::Location(trans_only(arg(args, 0)).inverse());
+    case Func::inverse: return finite_location(motion::Location(trans_only(arg(args, 0)).inverse()));
     case Func::rx: return rotation(0, x(0));
     case Func::ry: return rotation(1, x(0));
     case Func::rz: return rotation(2, x(0));
     case Func::dx: return trans_only(arg(args, 0)).translation().x();
     case Func::dy: return trans_only(arg(args, 0)).translation().y();
     case Func::dz: return trans_only(arg(args, 0)).translation().z();
-    case Func::distance:
-      return (as_pose(arg(args, 0), sim).translation() - as_pose(arg(args, 1), sim).translation()).norm();
+    case Func::distance:  // stableNorm: no overflow of the squares below DBL_MAX
+      return finite((as_pose(arg(args, 0), sim).translation() - as_pose(arg(args, 1), sim).translation()).stableNorm());
     case Func::shift: {
       motion::Location t = trans_only(arg(args, 0));
       t.translation() += Eigen::Vector3d(x(1), x(2), x(3));
-      return t;
+      return finite_location(t);
     }
     case Func::len: return static_cast<double>(to_string_value(arg(args, 0)).size());
     case Func::chr: {
@@ -193,18 +198,22 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       const Eigen::Vector3d a = as_pose(arg(args, 0), sim).translation();
       const Eigen::Vector3d b = as_pose(arg(args, 1), sim).translation();
       const Eigen::Vector3d c = as_pose(arg(args, 2), sim).translation();
+      // Differences of finite points may overflow; stableNorm/stableNormalized keep large
+      // (>1e154) vectors from squaring to infinity and leaving a zero "rotation".
       const Eigen::Vector3d x_axis = b - a;
-      if (x_axis.norm() < 1e-9) raise(ErrorKind::illegal_value, "FRAME: a and b coincide");
-      const Eigen::Vector3d x_hat = x_axis.normalized();
+      if (!x_axis.allFinite() || !(c - a).allFinite()) raise_not_finite();
+      if (x_axis.stableNorm() < 1e-9) raise(ErrorKind::illegal_value, "FRAME: a and b coincide");
+      const Eigen::Vector3d x_hat = x_axis.stableNormalized();
       const Eigen::Vector3d y_part = (c - a) - (c - a).dot(x_hat) * x_hat;
-      if (y_part.norm() < 1e-9) raise(ErrorKind::illegal_value, "FRAME: c is on the line a-b");
-      const Eigen::Vector3d y_hat = y_part.normalized();
+      if (!y_part.allFinite()) raise_not_finite();
+      if (y_part.stableNorm() < 1e-9) raise(ErrorKind::illegal_value, "FRAME: c is on the line a-b");
+      const Eigen::Vector3d y_hat = y_part.stableNormalized();
       motion::Location t = motion::Location::Identity();
       t.linear().col(0) = x_hat;
       t.linear().col(1) = y_hat;
       t.linear().col(2) = x_hat.cross(y_hat);
       t.translation() = as_pose(arg(args, 3), sim).translation();
-      return t;
+      return finite_location(t);
     }
     case Func::inrange: return static_cast<double>(sim.inrange(as_pose(arg(args, 0), sim)));
     case Func::defined:  // DEFINED, SIG, TIMER, LAST...: the evaluator (they need its state)

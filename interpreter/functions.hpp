@@ -38,4 +38,8 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
 // forward kinematics with the current BASE and TOOL (dialect §4).
 motion::Location as_pose(const Value& v, const motion::Simulator& sim);
 
+// A location result of an operation (`:`, INVERSE, SHIFT, FRAME, HERE, DEST): an overflow to
+// infinity or NaN is an *Illegal value*, so no location ever holds one (docs/stiff-cases.md).
+motion::Location finite_location(const motion::Location& t);
+
 }  // namespace asimov::val

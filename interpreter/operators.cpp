@@ -1,6 +1,7 @@
 #include "interpreter/operators.hpp"
 
 #include "interpreter/errors.hpp"
+#include "interpreter/functions.hpp"
 #include "interpreter/limits.hpp"
 
 #include <fmt/format.h>
@@ -54,7 +55,7 @@ Value apply_binary(Op op, const Value& a, const Value& b) {
   if (op == Op::compound) {
     if (kind_of(a) != Kind::trans || kind_of(b) != Kind::trans)
       raise(ErrorKind::illegal_value, "\":\" needs two transformations");
-    return motion::Location(std::get<motion::Location>(a) * std::get<motion::Location>(b));
+    return finite_location(motion::Location(std::get<motion::Location>(a) * std::get<motion::Location>(b)));
   }
   if (kind_of(a) == Kind::string || kind_of(b) == Kind::string) {
     const std::string& x = to_string_value(a);
