@@ -133,7 +133,10 @@ LineStatus plan_line(const robots::Robot& robot, std::span<const robots::BodyRea
   const LineContext c{robot, reach, req, req.base.inverse(), req.tool.inverse(), kLineSafety * req.step_mm};
   const Location flange0 = c.base_inv * line_pose(req.path, 0) * c.tool_inv;
   if (check_margins(c, flange0, 0, out) != LineStatus::ok) return out.status;
+  // Also every step_mm: step_mm scales with the cell, so a cell drawn in metres or km gets
+  // the same samples and verdicts as in mm (docs/stiff-cases.md, scale cases).
   const int n = std::max({1, static_cast<int>(std::ceil(req.path.length / kLineSampleMm)),
+                          static_cast<int>(std::ceil(req.path.length / req.step_mm)),
                           static_cast<int>(std::ceil(req.path.angle_deg() / kLineSampleDeg))});
   out.samples.reserve(static_cast<std::size_t>(n) * 2 + 1);
   LineSample prev{0, req.start};

@@ -108,7 +108,6 @@ Outcome sweep(const Setting& s, double speed = 100) {
       }
     }
   }
-  WARN("TMP plate " << s.plate_mm << " step " << s.step_mm << " c " << s.clearance_mm << " speed " << speed << ": contacts " << out.contacts << "/" << kPhases << " other " << out.other << " maxstep " << out.max_tool_step << " poses " << out.poses);
   return out;
 }
 
