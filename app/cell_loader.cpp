@@ -155,6 +155,19 @@ class Reader {
     }
   }
 
+  // Body coordinates beyond kMaxCoordinateMm lose the engine's precision (positions round to
+  // 1e-16 of their size: at 1e18 mm a whole link rounds away) and overflow its products near
+  // 1e150 mm (an arm inside a 1e150 mm box went unseen): a cell error (docs/stiff-cases.md).
+  static constexpr double kMaxCoordinateMm = 1e9;
+  void within_extent(const YAML::Node& node, const collision::Polyhedron& mesh, const collision::Pose& pose,
+                     const std::string& what) const {
+    double far = pose.translation().cwiseAbs().maxCoeff();
+    for (const auto& v : mesh.vertices) far = std::max(far, (pose * v).cwiseAbs().maxCoeff());
+    if (!(far <= kMaxCoordinateMm))
+      fail(node, fmt::format("{} reaches {} mm from the origin; coordinates are limited to {:g} mm", what, far,
+                             kMaxCoordinateMm));
+  }
+
   motion::Cell cell(const YAML::Node& root) const {
     if (!root.IsMap()) fail(root, "a cell file is a YAML map (see docs/cell-format.md)");
     expect_keys(root, {"robot", "base", "tool", "tool_shape", "objects", "collision", "start"}, "the cell");
@@ -162,6 +175,7 @@ class Reader {
     cell.robot = robot(root["robot"]);
     cell.warnings = cell.robot.warnings;  // URDF mesh notes, already prefixed with urdf:line
     cell.base = pose(root["base"], "base");
+    within_extent(root["base"], {}, cell.base, "base");
     cell.tool = pose(root["tool"], "tool");
     const int n = cell.robot.joint_count();
     cell.start_joints = robots::ready_joints(cell.robot);
@@ -177,6 +191,7 @@ class Reader {
       expect_keys(ts, {"box", "cylinder", "sphere", "mesh", "scale", "at"}, "tool_shape");
       cell.tool_shape =
           collision::transformed(shape(ts, "tool_shape", cell.warnings), pose(ts["at"], "tool_shape.at"));
+      within_extent(ts, *cell.tool_shape, cell.base, "tool_shape");
     }
     std::set<std::string> names;
     for (const auto& b : cell.robot.bodies) names.insert(b.name);
@@ -191,6 +206,7 @@ class Reader {
         if (!names.insert(obj.name).second) fail(o["name"], fmt::format("duplicate body name '{}'", obj.name));
         obj.mesh = shape(o, "object '" + obj.name + "'", cell.warnings);
         obj.pose = pose(o["at"], "object '" + obj.name + "' at");
+        within_extent(o, obj.mesh, obj.pose, "object '" + obj.name + "'");
         cell.objects.push_back(std::move(obj));
       }
     }
@@ -206,7 +222,10 @@ class Reader {
         if (m < 0 || m > 20 || m != std::floor(m)) fail(c["halvings"], "collision.halvings must be auto or an integer 0..20");
         s.halvings = static_cast<int>(m);
       }
-      if (c["step_mm"]) s.step_mm = positive(c["step_mm"], "collision.step_mm");
+      if (c["step_mm"]) {
+        s.step_mm = positive(c["step_mm"], "collision.step_mm");
+        if (s.step_mm < 1e-6) fail(c["step_mm"], fmt::format("collision.step_mm must be >= 1e-6, got {}", s.step_mm));
+      }
       if (c["clearance_mm"]) {
         s.clearance_mm = number(c["clearance_mm"], "collision.clearance_mm");
         if (s.clearance_mm < 0) fail(c["clearance_mm"], "collision.clearance_mm must be >= 0");

@@ -80,6 +80,14 @@ LineStatus solve_sample(const LineContext& c, double s, const JointVector& prev,
   return LineStatus::ok;
 }
 
+// ceil(x) as a number of intervals, at least 1 and at most 2^30 so that the conversion to int
+// is defined when x is huge or infinite (an absurdly small step_mm; 2^30 poses take hours).
+int interval_count(double x) {
+  constexpr double kMax = 1073741824.0;
+  const double c = std::ceil(x);
+  return c >= kMax ? static_cast<int>(kMax) : c >= 1 ? static_cast<int>(c) : 1;
+}
+
 // Appends samples strictly inside (a, b] so that the bound between neighbours is <= limit.
 LineStatus refine(const LineContext& c, const LineSample& a, const LineSample& b, int depth, LinePlan& plan) {
   const double d = max_body_displacement(c.reach, b.joints - a.joints, c.req.pairs);
@@ -88,7 +96,7 @@ LineStatus refine(const LineContext& c, const LineSample& a, const LineSample& b
     return LineStatus::ok;
   }
   if (depth >= kMaxRefineDepth) return singular(plan, SingularityKind::unresolved, b.s);
-  const int m = std::clamp(static_cast<int>(std::ceil(d / c.limit)), 2, kMaxSplits);
+  const int m = std::clamp(interval_count(d / c.limit), 2, kMaxSplits);
   LineSample prev = a;
   for (int i = 1; i <= m; ++i) {
     LineSample next;
@@ -124,7 +132,7 @@ double max_body_displacement(std::span<const robots::BodyReach> reach, const Joi
 int joint_move_intervals(std::span<const robots::BodyReach> reach, const JointVector& from, const JointVector& to,
                          double step_mm, std::span<const BodyPair> pairs) {
   const double d = max_body_displacement(reach, to - from, pairs);
-  return std::max(1, static_cast<int>(std::ceil(d / step_mm)));
+  return interval_count(d / step_mm);
 }
 
 LineStatus plan_line(const robots::Robot& robot, std::span<const robots::BodyReach> reach, const LineRequest& req,
@@ -135,10 +143,9 @@ LineStatus plan_line(const robots::Robot& robot, std::span<const robots::BodyRea
   if (check_margins(c, flange0, 0, out) != LineStatus::ok) return out.status;
   // Also every step_mm: step_mm scales with the cell, so a cell drawn in metres or km gets
   // the same samples and verdicts as in mm (docs/stiff-cases.md, scale cases).
-  const int n = std::max({1, static_cast<int>(std::ceil(req.path.length / kLineSampleMm)),
-                          static_cast<int>(std::ceil(req.path.length / req.step_mm)),
-                          static_cast<int>(std::ceil(req.path.angle_deg() / kLineSampleDeg))});
-  out.samples.reserve(static_cast<std::size_t>(n) * 2 + 1);
+  const int n = std::max({interval_count(req.path.length / kLineSampleMm), interval_count(req.path.length / req.step_mm),
+                          interval_count(req.path.angle_deg() / kLineSampleDeg)});
+  out.samples.reserve(static_cast<std::size_t>(std::min(n, 65536)) * 2 + 1);  // n may be 2^30 for a line out of reach
   LineSample prev{0, req.start};
   out.samples.push_back(prev);
   for (int i = 1; i <= n; ++i) {
