@@ -55,7 +55,7 @@ const double kAbove400 = std::nextafter(400.0, 1000.0);  // one ulp above the ta
 
 }  // namespace
 
-TEST_CASE("a box resting exactly on the table touches; one ulp above it does not", "[stiff][exact]") {
+TEST_CASE("a box resting exactly on the table touches, one ulp above it does not", "[stiff][exact]") {
   const Polyhedron table = box_between({400, -600, 360}, {1100, 600, 400});
   {
     Scene s(table, box_between({600, -50, 400}, {700, 50, 500}));
@@ -91,7 +91,7 @@ TEST_CASE("coplanar sliding: a box sliding on the table touches at every pose, o
   }
 }
 
-TEST_CASE("edge on edge: crossing ridges touch at one point; one ulp apart they do not", "[stiff][exact]") {
+TEST_CASE("edge on edge: crossing ridges touch at one point, one ulp apart they do not", "[stiff][exact]") {
   {
     Scene s(roof_x(5), roof_y_down(5));
     const QueryResult r = s.engine.check();
