@@ -143,7 +143,8 @@ LineStatus plan_line(const robots::Robot& robot, std::span<const robots::BodyRea
   if (check_margins(c, flange0, 0, out) != LineStatus::ok) return out.status;
   // Also every step_mm: step_mm scales with the cell, so a cell drawn in metres or km gets
   // the same samples and verdicts as in mm (docs/stiff-cases.md, scale cases).
-  const int n = std::max({interval_count(req.path.length / kLineSampleMm), interval_count(req.path.length / req.step_mm),
+  const int n = std::max({interval_count(req.path.length / kLineSampleMm),
+                          interval_count(req.path.length / req.step_mm),
                           interval_count(req.path.angle_deg() / kLineSampleDeg)});
   out.samples.reserve(static_cast<std::size_t>(std::min(n, 65536)) * 2 + 1);  // n may be 2^30 for a line out of reach
   LineSample prev{0, req.start};

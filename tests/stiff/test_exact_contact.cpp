@@ -14,7 +14,8 @@ namespace {
 // An axis-aligned box from its corner coordinates (outward triangles).
 Polyhedron box_between(const Vec3& lo, const Vec3& hi) {
   Polyhedron b = make_box(hi - lo);
-  for (auto& v : b.vertices) v = Vec3(v.x() < 0 ? lo.x() : hi.x(), v.y() < 0 ? lo.y() : hi.y(), v.z() < 0 ? lo.z() : hi.z());
+  for (auto& v : b.vertices)
+    v = Vec3(v.x() < 0 ? lo.x() : hi.x(), v.y() < 0 ? lo.y() : hi.y(), v.z() < 0 ? lo.z() : hi.z());
   return b;
 }
 
@@ -76,7 +77,8 @@ TEST_CASE("a box resting exactly on the table touches, one ulp above it does not
   }
 }
 
-TEST_CASE("coplanar sliding: a box sliding on the table touches at every pose, one ulp above at none", "[stiff][exact]") {
+TEST_CASE("coplanar sliding: a box sliding on the table touches at every pose, one ulp above at none",
+          "[stiff][exact]") {
   const Polyhedron table = box_between({400, -600, 360}, {1100, 600, 400});
   for (const double bottom : {400.0, kAbove400}) {
     Scene s(table, box_between({500, -50, bottom}, {600, 50, 500}));

@@ -38,7 +38,8 @@ TEST_CASE("10^6 compound transformations stay orthonormal to 1e-12 and return to
     if (i % 1000 == 999) worst = std::max(worst, orthonormality_error(a));
     farthest = std::max(farthest, a.translation().norm());
   }
-  INFO("worst orthonormality error " << worst << ", final position drift " << a.translation().norm() << " mm, farthest " << farthest << " mm");
+  INFO("worst orthonormality error " << worst << ", final position drift " << a.translation().norm()
+                                      << " mm, farthest " << farthest << " mm");
   CHECK(worst <= 1e-12);
   CHECK(orthonormality_error(a) <= 1e-12);
   // Documented drift bound: one unit roundoff of the farthest position per compound.

@@ -43,7 +43,8 @@ void match_subset(const json& expected, const json& actual, const std::string& w
   } else if (expected.is_array()) {
     REQUIRE(actual.is_array());
     REQUIRE(actual.size() == expected.size());
-    for (std::size_t i = 0; i < expected.size(); ++i) match_subset(expected[i], actual[i], where + "[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < expected.size(); ++i)
+      match_subset(expected[i], actual[i], where + "[" + std::to_string(i) + "]");
   } else if (expected.is_number() && actual.is_number()) {
     CHECK(actual.get<double>() == expected.get<double>());
   } else {

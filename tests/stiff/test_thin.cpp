@@ -153,7 +153,8 @@ TEST_CASE("thin plates: clearance c > 0 with step_mm <= c never misses, even wit
   }
 }
 
-TEST_CASE("thin plates: SPEED does not change which contacts are seen (samples are spaced by distance)", "[stiff][thin]") {
+TEST_CASE("thin plates: SPEED does not change which contacts are seen (samples are spaced by distance)",
+          "[stiff][thin]") {
   for (const Setting s : {Setting{0.1, 20, 0}, Setting{0.1, 1, 1}}) {
     const Outcome fast = sweep(s, 100), slow = sweep(s, 10);
     CHECK(fast.contacts == slow.contacts);
