@@ -362,6 +362,7 @@ class Checker {
                             : "a string needs a $ variable");
     }
     Instr& in = emit(code);
+    in.real_target = code == Code::assign && target.text[0] != '$' && target.text[0] != '#';
     in.target = std::move(target);
     in.args.push_back(std::move(value));
   }

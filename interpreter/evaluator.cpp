@@ -49,7 +49,7 @@ RunResult Evaluator::run(int slot, bool resumable) {
     const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
     if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
     Frame top;
-    top.program = program;
+    top.program = program.get();
     top.owned.resize(program->params.size() + program->autos.size());
     for (Variable& v : top.owned) top.params.push_back(&v);
     top.temps.resize(static_cast<std::size_t>(program->temps));
@@ -99,6 +99,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   memory_.globals.resize(memory_.symbols.globals.size());
   globals_.resize(memory_.globals.size());  // no global is added while a run goes on
   for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
+  ctx_.globals = globals_.data();
+  ctx_.slots = nullptr;
 
   auto locate = [&](Diagnostic& d, const Program* p, int line) {
     if (!p) return;
@@ -118,23 +120,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 
   try {
     setup();
-    while (!stack_.empty()) {
-      Frame& f = stack_.back();
-      if (f.pc >= static_cast<int>(f.program->code.size())) {  // .END returns
-        pop_frame();
-        continue;
-      }
-      const Instr& in = f.program->code[static_cast<std::size_t>(f.pc)];
-      current_program_ = f.program.get();
-      current_line_ = in.line;
-      // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
-      if (limits_.interrupt && limits_.interrupt->load(std::memory_order_relaxed))
-        raise(ErrorKind::interrupted);
-      ++f.pc;
-      if (++statements_ > limits_.max_statements)
-        raise(ErrorKind::too_many_statements, fmt::format("more than {}", limits_.max_statements));
-      execute(in);
-    }
+    loop();
     finish_motion();  // the last motion completes at the end of the run
   } catch (const RuntimeError& e) {
     result.status = RunStatus::error;
@@ -163,7 +149,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   } else if (!stack_.empty() || result.status == RunStatus::collision) {
     stopped_ = Stopped{std::move(stack_), result.status, name, speed_always_, speed_next_, last_motion_,
                        duration_always_, duration_next_,
-                       result.error.message == error_message(ErrorKind::interrupted)};
+                       result.error.message == error_message(ErrorKind::interrupted), memory_.programs};
   }
   stack_.clear();
   result.warnings = std::move(warnings_);
@@ -173,11 +159,79 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 
 // --- statements -----------------------------------------------------------------------------
 
+// The dispatch loop. The statements that dominate loops (real assignments, jumps, FOR steps)
+// run inline here through their compiled expressions; any value the compiled form does not
+// handle, and every other statement, goes through execute(), which raises the exact errors.
+void Evaluator::loop() {
+  const std::atomic<bool>* interrupt = limits_.interrupt;
+  const std::uint64_t max_statements = limits_.max_statements;
+  while (!stack_.empty()) {
+    Frame& f = stack_.back();  // valid until a CALL, RETURN or STOP changes the stack
+    const Program& program = *f.program;
+    const Instr* const code = program.code.data();
+    const int size = static_cast<int>(program.code.size());
+    current_program_ = &program;
+    ctx_.slots = f.params.data();  // every evaluation happens below, in this frame
+    for (;;) {
+      if (f.pc >= size) {  // .END returns
+        pop_frame();
+        break;
+      }
+      const Instr& in = code[f.pc];
+      current_line_ = in.line;
+      // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
+      if (interrupt && interrupt->load(std::memory_order_relaxed)) raise(ErrorKind::interrupted);
+      ++f.pc;
+      if (++statements_ > max_statements)
+        raise(ErrorKind::too_many_statements, fmt::format("more than {}", max_statements));
+      double x;
+      switch (in.code) {
+        case Code::assign:
+          if (in.real_target && run_fast(in.args[0], x)) {
+            store_real(in.target, x);
+            continue;
+          }
+          break;
+        case Code::jump:
+          f.pc = in.jump;
+          continue;
+        case Code::jump_false:
+          if (run_fast(in.args[0], x)) {
+            if (x == 0) f.pc = in.jump;
+            continue;
+          }
+          break;
+        case Code::jump_true:
+          if (run_fast(in.args[0], x)) {
+            if (x != 0) f.pc = in.jump;
+            continue;
+          }
+          break;
+        case Code::for_next: {
+          Variable& v = variable(in.target);
+          if (!v.scalar || !v.elements.empty()) break;
+          double* d = std::get_if<double>(&*v.scalar);
+          if (!d) break;
+          const double step = f.temps[static_cast<std::size_t>(in.temp) + 1];
+          *d = finite(*d + step);
+          if (step > 0 ? *d <= f.temps[static_cast<std::size_t>(in.temp)] : *d >= f.temps[static_cast<std::size_t>(in.temp)])
+            f.pc = in.jump;
+          continue;
+        }
+        default: break;
+      }
+      execute(in);
+      if (in.code == Code::call || in.code == Code::return_ || in.code == Code::stop) break;
+    }
+  }
+}
+
 void Evaluator::execute(const Instr& in) {
   Frame& f = stack_.back();
   switch (in.code) {
     case Code::assign: {
-      if (double x; in.args[0].plain && in.target.text[0] != '$' && in.target.text[0] != '#' && try_real(in.args[0], x))
+      if (double x; in.args[0].plain && in.target.text[0] != '$' && in.target.text[0] != '#'
+                    && (run_fast(in.args[0], x) || try_real(in.args[0], x)))
         return store_real(in.target, x);
       Value v = eval(in.args[0]);
       const char prefix = in.target.text[0];
@@ -358,30 +412,42 @@ void Evaluator::call(const Instr& in) {
     frame = std::move(spare_.back());
     spare_.pop_back();
   }
-  frame.program = program;
-  frame.owned.reserve(program->params.size() + program->autos.size());  // pointers stay valid
-  frame.params.reserve(program->params.size() + program->autos.size());
+  frame.program = program.get();
+  // Variables owned by the frame: those of an earlier call, emptied when it returned (no
+  // construction per CALL), then new ones. Reserved first: the pointers taken stay valid.
+  const std::size_t slots = program->params.size() + program->autos.size();
+  frame.owned.reserve(slots);
+  frame.params.reserve(slots);
+  std::size_t used = 0;
+  auto fresh = [&]() -> Variable& {
+    if (used == frame.owned.size()) frame.owned.emplace_back();
+    return frame.owned[used++];
+  };
   for (std::size_t i = 0; i < program->params.size(); ++i) {
     const bool given = i < in.args.size() && in.args[i].kind != NodeKind::absent;
     if (given && in.by_ref[i]) {
       frame.params.push_back(&variable(in.args[i]));  // the caller's variable itself
       continue;
     }
-    Variable& owned = frame.owned.emplace_back();
-    if (given) owned.scalar = eval(in.args[i]);
+    Variable& owned = fresh();
+    if (double x; given && run_fast(in.args[i], x)) owned.scalar.emplace(x);
+    else if (given) owned.scalar = eval(in.args[i]);
     frame.params.push_back(&owned);
   }
   for (std::size_t i = 0; i < program->autos.size(); ++i)  // a fresh AUTO copy per call
-    frame.params.push_back(&frame.owned.emplace_back());
+    frame.params.push_back(&fresh());
   frame.temps.resize(static_cast<std::size_t>(program->temps));
   stack_.push_back(std::move(frame));
 }
 
 void Evaluator::pop_frame() {
   Frame& f = stack_.back();
-  f.program.reset();
+  f.program = nullptr;
   f.params.clear();
-  f.owned.clear();
+  for (Variable& v : f.owned) {  // emptied, kept for the next CALL
+    v.scalar.reset();
+    if (!v.elements.empty()) v.elements = Elements{};
+  }
   f.temps.clear();
   f.pc = 0;
   if (spare_.size() < 64) spare_.push_back(std::move(f));
@@ -502,14 +568,16 @@ motion::Location Evaluator::as_transformation(const Value& v) {
 // --- expressions ----------------------------------------------------------------------------
 
 Variable& Evaluator::variable(const Node& n) {
-  if (n.ref.scope == Scope::global) return *globals_[static_cast<std::size_t>(n.ref.slot)];
+  if (n.ref.scope == Scope::global) return *ctx_.globals[n.ref.slot];
   return *stack_.back().params[static_cast<std::size_t>(n.ref.slot)];
 }
 
 Index Evaluator::index(const Node& n) {
   Index idx{0, 0, 0};
   for (std::size_t i = 0; i < n.kids.size(); ++i) {
-    const int k = to_index(real(n.kids[i], "index"));
+    const double x = real(n.kids[i], "index");
+    int k;
+    if (!small_index(x, k)) k = to_index(x);
     if (k < 0 || k > kMaxArrayIndex) raise(ErrorKind::illegal_value, fmt::format("index {} of {}", k, n.text));
     idx[i] = k;
   }
@@ -572,7 +640,7 @@ bool Evaluator::defined(const Node& n) {
 }
 
 Value Evaluator::eval(const Node& n) {
-  if (double x; n.plain && try_real(n, x)) return x;
+  if (double x; run_fast(n, x) || (n.plain && try_real(n, x))) return x;
   switch (n.kind) {
     case NodeKind::number: return n.number;
     case NodeKind::string: return n.text;
@@ -756,7 +824,7 @@ bool Evaluator::try_real(const Node& n, double& out) {
 }
 
 double Evaluator::real(const Node& n, const char* what) {
-  if (double x; n.plain && try_real(n, x)) return x;
+  if (double x; run_fast(n, x) || (n.plain && try_real(n, x))) return x;
   return to_real(eval(n), what);
 }
 
@@ -764,8 +832,10 @@ double Evaluator::real(const Node& n, const char* what) {
 void Evaluator::store_real(const Node& target, double x) {
   Variable& v = variable(target);
   if (!target.subscripted) {
-    if (v.is_array() || (v.scalar && kind_of(*v.scalar) != Kind::real)) return store(target, x);
-    v.scalar = x;
+    if (!v.elements.empty()) return store(target, x);  // the error
+    if (!v.scalar) v.scalar.emplace(x);
+    else if (double* d = std::get_if<double>(&*v.scalar)) *d = x;
+    else store(target, x);  // the error
     return;
   }
   const Index idx = index(target);

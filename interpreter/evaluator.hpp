@@ -52,7 +52,7 @@ class Evaluator {
 
  private:
   struct Frame {
-    std::shared_ptr<const Program> program;
+    const Program* program = nullptr;              // kept alive by memory_ or Stopped::pinned
     std::vector<Variable*> params;                 // by reference or into `owned`
     std::vector<Variable> owned;                   // by value, omitted, AUTO (reserved: stable)
     std::vector<double> temps;                     // FOR limits and steps
@@ -79,12 +79,14 @@ class Evaluator {
     double duration_always = 0;
     std::optional<double> duration_next;
     bool interrupted = false;                   // Ctrl-C: pc is the step not yet run
+    std::vector<std::shared_ptr<const Program>> pinned;  // the frames' programs, even if reloaded
   };
 
   // The one protected boundary: runs `setup` then the loop; raises become the result.
   RunResult protected_run(const std::string& name, const std::function<void()>& setup);
   void start_motion(const MotionRequest& m);
   void execute(const Instr& in);
+  void loop();  // runs stack_ until it is empty
   void call(const Instr& in);
   void pop_frame();
   void motion(const Instr& in);
@@ -109,6 +111,16 @@ class Evaluator {
   // The real fast path over Node::plain trees (no Value built): false, with nothing raised,
   // when a variable holds another kind; the generic path then evaluates (plain trees only read).
   bool try_real(const Node& n, double& out);
+  // The compiled form (Node::fast) when there is one and it handles the values met.
+  bool run_fast(const Node& n, double& out) {
+    if (!n.fast) return false;
+    try {
+      out = n.fast->run(ctx_);
+      return true;
+    } catch (const Fallback&) {
+      return false;
+    }
+  }
   double real(const Node& n, const char* what);
   void store_real(const Node& target, double x);
   bool defined(const Node& n);
@@ -135,6 +147,7 @@ class Evaluator {
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
   std::vector<Frame> spare_;                  // popped frames, emptied, reused by CALL
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
+  FastCtx ctx_;                               // globals_ and the running frame's slots
 };
 
 }  // namespace asimov::val
