@@ -4,6 +4,7 @@
 #include "interpreter/operators.hpp"
 
 #include <array>
+#include <cstdint>
 #include <utility>
 
 namespace asimov::val {
@@ -46,10 +47,27 @@ double unary(const RNode& n, const FastCtx& c) {
   else return v;
 }
 
+// MOD of two integers in int32 (not INT32_MIN, divisor not 0) in integer arithmetic: the
+// same result as real_binary's x - y * trunc(x / y). There |x / y| is at least 1/|y| away
+// from any integer it does not equal, far more than the rounding of the division (|x| < 2^31),
+// so trunc sees the exact quotient; y * q and the difference are exact integers below 2^31,
+// and a zero remainder is +0 both ways. Integer division is shorter than the divide, truncate
+// and multiply chain on doubles.
+inline bool int_mod(double x, double y, double& out) {
+  const auto a = static_cast<std::int32_t>(x), b = static_cast<std::int32_t>(y);
+  if (static_cast<double>(a) != x || static_cast<double>(b) != y || b == 0 || a == INT32_MIN || b == INT32_MIN)
+    return false;
+  out = static_cast<double>(a % b);
+  return true;
+}
+
 template <Op op, K l, K r>
 double binary(const RNode& n, const FastCtx& c) {
   const double x = get<l>(n.a, c);  // left before right, as the generic path
   const double y = get<r>(n.b, c);
+  if constexpr (op == Op::mod)
+    if (double m; x > -2147483648.0 && x < 2147483648.0 && y > -2147483648.0 && y < 2147483648.0 && int_mod(x, y, m))
+      return m;
   return real_binary(op, x, y);
 }
 
