@@ -48,12 +48,13 @@ RunResult Evaluator::run(int slot, bool resumable) {
   RunResult r = protected_run(memory_.symbols.programs[static_cast<std::size_t>(slot)], [&] {
     const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
     if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
-    Frame top;
+    Frame& top = stack_.next();
     top.program = program.get();
+    top.owned.clear();
     top.owned.resize(program->params.size() + program->autos.size());
     for (Variable& v : top.owned) top.params.push_back(&v);
     top.temps.resize(static_cast<std::size_t>(program->temps));
-    stack_.push_back(std::move(top));
+    stack_.commit();
   });
   if (!resumable) stopped_.reset();
   if (!stopped_) stopped_ = std::move(earlier);  // only the latest stopped execution is kept
@@ -73,7 +74,7 @@ RunResult Evaluator::resume(bool retry) {
   }
   Stopped s = std::move(*stopped_);
   stopped_.reset();
-  stack_ = std::move(s.stack);
+  stack_.assign(std::move(s.stack));
   speed_always_ = s.speed_always;
   speed_next_ = s.speed_next;
   duration_always_ = s.duration_always;
@@ -147,7 +148,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     result.program = name;
     result.line = result.step = 0;
   } else if (!stack_.empty() || result.status == RunStatus::collision) {
-    stopped_ = Stopped{std::move(stack_), result.status, name, speed_always_, speed_next_, last_motion_,
+    stopped_ = Stopped{stack_.take(), result.status, name, speed_always_, speed_next_, last_motion_,
                        duration_always_, duration_next_,
                        result.error.message == error_message(ErrorKind::interrupted), memory_.programs};
   }
@@ -407,11 +408,7 @@ void Evaluator::call(const Instr& in) {
     raise(ErrorKind::too_many_calls, fmt::format("{} levels", stack_.size()));
   if (in.args.size() > program->params.size())
     raise(ErrorKind::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
-  Frame frame;
-  if (!spare_.empty()) {  // a used frame keeps its vectors' capacity: no allocation per CALL
-    frame = std::move(spare_.back());
-    spare_.pop_back();
-  }
+  Frame& frame = stack_.next();  // pushed once the arguments are evaluated in the caller's frame
   frame.program = program.get();
   // Variables owned by the frame: those of an earlier call, emptied when it returned (no
   // construction per CALL), then new ones. Reserved first: the pointers taken stay valid.
@@ -420,8 +417,14 @@ void Evaluator::call(const Instr& in) {
   frame.params.reserve(slots);
   std::size_t used = 0;
   auto fresh = [&]() -> Variable& {
-    if (used == frame.owned.size()) frame.owned.emplace_back();
-    return frame.owned[used++];
+    if (used == frame.owned.size()) {
+      ++used;
+      return frame.owned.emplace_back();
+    }
+    Variable& v = frame.owned[used++];
+    v.scalar.reset();  // already empty unless an earlier CALL failed while filling this frame
+    if (!v.elements.empty()) v.elements = Elements{};
+    return v;
   };
   for (std::size_t i = 0; i < program->params.size(); ++i) {
     const bool given = i < in.args.size() && in.args[i].kind != NodeKind::absent;
@@ -437,7 +440,7 @@ void Evaluator::call(const Instr& in) {
   for (std::size_t i = 0; i < program->autos.size(); ++i)  // a fresh AUTO copy per call
     frame.params.push_back(&fresh());
   frame.temps.resize(static_cast<std::size_t>(program->temps));
-  stack_.push_back(std::move(frame));
+  stack_.commit();
 }
 
 void Evaluator::pop_frame() {
@@ -450,8 +453,7 @@ void Evaluator::pop_frame() {
   }
   f.temps.clear();
   f.pc = 0;
-  if (spare_.size() < 64) spare_.push_back(std::move(f));
-  stack_.pop_back();
+  stack_.pop();
 }
 
 void Evaluator::finish_motion() {

@@ -9,6 +9,7 @@
 #include <array>
 #include <deque>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <set>
 #include <utility>
@@ -57,6 +58,45 @@ class Evaluator {
     std::vector<Variable> owned;                   // by value, omitted, AUTO (reserved: stable)
     std::vector<double> temps;                     // FOR limits and steps
     int pc = 0;                                    // next instruction
+  };
+
+  // The call stack. Popped frames stay allocated and are reused by the next CALL, with their
+  // vectors' capacity and their (emptied) variables: no construction, move or allocation per
+  // CALL. back() is valid until the next next().
+  class FrameStack {
+   public:
+    bool empty() const { return size_ == 0; }
+    std::size_t size() const { return size_; }
+    Frame& back() { return frames_[size_ - 1]; }
+    // The frame above the top, cleared (its owned variables are emptied as they are taken),
+    // filled by the caller, then pushed by commit().
+    Frame& next() {
+      if (size_ == frames_.size()) frames_.emplace_back();
+      Frame& f = frames_[size_];
+      f.program = nullptr;
+      f.params.clear();
+      f.temps.clear();
+      f.pc = 0;
+      return f;
+    }
+    void commit() { ++size_; }
+    void pop() { --size_; }
+    void clear() { size_ = 0; }
+    std::vector<Frame> take() {  // the frames, for a stopped execution
+      std::vector<Frame> out(std::make_move_iterator(frames_.begin()),
+                             std::make_move_iterator(frames_.begin() + static_cast<std::ptrdiff_t>(size_)));
+      frames_.clear();
+      size_ = 0;
+      return out;
+    }
+    void assign(std::vector<Frame> frames) {
+      frames_ = std::move(frames);
+      size_ = frames_.size();
+    }
+
+   private:
+    std::vector<Frame> frames_;
+    std::size_t size_ = 0;
   };
 
   // A resolved motion, kept so that RETRY can restart it after a collision.
@@ -129,7 +169,7 @@ class Evaluator {
   std::ostream& out_;
   Memory& memory_;
   const Limits& limits_;
-  std::vector<Frame> stack_;
+  FrameStack stack_;
   const Program* current_program_ = nullptr;  // where the executing statement is
   int current_line_ = 0;
   const Program* motion_program_ = nullptr;   // where the last motion was started
@@ -145,7 +185,6 @@ class Evaluator {
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
-  std::vector<Frame> spare_;                  // popped frames, emptied, reused by CALL
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
   FastCtx ctx_;                               // globals_ and the running frame's slots
 };
