@@ -95,7 +95,6 @@ RunResult Evaluator::resume(bool retry) {
 
 RunResult Evaluator::protected_run(const std::string& name, const std::function<void()>& setup) {
   RunResult result;
-  statements_ = 0;
   warnings_.clear();
   memory_.globals.resize(memory_.symbols.globals.size());
   globals_.resize(memory_.globals.size());  // no global is added while a run goes on
@@ -166,6 +165,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 void Evaluator::loop() {
   const std::atomic<bool>* interrupt = limits_.interrupt;
   const std::uint64_t max_statements = limits_.max_statements;
+  std::uint64_t statements = 0;  // this execution's steps (a run or a resumption)
   while (!stack_.empty()) {
     Frame& f = stack_.back();  // valid until a CALL, RETURN or STOP changes the stack
     const Program& program = *f.program;
@@ -183,13 +183,13 @@ void Evaluator::loop() {
       // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
       if (interrupt && interrupt->load(std::memory_order_relaxed)) raise(ErrorKind::interrupted);
       ++f.pc;
-      if (++statements_ > max_statements)
+      if (++statements > max_statements)
         raise(ErrorKind::too_many_statements, fmt::format("more than {}", max_statements));
       double x;
       switch (in.code) {
         case Code::assign:
           if (in.real_target && run_fast(in.args[0], x)) {
-            store_real(in.target, x);
+            if (!store_in_place(in.target, x)) store_real(in.target, x);
             continue;
           }
           break;
@@ -828,6 +828,25 @@ bool Evaluator::try_real(const Node& n, double& out) {
 double Evaluator::real(const Node& n, const char* what) {
   if (double x; run_fast(n, x) || (n.plain && try_real(n, x))) return x;
   return to_real(eval(n), what);
+}
+
+// Stores a real where one is already held (a scalar, or an element of a real array), in
+// this frame; false when another case (a new element, an error) is left to store_real.
+bool Evaluator::store_in_place(const Node& target, double x) {
+  const Variable& v = *(target.ref.scope == Scope::global ? ctx_.globals : ctx_.slots)[target.ref.slot];
+  if (!target.subscripted) {
+    if (!v.scalar || !v.elements.empty()) return false;
+    double* d = std::get_if<double>(&const_cast<Value&>(*v.scalar));
+    if (d) *d = x;
+    return d != nullptr;
+  }
+  double i;
+  int k;
+  if (target.kids.size() != 1 || v.scalar || !run_fast(target.kids[0], i) || !small_index(i, k)) return false;
+  Value* e = const_cast<Elements&>(v.elements).get(Index{k, 0, 0});
+  double* d = e ? std::get_if<double>(e) : nullptr;  // an element of a real array
+  if (d) *d = x;
+  return d != nullptr;
 }
 
 // store() for a real, without building a Value; the same errors.

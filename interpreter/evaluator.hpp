@@ -163,6 +163,7 @@ class Evaluator {
   }
   double real(const Node& n, const char* what);
   void store_real(const Node& target, double x);
+  bool store_in_place(const Node& target, double x);
   bool defined(const Node& n);
 
   motion::Simulator& sim_;
@@ -181,7 +182,6 @@ class Evaluator {
   std::optional<double> duration_next_;       // DURATION for the next motion only
   std::istream* in_ = nullptr;                // PROMPT input (null: std::cin)
   bool interactive_ = false;                  // PROMPT asks again on bad input
-  std::uint64_t statements_ = 0;
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
