@@ -49,6 +49,7 @@ struct Instr {
   Code code = Code::jump;
   int line = 0;                    // file line
   bool real_target = false;        // assign: the target holds reals (no '$' or '#')
+  const RNode* fast0 = nullptr;    // args[0].fast's root (owned by it), for the dispatch loop
   Node target;                     // assign/set/here/decompose/for: the variable written
   std::vector<Node> args;          // operands in source order (FOR: from, to, step)
   std::vector<ast::Format> formats;  // TYPE: one per item; code 0 = the next of `args`

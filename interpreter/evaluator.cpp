@@ -188,8 +188,17 @@ void Evaluator::loop() {
       double x;
       switch (in.code) {
         case Code::assign:
-          if (in.real_target && run_fast(in.args[0], x)) {
-            if (!store_in_place(in.target, x)) store_real(in.target, x);
+          if (in.real_target && in.fast0 && run_root(in.fast0, x)) {
+            const Node& t = in.target;
+            if (!t.subscripted) {  // a scalar that holds a real: written in place
+              Variable& v = *(t.ref.scope == Scope::global ? ctx_.globals : ctx_.slots)[t.ref.slot];
+              if (v.scalar)  // never with elements (see real_of)
+                if (double* d = std::get_if<double>(&*v.scalar)) {
+                  *d = x;
+                  continue;
+                }
+            }
+            if (!store_in_place(t, x)) store_real(t, x);
             continue;
           }
           break;
@@ -197,20 +206,20 @@ void Evaluator::loop() {
           f.pc = in.jump;
           continue;
         case Code::jump_false:
-          if (run_fast(in.args[0], x)) {
+          if (in.fast0 && run_root(in.fast0, x)) {
             if (x == 0) f.pc = in.jump;
             continue;
           }
           break;
         case Code::jump_true:
-          if (run_fast(in.args[0], x)) {
+          if (in.fast0 && run_root(in.fast0, x)) {
             if (x != 0) f.pc = in.jump;
             continue;
           }
           break;
         case Code::for_next: {
           Variable& v = variable(in.target);
-          if (!v.scalar || !v.elements.empty()) break;
+          if (!v.scalar) break;  // never with elements (see real_of)
           double* d = std::get_if<double>(&*v.scalar);
           if (!d) break;
           const double step = f.temps[static_cast<std::size_t>(in.temp) + 1];

@@ -152,6 +152,14 @@ class Evaluator {
   // when a variable holds another kind; the generic path then evaluates (plain trees only read).
   bool try_real(const Node& n, double& out);
   // The compiled form (Node::fast) when there is one and it handles the values met.
+  bool run_root(const RNode* r, double& out) {
+    try {
+      out = r->fn(*r, ctx_);
+      return true;
+    } catch (const Fallback&) {
+      return false;
+    }
+  }
   bool run_fast(const Node& n, double& out) {
     if (!n.fast) return false;
     try {

@@ -39,6 +39,7 @@ class RealCode {
   // (strings, locations, functions, several subscripts ...).
   static std::shared_ptr<const RealCode> compile(const Node& n);
   double run(const FastCtx& c) const { return root_->fn(*root_, c); }
+  const RNode* root() const { return root_; }
 
   RealCode() = default;
   RealCode(const RealCode&) = delete;  // nodes point at each other
@@ -51,8 +52,10 @@ class RealCode {
 };
 
 // A variable's real value, or Fallback (undefined, another kind, an array).
+// A variable never holds a scalar and elements at once (every store checks), so a scalar
+// alone decides; the elements, a cache line further, are not read.
 inline double real_of(const Variable& v) {
-  if (v.scalar && v.elements.empty())
+  if (v.scalar)
     if (const double* d = std::get_if<double>(&*v.scalar)) return *d;
   throw Fallback{};
 }
