@@ -143,7 +143,10 @@ class Evaluator {
   Value eval(const Node& n);
   Value function(const Node& n);
   int signal_number(const Node& n, bool output);
-  Variable& variable(const Node& n);
+  Variable& variable(const Node& n) {
+    if (n.ref.scope == Scope::global) return *ctx_.globals[n.ref.slot];
+    return *stack_.back().params[static_cast<std::size_t>(n.ref.slot)];
+  }
   Index index(const Node& n);
   Value read(const Node& n);
   const Value& lookup(const Node& n);
