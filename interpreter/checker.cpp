@@ -202,6 +202,8 @@ class Checker {
       }
       prog_.code[static_cast<std::size_t>(g.instr)].jump = found->second.instr;
     }
+    for (Instr& in : prog_.code)  // the dispatch loop calls the compiled root directly
+      in.fast0 = in.args.empty() || !in.args[0].fast ? nullptr : in.args[0].fast->root();
     out_.programs.push_back(std::move(prog_));
     in_program_ = false;
   }
@@ -362,6 +364,7 @@ class Checker {
                             : "a string needs a $ variable");
     }
     Instr& in = emit(code);
+    in.real_target = code == Code::assign && target.text[0] != '$' && target.text[0] != '#';
     in.target = std::move(target);
     in.args.push_back(std::move(value));
   }

@@ -4,6 +4,7 @@
 #include "interpreter/ast.hpp"
 #include "interpreter/functions.hpp"
 #include "interpreter/interpreter.hpp"
+#include "interpreter/realcode.hpp"
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,6 +34,7 @@ struct Node {
                                 // logical operators below: the evaluator's real fast path
   std::vector<Node> kids;
   std::vector<ast::Format> formats;  // $ENCODE: one per item; code 0 = the next of `kids`
+  std::shared_ptr<const RealCode> fast;  // top-level plain real trees: the compiled form
 };
 
 enum class Code : unsigned char {
@@ -46,6 +48,8 @@ enum class Code : unsigned char {
 struct Instr {
   Code code = Code::jump;
   int line = 0;                    // file line
+  bool real_target = false;        // assign: the target holds reals (no '$' or '#')
+  const RNode* fast0 = nullptr;    // args[0].fast's root (owned by it), for the dispatch loop
   Node target;                     // assign/set/here/decompose/for: the variable written
   std::vector<Node> args;          // operands in source order (FOR: from, to, step)
   std::vector<ast::Format> formats;  // TYPE: one per item; code 0 = the next of `args`

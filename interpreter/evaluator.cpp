@@ -48,12 +48,13 @@ RunResult Evaluator::run(int slot, bool resumable) {
   RunResult r = protected_run(memory_.symbols.programs[static_cast<std::size_t>(slot)], [&] {
     const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
     if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
-    Frame top;
-    top.program = program;
+    Frame& top = stack_.next();
+    top.program = program.get();
+    top.owned.clear();
     top.owned.resize(program->params.size() + program->autos.size());
     for (Variable& v : top.owned) top.params.push_back(&v);
     top.temps.resize(static_cast<std::size_t>(program->temps));
-    stack_.push_back(std::move(top));
+    stack_.commit();
   });
   if (!resumable) stopped_.reset();
   if (!stopped_) stopped_ = std::move(earlier);  // only the latest stopped execution is kept
@@ -73,7 +74,7 @@ RunResult Evaluator::resume(bool retry) {
   }
   Stopped s = std::move(*stopped_);
   stopped_.reset();
-  stack_ = std::move(s.stack);
+  stack_.assign(std::move(s.stack));
   speed_always_ = s.speed_always;
   speed_next_ = s.speed_next;
   duration_always_ = s.duration_always;
@@ -94,11 +95,12 @@ RunResult Evaluator::resume(bool retry) {
 
 RunResult Evaluator::protected_run(const std::string& name, const std::function<void()>& setup) {
   RunResult result;
-  statements_ = 0;
   warnings_.clear();
   memory_.globals.resize(memory_.symbols.globals.size());
   globals_.resize(memory_.globals.size());  // no global is added while a run goes on
   for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
+  ctx_.globals = globals_.data();
+  ctx_.slots = nullptr;
 
   auto locate = [&](Diagnostic& d, const Program* p, int line) {
     if (!p) return;
@@ -118,23 +120,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 
   try {
     setup();
-    while (!stack_.empty()) {
-      Frame& f = stack_.back();
-      if (f.pc >= static_cast<int>(f.program->code.size())) {  // .END returns
-        pop_frame();
-        continue;
-      }
-      const Instr& in = f.program->code[static_cast<std::size_t>(f.pc)];
-      current_program_ = f.program.get();
-      current_line_ = in.line;
-      // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
-      if (limits_.interrupt && limits_.interrupt->load(std::memory_order_relaxed))
-        raise(ErrorKind::interrupted);
-      ++f.pc;
-      if (++statements_ > limits_.max_statements)
-        raise(ErrorKind::too_many_statements, fmt::format("more than {}", limits_.max_statements));
-      execute(in);
-    }
+    loop();
     finish_motion();  // the last motion completes at the end of the run
   } catch (const RuntimeError& e) {
     result.status = RunStatus::error;
@@ -161,9 +147,9 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     result.program = name;
     result.line = result.step = 0;
   } else if (!stack_.empty() || result.status == RunStatus::collision) {
-    stopped_ = Stopped{std::move(stack_), result.status, name, speed_always_, speed_next_, last_motion_,
+    stopped_ = Stopped{stack_.take(), result.status, name, speed_always_, speed_next_, last_motion_,
                        duration_always_, duration_next_,
-                       result.error.message == error_message(ErrorKind::interrupted)};
+                       result.error.message == error_message(ErrorKind::interrupted), memory_.programs};
   }
   stack_.clear();
   result.warnings = std::move(warnings_);
@@ -173,11 +159,89 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 
 // --- statements -----------------------------------------------------------------------------
 
+// The dispatch loop. The statements that dominate loops (real assignments, jumps, FOR steps)
+// run inline here through their compiled expressions; any value the compiled form does not
+// handle, and every other statement, goes through execute(), which raises the exact errors.
+void Evaluator::loop() {
+  const std::atomic<bool>* interrupt = limits_.interrupt;
+  const std::uint64_t max_statements = limits_.max_statements;
+  std::uint64_t statements = 0;  // this execution's steps (a run or a resumption)
+  while (!stack_.empty()) {
+    Frame& f = stack_.back();  // valid until a CALL, RETURN or STOP changes the stack
+    const Program& program = *f.program;
+    const Instr* const code = program.code.data();
+    const int size = static_cast<int>(program.code.size());
+    current_program_ = &program;
+    ctx_.slots = f.params.data();  // every evaluation happens below, in this frame
+    for (;;) {
+      if (f.pc >= size) {  // .END returns
+        pop_frame();
+        break;
+      }
+      const Instr& in = code[f.pc];
+      current_line_ = in.line;
+      // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
+      if (interrupt && interrupt->load(std::memory_order_relaxed)) raise(ErrorKind::interrupted);
+      ++f.pc;
+      if (++statements > max_statements)
+        raise(ErrorKind::too_many_statements, fmt::format("more than {}", max_statements));
+      double x;
+      switch (in.code) {
+        case Code::assign:
+          if (in.real_target && in.fast0 && run_root(in.fast0, x)) {
+            const Node& t = in.target;
+            if (!t.subscripted) {  // a scalar that holds a real: written in place
+              Variable& v = *(t.ref.scope == Scope::global ? ctx_.globals : ctx_.slots)[t.ref.slot];
+              if (v.scalar)  // never with elements (see real_of)
+                if (double* d = std::get_if<double>(&*v.scalar)) {
+                  *d = x;
+                  continue;
+                }
+            }
+            if (!store_in_place(t, x)) store_real(t, x);
+            continue;
+          }
+          break;
+        case Code::jump:
+          f.pc = in.jump;
+          continue;
+        case Code::jump_false:
+          if (in.fast0 && run_root(in.fast0, x)) {
+            if (x == 0) f.pc = in.jump;
+            continue;
+          }
+          break;
+        case Code::jump_true:
+          if (in.fast0 && run_root(in.fast0, x)) {
+            if (x != 0) f.pc = in.jump;
+            continue;
+          }
+          break;
+        case Code::for_next: {
+          Variable& v = variable(in.target);
+          if (!v.scalar) break;  // never with elements (see real_of)
+          double* d = std::get_if<double>(&*v.scalar);
+          if (!d) break;
+          const double step = f.temps[static_cast<std::size_t>(in.temp) + 1];
+          *d = finite(*d + step);
+          if (step > 0 ? *d <= f.temps[static_cast<std::size_t>(in.temp)] : *d >= f.temps[static_cast<std::size_t>(in.temp)])
+            f.pc = in.jump;
+          continue;
+        }
+        default: break;
+      }
+      execute(in);
+      if (in.code == Code::call || in.code == Code::return_ || in.code == Code::stop) break;
+    }
+  }
+}
+
 void Evaluator::execute(const Instr& in) {
   Frame& f = stack_.back();
   switch (in.code) {
     case Code::assign: {
-      if (double x; in.args[0].plain && in.target.text[0] != '$' && in.target.text[0] != '#' && try_real(in.args[0], x))
+      if (double x; in.args[0].plain && in.target.text[0] != '$' && in.target.text[0] != '#'
+                    && (run_fast(in.args[0], x) || try_real(in.args[0], x)))
         return store_real(in.target, x);
       Value v = eval(in.args[0]);
       const char prefix = in.target.text[0];
@@ -353,39 +417,52 @@ void Evaluator::call(const Instr& in) {
     raise(ErrorKind::too_many_calls, fmt::format("{} levels", stack_.size()));
   if (in.args.size() > program->params.size())
     raise(ErrorKind::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
-  Frame frame;
-  if (!spare_.empty()) {  // a used frame keeps its vectors' capacity: no allocation per CALL
-    frame = std::move(spare_.back());
-    spare_.pop_back();
-  }
-  frame.program = program;
-  frame.owned.reserve(program->params.size() + program->autos.size());  // pointers stay valid
-  frame.params.reserve(program->params.size() + program->autos.size());
+  Frame& frame = stack_.next();  // pushed once the arguments are evaluated in the caller's frame
+  frame.program = program.get();
+  // Variables owned by the frame: those of an earlier call, emptied when it returned (no
+  // construction per CALL), then new ones. Reserved first: the pointers taken stay valid.
+  const std::size_t slots = program->params.size() + program->autos.size();
+  frame.owned.reserve(slots);
+  frame.params.reserve(slots);
+  std::size_t used = 0;
+  auto fresh = [&]() -> Variable& {
+    if (used == frame.owned.size()) {
+      ++used;
+      return frame.owned.emplace_back();
+    }
+    Variable& v = frame.owned[used++];
+    v.scalar.reset();  // already empty unless an earlier CALL failed while filling this frame
+    if (!v.elements.empty()) v.elements = Elements{};
+    return v;
+  };
   for (std::size_t i = 0; i < program->params.size(); ++i) {
     const bool given = i < in.args.size() && in.args[i].kind != NodeKind::absent;
     if (given && in.by_ref[i]) {
       frame.params.push_back(&variable(in.args[i]));  // the caller's variable itself
       continue;
     }
-    Variable& owned = frame.owned.emplace_back();
-    if (given) owned.scalar = eval(in.args[i]);
+    Variable& owned = fresh();
+    if (double x; given && run_fast(in.args[i], x)) owned.scalar.emplace(x);
+    else if (given) owned.scalar = eval(in.args[i]);
     frame.params.push_back(&owned);
   }
   for (std::size_t i = 0; i < program->autos.size(); ++i)  // a fresh AUTO copy per call
-    frame.params.push_back(&frame.owned.emplace_back());
+    frame.params.push_back(&fresh());
   frame.temps.resize(static_cast<std::size_t>(program->temps));
-  stack_.push_back(std::move(frame));
+  stack_.commit();
 }
 
 void Evaluator::pop_frame() {
   Frame& f = stack_.back();
-  f.program.reset();
+  f.program = nullptr;
   f.params.clear();
-  f.owned.clear();
+  for (Variable& v : f.owned) {  // emptied, kept for the next CALL
+    v.scalar.reset();
+    if (!v.elements.empty()) v.elements = Elements{};
+  }
   f.temps.clear();
   f.pc = 0;
-  if (spare_.size() < 64) spare_.push_back(std::move(f));
-  stack_.pop_back();
+  stack_.pop();
 }
 
 void Evaluator::finish_motion() {
@@ -499,155 +576,6 @@ motion::Location Evaluator::as_transformation(const Value& v) {
   raise(ErrorKind::illegal_value, fmt::format("transformation expected, not a {}", kind_name(kind_of(v))));
 }
 
-// --- expressions ----------------------------------------------------------------------------
-
-Variable& Evaluator::variable(const Node& n) {
-  if (n.ref.scope == Scope::global) return *globals_[static_cast<std::size_t>(n.ref.slot)];
-  return *stack_.back().params[static_cast<std::size_t>(n.ref.slot)];
-}
-
-Index Evaluator::index(const Node& n) {
-  Index idx{0, 0, 0};
-  for (std::size_t i = 0; i < n.kids.size(); ++i) {
-    const int k = to_index(real(n.kids[i], "index"));
-    if (k < 0 || k > kMaxArrayIndex) raise(ErrorKind::illegal_value, fmt::format("index {} of {}", k, n.text));
-    idx[i] = k;
-  }
-  return idx;
-}
-
-static std::string element_name(const Node& n, const Index& idx) {
-  std::string s = n.text + "[";
-  for (std::size_t i = 0; i < n.kids.size(); ++i) {
-    if (i > 0) s += ',';
-    s += std::to_string(idx[i]);
-  }
-  return s + "]";
-}
-
-Value Evaluator::read(const Node& n) { return lookup(n); }
-
-const Value& Evaluator::lookup(const Node& n) {
-  Variable& v = variable(n);
-  if (!n.subscripted) {
-    if (v.is_array()) raise(ErrorKind::illegal_value, fmt::format("{} is an array", n.text));
-    if (!v.scalar) raise(ErrorKind::undefined_value, n.text);
-    return *v.scalar;
-  }
-  if (n.kids.empty()) raise(ErrorKind::illegal_value, fmt::format("{}[] here", n.text));
-  const Index idx = index(n);
-  if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", n.text));
-  const Value* e = v.elements.get(idx);
-  if (!e) raise(ErrorKind::undefined_value, element_name(n, idx));
-  return *e;
-}
-
-void Evaluator::store(const Node& target, Value value) {
-  Variable& v = variable(target);
-  auto check_kind = [&](const Value& old) {
-    if (kind_of(old) != kind_of(value))
-      raise(ErrorKind::illegal_value, fmt::format("{} holds a {}, not a {}", target.text,
-                                                  kind_name(kind_of(old)), kind_name(kind_of(value))));
-  };
-  if (!target.subscripted) {
-    if (v.is_array()) raise(ErrorKind::illegal_value, fmt::format("{} is an array", target.text));
-    if (v.scalar) check_kind(*v.scalar);
-    v.scalar = std::move(value);
-    return;
-  }
-  const Index idx = index(target);
-  if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", target.text));
-  if (!v.elements.empty()) check_kind(v.elements.begin()->second);
-  v.elements.set(idx, std::move(value));
-}
-
-bool Evaluator::defined(const Node& n) {
-  const Variable& v = variable(n);
-  if (!n.subscripted) return v.scalar.has_value();
-  try {
-    return v.elements.count(index(n)) > 0;
-  } catch (const RuntimeError&) {
-    return false;
-  }
-}
-
-Value Evaluator::eval(const Node& n) {
-  if (double x; n.plain && try_real(n, x)) return x;
-  switch (n.kind) {
-    case NodeKind::number: return n.number;
-    case NodeKind::string: return n.text;
-    case NodeKind::variable: return read(n);
-    case NodeKind::unary: {
-      const double x = to_real(eval(n.kids[0]), op_text(n.op));
-      if (n.op == Op::neg) return -x + 0.0;
-      if (n.op == Op::not_) return truth(x == 0);
-      return x;
-    }
-    case NodeKind::binary: {
-      const Value a = eval(n.kids[0]);  // both operands always: no short-circuit
-      const Value b = eval(n.kids[1]);
-      return apply_binary(n.op, a, b);
-    }
-    case NodeKind::function: return function(n);
-    case NodeKind::encode: {
-      bool newline = true;
-      std::string text = format_items(n.formats, eval_all(n.kids), newline);
-      if (text.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
-      return text;
-    }
-    case NodeKind::absent: raise(ErrorKind::undefined_value, "omitted argument");
-  }
-  raise(ErrorKind::illegal_value, "bad expression");
-}
-
-// A signal number: outputs 1-512, inputs 1001-1512, soft signals 2001-2512 (negative: off).
-int Evaluator::signal_number(const Node& n, bool output) {
-  const int k = to_index(to_real(eval(n), "signal number"));
-  const int a = std::abs(k);
-  const bool out = a >= 1 && a <= 512, in = a >= 1001 && a <= 1512, soft = a >= 2001 && a <= 2512;
-  if (k != 0 && !out && !in && !soft) raise(ErrorKind::illegal_value, fmt::format("signal {}", k));
-  if (output && in) raise(ErrorKind::illegal_value, fmt::format("signal {} is an input", k));
-  if (!output && k == 0) raise(ErrorKind::illegal_value, "signal 0");
-  return k;
-}
-
-Value Evaluator::function(const Node& n) {
-  if (n.func == Func::defined) return truth(defined(n.kids[0]));
-  if (n.func == Func::sig) {  // TRUE when every listed condition holds
-    bool all = true;
-    for (const Node& k : n.kids) {
-      const int s = signal_number(k, false);
-      all = all && (memory_.signals.count(std::abs(s)) > 0) == (s > 0);
-    }
-    return truth(all);
-  }
-  if (n.func == Func::last) {  // the highest assigned first index, or -1
-    const Variable& v = variable(n.kids[0]);
-    return v.elements.empty() ? -1.0 : static_cast<double>(v.elements.rbegin()->first[0]);
-  }
-  if (n.func == Func::parameter) return parameter_value(n.kids[0].text, memory_.settings, sim_);
-  if (n.func == Func::switch_) return truth(switch_value(n.kids[0].text, memory_.settings, sim_));
-  if (n.func == Func::vplus) {
-    std::string name;
-    for (char c : n.text) name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    raise(ErrorKind::not_supported, name);
-  }
-  if (n.func == Func::timer) {
-    const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
-    if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));
-    const auto& [value, since] = memory_.timers[static_cast<std::size_t>(k)];
-    return value + (sim_.time_s() - since);
-  }
-  std::vector<std::optional<Value>> args;
-  args.reserve(n.kids.size());
-  for (const Node& k : n.kids) {
-    if (k.kind == NodeKind::absent) args.emplace_back();
-    else args.emplace_back(eval(k));
-  }
-  return call_function(n.func, args, sim_);
-}
-
-
 // --- waiting, terminal input, settings -------------------------------------------------------
 
 // WAIT cond: the clock advances tick by tick until cond holds (bare WAIT: one tick).
@@ -714,67 +642,6 @@ void Evaluator::warn_once(const std::string& keyword, const Instr& in) {
   w.warning = true;
   locate_at(w, *current_program_, in.line);
   warnings_.push_back(std::move(w));
-}
-
-// --- the real fast path -------------------------------------------------------------------
-
-bool Evaluator::try_real(const Node& n, double& out) {
-  switch (n.kind) {
-    case NodeKind::number: out = n.number; return true;
-    case NodeKind::variable: {
-      if (!n.subscripted) {  // a scalar: no call (undefined and arrays go through lookup)
-        const Variable& v = variable(n);
-        if (v.scalar && !v.is_array()) {
-          const double* d = std::get_if<double>(&*v.scalar);
-          if (d) out = *d;
-          return d != nullptr;
-        }
-      }
-      const double* d = std::get_if<double>(&lookup(n));
-      if (d) out = *d;
-      return d != nullptr;
-    }
-    case NodeKind::unary: {
-      double x;
-      if (!try_real(n.kids[0], x)) return false;
-      out = n.op == Op::neg ? -x + 0.0 : n.op == Op::not_ ? truth(x == 0) : x;
-      return true;
-    }
-    case NodeKind::binary: {
-      double a, b;
-      const Node& l = n.kids[0];
-      const Node& r = n.kids[1];
-      if (l.kind == NodeKind::number) a = l.number;  // constant operands without a call
-      else if (!try_real(l, a)) return false;
-      if (r.kind == NodeKind::number) b = r.number;
-      else if (!try_real(r, b)) return false;
-      out = real_binary(n.op, a, b);
-      return true;
-    }
-    default: return false;
-  }
-}
-
-double Evaluator::real(const Node& n, const char* what) {
-  if (double x; n.plain && try_real(n, x)) return x;
-  return to_real(eval(n), what);
-}
-
-// store() for a real, without building a Value; the same errors.
-void Evaluator::store_real(const Node& target, double x) {
-  Variable& v = variable(target);
-  if (!target.subscripted) {
-    if (v.is_array() || (v.scalar && kind_of(*v.scalar) != Kind::real)) return store(target, x);
-    v.scalar = x;
-    return;
-  }
-  const Index idx = index(target);
-  if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", target.text));
-  if (!v.elements.empty() && kind_of(v.elements.begin()->second) != Kind::real)
-    raise(ErrorKind::illegal_value, fmt::format("{} holds a {}, not a real", target.text,
-                                                kind_name(kind_of(v.elements.begin()->second))));
-  if (Value* e = v.elements.get(idx)) *e = x;
-  else v.elements.set(idx, x);
 }
 
 }  // namespace asimov::val

@@ -9,6 +9,7 @@
 #include <array>
 #include <deque>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <set>
 #include <utility>
@@ -52,11 +53,50 @@ class Evaluator {
 
  private:
   struct Frame {
-    std::shared_ptr<const Program> program;
+    const Program* program = nullptr;              // kept alive by memory_ or Stopped::pinned
     std::vector<Variable*> params;                 // by reference or into `owned`
     std::vector<Variable> owned;                   // by value, omitted, AUTO (reserved: stable)
     std::vector<double> temps;                     // FOR limits and steps
     int pc = 0;                                    // next instruction
+  };
+
+  // The call stack. Popped frames stay allocated and are reused by the next CALL, with their
+  // vectors' capacity and their (emptied) variables: no construction, move or allocation per
+  // CALL. back() is valid until the next next().
+  class FrameStack {
+   public:
+    bool empty() const { return size_ == 0; }
+    std::size_t size() const { return size_; }
+    Frame& back() { return frames_[size_ - 1]; }
+    // The frame above the top, cleared (its owned variables are emptied as they are taken),
+    // filled by the caller, then pushed by commit().
+    Frame& next() {
+      if (size_ == frames_.size()) frames_.emplace_back();
+      Frame& f = frames_[size_];
+      f.program = nullptr;
+      f.params.clear();
+      f.temps.clear();
+      f.pc = 0;
+      return f;
+    }
+    void commit() { ++size_; }
+    void pop() { --size_; }
+    void clear() { size_ = 0; }
+    std::vector<Frame> take() {  // the frames, for a stopped execution
+      std::vector<Frame> out(std::make_move_iterator(frames_.begin()),
+                             std::make_move_iterator(frames_.begin() + static_cast<std::ptrdiff_t>(size_)));
+      frames_.clear();
+      size_ = 0;
+      return out;
+    }
+    void assign(std::vector<Frame> frames) {
+      frames_ = std::move(frames);
+      size_ = frames_.size();
+    }
+
+   private:
+    std::vector<Frame> frames_;
+    std::size_t size_ = 0;
   };
 
   // A resolved motion, kept so that RETRY can restart it after a collision.
@@ -79,12 +119,14 @@ class Evaluator {
     double duration_always = 0;
     std::optional<double> duration_next;
     bool interrupted = false;                   // Ctrl-C: pc is the step not yet run
+    std::vector<std::shared_ptr<const Program>> pinned;  // the frames' programs, even if reloaded
   };
 
   // The one protected boundary: runs `setup` then the loop; raises become the result.
   RunResult protected_run(const std::string& name, const std::function<void()>& setup);
   void start_motion(const MotionRequest& m);
   void execute(const Instr& in);
+  void loop();  // runs stack_ until it is empty
   void call(const Instr& in);
   void pop_frame();
   void motion(const Instr& in);
@@ -101,7 +143,10 @@ class Evaluator {
   Value eval(const Node& n);
   Value function(const Node& n);
   int signal_number(const Node& n, bool output);
-  Variable& variable(const Node& n);
+  Variable& variable(const Node& n) {
+    if (n.ref.scope == Scope::global) return *ctx_.globals[n.ref.slot];
+    return *stack_.back().params[static_cast<std::size_t>(n.ref.slot)];
+  }
   Index index(const Node& n);
   Value read(const Node& n);
   const Value& lookup(const Node& n);
@@ -109,15 +154,34 @@ class Evaluator {
   // The real fast path over Node::plain trees (no Value built): false, with nothing raised,
   // when a variable holds another kind; the generic path then evaluates (plain trees only read).
   bool try_real(const Node& n, double& out);
+  // The compiled form (Node::fast) when there is one and it handles the values met.
+  bool run_root(const RNode* r, double& out) {
+    try {
+      out = r->fn(*r, ctx_);
+      return true;
+    } catch (const Fallback&) {
+      return false;
+    }
+  }
+  bool run_fast(const Node& n, double& out) {
+    if (!n.fast) return false;
+    try {
+      out = n.fast->run(ctx_);
+      return true;
+    } catch (const Fallback&) {
+      return false;
+    }
+  }
   double real(const Node& n, const char* what);
   void store_real(const Node& target, double x);
+  bool store_in_place(const Node& target, double x);
   bool defined(const Node& n);
 
   motion::Simulator& sim_;
   std::ostream& out_;
   Memory& memory_;
   const Limits& limits_;
-  std::vector<Frame> stack_;
+  FrameStack stack_;
   const Program* current_program_ = nullptr;  // where the executing statement is
   int current_line_ = 0;
   const Program* motion_program_ = nullptr;   // where the last motion was started
@@ -129,12 +193,11 @@ class Evaluator {
   std::optional<double> duration_next_;       // DURATION for the next motion only
   std::istream* in_ = nullptr;                // PROMPT input (null: std::cin)
   bool interactive_ = false;                  // PROMPT asks again on bad input
-  std::uint64_t statements_ = 0;
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
-  std::vector<Frame> spare_;                  // popped frames, emptied, reused by CALL
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
+  FastCtx ctx_;                               // globals_ and the running frame's slots
 };
 
 }  // namespace asimov::val

@@ -12,8 +12,13 @@ using ast::Op;
 
 Node ExpressionCompiler::expression(const ast::Expr& e) {
   std::size_t pos = 0;
+  ++depth_;
   Node n = climb(operand(e.first), e.rest, pos, 1);
-  mark_plain(n);
+  --depth_;
+  if (depth_ == 0) {  // a whole expression (or a target's subscript): compiled once
+    mark_plain(n);
+    n.fast = RealCode::compile(n);
+  }
   return n;
 }
 

@@ -38,6 +38,7 @@ class ExpressionCompiler {
   Symbols& symbols_;
   const Program& prog_;
   std::function<void(std::string)> error_;
+  int depth_ = 0;  // nesting of expression(): only whole expressions are marked and compiled
 };
 
 }  // namespace asimov::val

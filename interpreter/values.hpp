@@ -68,7 +68,9 @@ class Elements {
   // Inserts or assigns.
   Value& set(const Index& i, Value v) {
     if (Value* e = get(i)) return *e = std::move(v);
-    Value& e = map_.emplace(i, std::move(v)).first->second;
+    // Filling an array in index order appends: the hint skips the search from the root.
+    const auto hint = map_.empty() || map_.rbegin()->first < i ? map_.end() : map_.lower_bound(i);
+    Value& e = map_.emplace_hint(hint, i, std::move(v))->second;
     note(i, &e);
     return e;
   }
