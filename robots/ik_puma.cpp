@@ -291,7 +291,7 @@ IkResult solve_puma(const Robot& robot, const Pose& flange, const JointVector& c
     // theta5 of flip 0 is in [-pi, 0) and flip 1 its negative: without a J5 offset the display
     // sign alone decides, no atan2 needed.
     const double t5 = robot.mapping[4].offset == 0 ? -b.mm : -angle_of(b.mm, b.m[2][2]);  // flip 0
-    if (noflip_of(robot, t5) != want.noflip) flip = 1;
+    flip = static_cast<int>(noflip_of(robot, t5) != want.noflip);  // no branch: random per pose
     if (flip == 1 && noflip_of(robot, -t5) != want.noflip) {
       res.status = IkStatus::out_of_reach;
       return res;
