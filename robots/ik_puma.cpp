@@ -1,10 +1,12 @@
 // Closed-form PUMA IK, kinematics.md §5. Geometry constants are read from the robot's DH table
 // (a2 = dh[1].a, d3 = dh[2].d, a3 = dh[2].a, d4 = dh[3].d), so scaled PUMA-type arms work too.
 //
-// Speed (bench/bench_ik.cpp): every joint is carried as an unnormalised (sine, cosine) pair
-// obtained with sums, products and square roots only (angle sums become pair rotations), and
-// each angle is read off its pair with one atan2 at the end: 6 atan2, 4 sqrt, no sin/cos, no
-// acos/asin, no heap. The FK acceptance check reuses the same pairs.
+// Speed (bench/bench_ik.cpp): every joint is carried as a unit (cos, sin) pair obtained with
+// sums, products, 4 square roots and a few reciprocals (angle sums become pair rotations), and
+// each angle is read off its pair at the end by angle_of (table + series, no division, no
+// branch on the data): no libm trigonometry on the way (sin/cos only at the wrist singularity),
+// no heap. The FK acceptance check reuses the same pairs. Branches on per-pose data (arm
+// branch, flip, octant) are arithmetic: mispredictions cost as much as the arithmetic.
 #include "robots/ik_puma.hpp"
 
 #include <algorithm>
