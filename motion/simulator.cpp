@@ -380,8 +380,9 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   const double f = s.speed_factor(speed);
   const double fr = (speed.rotation < 0 ? speed.program : speed.rotation) / 100 * speed.monitor / 100;
   // Axes: tool translation and rotation, and every joint with "distance" max |dq_j / dsigma|
-  // along the solved samples, so that its speed S_j * sigma'(t) stays within V_j (and S_j *
-  // sigma'' within A_j; the curvature term d2q/dsigma2 * sigma'^2 is not bounded).
+  // along the solved samples, so that its speed S_j * sigma'(t) stays within V_j; then the
+  // profile is stretched until every joint's acceleration d2q/dsigma2 * sigma'^2 + dq/dsigma *
+  // sigma'' (curvature + profile) stays within A_j (fit_path_acceleration).
   std::array<ProfileAxis, 2 + robots::kMaxJoints> axes{};
   axes[0] = {req.path.length, robot.max_tool_speed * f, robot.max_tool_accel};
   axes[1] = {req.path.angle_deg(), robot.max_tool_rot_speed * fr, robot.max_tool_rot_accel};
@@ -394,6 +395,13 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
     }
     axes[static_cast<std::size_t>(2 + j)] = {slope, robot.max_velocity[j] * f, robot.max_acceleration[j]};
   }
+  std::vector<double> path_s(plan.samples.size()), path_q(plan.samples.size() * static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+    path_s[i] = plan.samples[i].s;
+    for (int j = 0; j < n; ++j) path_q[i * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = plan.samples[i].joints[j];
+  }
+  const Profile profile = fit_path_acceleration(plan_profile(std::span(axes.data(), static_cast<std::size_t>(2 + n)), speed.duration_s),
+                                                {path_s, path_q, n}, std::span(robot.max_acceleration.data(), static_cast<std::size_t>(n)));
   s.pending = Impl::Pending{};
   s.pending.active = true;
   s.pending.straight = true;
@@ -404,7 +412,7 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   s.pending.base_inv = s.base.inverse();
   s.pending.tool_inv = s.tool.inverse();
   s.pending.config = current;
-  s.pending.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(2 + n)), speed.duration_s);
+  s.pending.profile = profile;
   s.pending.t0 = s.time;
   s.pending.tag = tag;
   s.dest = target;

@@ -25,9 +25,11 @@ bool nearest_in_range(double v, double near, double lo, double hi, double& out) 
 }
 
 // Closed form for a chain arm with a spherical wrist: the solution in configuration `want`
-// nearest `current` within limits (FLIP / NOFLIP merge at the wrist singularity). Returns false when the geometry does not apply or the FK check fails (then numeric).
+// nearest `current` within limits (FLIP / NOFLIP merge at the wrist singularity), the last
+// revolute joint in (-180, 180] when `single`. Returns false when the geometry does not apply or
+// the FK check fails (then numeric).
 bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& current, const Configuration& want,
-                     IkResult& res) {
+                     bool single, IkResult& res) {
   SphericalWristModel model;
   if (current.size() != 6 || !spherical_wrist_model(robot, model)) return false;
   const JointVector cur_internal = display_to_dh(robot, current);
@@ -40,6 +42,7 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
   double best = std::numeric_limits<double>::infinity(), best_bad = best;
   JointVector pick;
   bool any = false;
+  const int last = single ? last_revolute_joint(robot) : -1;
   for (int k = 0; k < sols.count; ++k) {
     const JointVector raw = dh_to_display(robot, sols.q[static_cast<std::size_t>(k)]);
     const auto slot = static_cast<std::size_t>(k);
@@ -50,7 +53,10 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
     int bad = -1;
     double bad_value = 0;
     for (int i = 0; i < 6 && bad < 0; ++i) {
-      if (sols.wrist_singular[static_cast<std::size_t>(k)] && i == 3) {
+      if (i == last) {  // SINGLE
+        sol[i] = wrap_deg(raw[i]);
+        if (sol[i] < robot.lower[i] - 1e-9 || sol[i] > robot.upper[i] + 1e-9) bad = i, bad_value = sol[i];
+      } else if (sols.wrist_singular[static_cast<std::size_t>(k)] && i == 3) {
         sol[i] = current[3];  // kept exactly at the wrist singularity
         if (sol[i] < robot.lower[i] - 1e-9 || sol[i] > robot.upper[i] + 1e-9) bad = i, bad_value = sol[i];
       } else if (!nearest_in_range(raw[i], current[i], robot.lower[i], robot.upper[i], sol[i])) {
@@ -82,15 +88,35 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
 }
 }  // namespace
 
+int last_revolute_joint(const Robot& robot) {
+  for (int i = robot.joint_count() - 1; i >= 0; --i)
+    if (!robot.prismatic(i)) return i;
+  return -1;
+}
+
 IkResult solve_ik(const Robot& robot, const Pose& flange, const JointVector& current, const Configuration& want,
                   bool single, const NumericIkOptions& options) {
   if (is_puma_type(robot)) return solve_puma(robot, flange, current, want, single);
   IkResult res;
-  if (solve_spherical(robot, flange, current, want, res)) return res;
+  if (solve_spherical(robot, flange, current, want, single, res)) return res;
   const NumericIkResult num = solve_numeric(robot, flange, current, options);
   if (num.success) {
     res.joints = num.joints;
-    for (int i = 0; i < res.joints.size(); ++i) {  // nearest 2pi-equivalent to the current value
+    const int last = single ? last_revolute_joint(robot) : -1;
+    for (int i = 0; i < res.joints.size(); ++i) {
+      if (i == last) {  // SINGLE: (-180, 180], as the PUMA's J6
+        const double v = wrap_deg(res.joints[i]);
+        if (v < robot.lower[i] - 1e-9 || v > robot.upper[i] + 1e-9) {
+          res.status = IkStatus::joint_limit;
+          res.joint = i;
+          res.value = v;
+          res.joints = JointVector();
+          return res;
+        }
+        res.joints[i] = std::clamp(v, robot.lower[i], robot.upper[i]);
+        continue;
+      }
+      // Otherwise the 2pi-equivalent nearest the current value.
       if (robot.prismatic(i) || current.size() != res.joints.size()) continue;
       const double v = res.joints[i] + 360.0 * std::round((current[i] - res.joints[i]) / 360.0);
       if (v >= robot.lower[i] && v <= robot.upper[i]) res.joints[i] = v;

@@ -3,6 +3,9 @@
 #include "motion/profile.hpp"
 
 #include <array>
+#include <cmath>
+#include <numbers>
+#include <vector>
 #include <catch2/catch.hpp>
 #include <random>
 
@@ -82,4 +85,34 @@ TEST_CASE("straight-line interpolation: slerp, shortest arc, orthonormal", "[int
   // Identical orientations: linear fallback.
   const LinePath p3 = make_line(a, trans(10, 0, 0, 0, 0, 0));
   CHECK(line_pose(p3, 0.3).linear().isApprox(Eigen::Matrix3d::Identity(), 1e-15));
+}
+
+TEST_CASE("profile: path acceleration: the ratio scales as 1/k^2 and fitting brings it to 1", "[profile]") {
+  constexpr double kPi = std::numbers::pi;
+  // A circle-like joint path q = (cos 2 pi s, sin 2 pi s) * 100: |Q''| = 400 pi^2 everywhere.
+  const int n = 2001;
+  std::vector<double> s(n), q(2 * n);
+  for (int i = 0; i < n; ++i) {
+    s[static_cast<std::size_t>(i)] = static_cast<double>(i) / (n - 1);
+    q[static_cast<std::size_t>(2 * i)] = 100 * std::cos(2 * kPi * s[static_cast<std::size_t>(i)]);
+    q[static_cast<std::size_t>(2 * i + 1)] = 100 * std::sin(2 * kPi * s[static_cast<std::size_t>(i)]);
+  }
+  const SampledPath path{s, q, 2};
+  const std::array<double, 2> accel{50, 50};
+  std::array<ProfileAxis, 2> axes{{{200 * kPi, 1000, 50}, {200 * kPi, 1000, 50}}};  // slope bound only
+  const Profile p = plan_profile(axes);
+  const double r = path_acceleration_ratio(p, path, accel);
+  // Cruise speed 1/x: the curvature term alone is 400 pi^2 / x^2 over the limit 50.
+  CHECK(r >= 400 * kPi * kPi / (p.x * p.x) / 50 * (1 - 1e-3));
+  CHECK(r > 1);  // the slope-only profile is too fast for the curvature
+  const Profile fit = fit_path_acceleration(p, path, accel);
+  CHECK(fit.duration == Approx(p.duration * std::sqrt(r)).epsilon(1e-12));
+  CHECK(path_acceleration_ratio(fit, path, accel) == Approx(1).epsilon(1e-9));
+  CHECK(path_acceleration_ratio(stretched(p, 2), path, accel) == Approx(r / 4).epsilon(1e-9));
+  // A straight joint path (no curvature) keeps its profile.
+  for (int i = 0; i < n; ++i) q[static_cast<std::size_t>(2 * i)] = q[static_cast<std::size_t>(2 * i + 1)] = 10 * s[static_cast<std::size_t>(i)];
+  std::array<ProfileAxis, 2> straight{{{10, 100, 50}, {10, 100, 50}}};
+  const Profile ps = plan_profile(straight);
+  CHECK(path_acceleration_ratio(ps, path, accel) <= 1 + 1e-9);
+  CHECK(fit_path_acceleration(ps, path, accel).duration == ps.duration);
 }
