@@ -17,6 +17,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter  # noqa: E402
 
 FLOOR = 1e-17  # an exact zero error is drawn here on the log axis
 
@@ -105,6 +106,13 @@ def style(method):
     return METHOD_STYLE[method]
 
 
+def label_time_axis(ax):
+    """Run times span less than two decades: label 1, 2, 5 x 10^k, in plain numbers."""
+    ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1, 2, 5)))
+    ax.yaxis.set_major_formatter(ScalarFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+
+
 def setting_label(r):
     if r["kind"] in ("plain", "bisection-step"):
         return f"step {r['step_mm']:g} mm"
@@ -132,7 +140,9 @@ def contact_section(docs, data):
             ax.set_yscale("log")
             ax.set_xlabel(xlabel)
             ax.set_ylabel("median run time [us]")
-            ax.grid(True, which="both", alpha=0.3)
+            label_time_axis(ax)
+            ax.grid(True, which="major", alpha=0.4)
+            ax.grid(True, which="minor", alpha=0.1)
         axes[0].legend(fontsize=8)
         fig.suptitle(f"{name}: first contact of {scene['moving_body']} with {scene['static_body']} ({scene['motion']})")
         fig.tight_layout()
@@ -233,6 +243,9 @@ def ik_section(docs, data):
         edges = [h["log10_lo"] + i * h["width"] for i in range(len(h["counts"]) + 1)]
         centers = [(a + b) / 2 for a, b in zip(edges, edges[1:])]
         ax.step(centers, h["counts"], where="mid", label=f"{label}; exact 0: {h['exact_zero']}")
+    used = [h["log10_lo"] + i * h["width"] for key in ("position_hist", "rotation_hist")
+            for h in [cf[key]] for i, c in enumerate(h["counts"]) if c]
+    ax.set_xlim(min(used) - 0.5, max(used) + 1)
     ax.set_xlabel("log10 residual")
     ax.set_ylabel("poses")
     ax.set_title(f"PUMA 560 closed-form IK: residual of {cf['poses']} random poses")
