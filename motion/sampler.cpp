@@ -169,17 +169,25 @@ std::size_t gap_next_sample(std::span<const robots::BodyReach> reach, std::span<
                             std::size_t from, std::span<const GapPair> pairs, std::vector<double>& sums,
                             double& bound_mm) {
   const std::size_t n = reach.size(), m = pairs.size();
-  sums.assign(2 * (n + m), 0.0);  // per body then per pair: accepted sums, then tentative ones
+  sums.assign(2 * (n + m) + n, 0.0);  // per body then per pair: accepted sums, tentative ones; step
   double* acc = sums.data();
   double* next = sums.data() + n + m;
+  double* step = sums.data() + 2 * (n + m);
   bound_mm = 0;
   for (std::size_t j = from + 1; j < samples.size(); ++j) {
     const JointVector delta = samples[j].joints - samples[j - 1].joints;
-    for (std::size_t k = 0; k < n; ++k) next[k] = acc[k] + robots::max_displacement(reach[k], delta);
+    for (std::size_t k = 0; k < n; ++k) step[k] = robots::max_displacement(reach[k], delta);
+    for (std::size_t k = 0; k < n; ++k) next[k] = acc[k] + step[k];
     bool fits = true;
     for (std::size_t i = 0; i < m; ++i) {
-      next[n + i] = acc[n + i] + pair_displacement(reach, pairs[i], delta);
-      fits = fits && next[n + i] <= kLineSafety * pairs[i].allow_mm;
+      const GapPair& p = pairs[i];
+      // A pair with a fixed body moves by the other body's bound, computed once above.
+      const double d = p.a >= 0 && p.b >= 0 ? pair_displacement(reach, p, delta)
+                       : p.a >= 0           ? step[p.a]
+                       : p.b >= 0           ? step[p.b]
+                                            : 0.0;
+      next[n + i] = acc[n + i] + d;
+      fits = fits && next[n + i] <= kLineSafety * p.allow_mm;
     }
     if (!fits && j > from + 1) return j - 1;  // acc and bound_mm: up to j - 1
     std::swap(acc, next);
