@@ -58,12 +58,15 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 // "plain": no bisection (toc_tolerance_s far above any sample interval, so the report is the
 // first colliding checked pose), step_mm swept; "bisection": toc_tolerance_s swept at a fixed
-// step_mm; "bisection-step": step_mm swept at the default toc_tolerance_s.
+// step_mm; "bisection-step": step_mm swept at the default toc_tolerance_s. Each with fixed
+// stepping (step_mm between checked poses) or gap stepping (collision.stepping: gap, longer
+// steps while the step-2 containers of every pair are far apart).
 struct Method {
   std::string name;
   std::string kind;  // plain | bisection | bisection-step
   std::vector<double> steps_mm;
   std::vector<double> tolerances_s;
+  motion::Stepping stepping = motion::Stepping::fixed;
 };
 
 constexpr double kNoBisection = 1e9;  // toc_tolerance_s >= every sample interval: bisection off
@@ -73,6 +76,7 @@ json contact_run(const AnalyticScene& s, const Method& m, double step_mm, double
   motion::CollisionSettings set = s.cell.collision;
   set.step_mm = step_mm;
   set.toc_tolerance_s = tol_s;
+  set.stepping = m.stepping;
   std::vector<double> us;
   motion::CollisionReport c;
   std::uint64_t poses = 0, bisection = 0;
@@ -97,6 +101,7 @@ json contact_run(const AnalyticScene& s, const Method& m, double step_mm, double
   return {{"scene", s.name},
           {"method", m.name},
           {"kind", m.kind},
+          {"stepping", m.stepping == motion::Stepping::gap ? "gap" : "fixed"},
           {"step_mm", step_mm},
           {"toc_tolerance_s", tol_s},
           {"time_s", c.time_s},
@@ -117,12 +122,17 @@ json contact_run(const AnalyticScene& s, const Method& m, double step_mm, double
 json contact_section() {
   const std::vector<double> steps = {0.125, 0.25, 0.5, 1, 2, 4, 8, 16, 32};
   const std::vector<double> tols = {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9};
+  using motion::Stepping;
   const std::vector<Method> methods = {
-      {"plain stepping", "plain", steps, {kNoBisection}},
-      {"bisection, step_mm 1", "bisection", {1}, tols},
-      {"bisection, step_mm 16", "bisection", {16}, tols},
-      {"bisection, toc 1e-6 s", "bisection-step", steps, {1e-6}},
+      {"plain stepping", "plain", steps, {kNoBisection}, Stepping::fixed},
+      {"bisection, step_mm 1", "bisection", {1}, tols, Stepping::fixed},
+      {"bisection, step_mm 16", "bisection", {16}, tols, Stepping::fixed},
+      {"bisection, toc 1e-6 s", "bisection-step", steps, {1e-6}, Stepping::fixed},
+      {"gap stepping", "plain", steps, {kNoBisection}, Stepping::gap},
+      {"gap + bisection, step_mm 1", "bisection", {1}, tols, Stepping::gap},
+      {"gap + bisection, toc 1e-6 s", "bisection-step", steps, {1e-6}, Stepping::gap},
   };
+
   json scenes = json::array(), runs = json::array();
   for (const AnalyticScene& s : analytic_scenes()) {
     if (s.straight)

@@ -57,41 +57,48 @@ def pareto_front(points):
     return front
 
 
-def dominates(a, b):
-    """Every point of method b is matched by a point of a with error and time no larger."""
-    return all(any(p["err"] <= q["err"] and p["time"] <= q["time"] for p in a) for q in b)
-
-
 def verdict(points, err_unit, time_unit="us"):
-    """Pareto verdict in words: the front split into runs of one method, methods never on it,
-    and which method dominates which."""
+    """Pareto verdict in words: each method on the front (the fastest run for each accuracy) with
+    the errors and times of its front points, cheapest first, and the methods never on it."""
     front = pareto_front(points)
-    segs = []
+    order, seen = [], {}
     for p in reversed(front):  # largest error (cheapest) first
-        if segs and segs[-1]["method"] == p["method"]:
-            segs[-1]["pts"].append(p)
-        else:
-            segs.append({"method": p["method"], "pts": [p]})
+        if p["method"] not in seen:
+            seen[p["method"]] = []
+            order.append(p["method"])
+        seen[p["method"]].append(p)
     parts = []
-    for s in segs:
-        e_hi, e_lo = s["pts"][0]["err"], s["pts"][-1]["err"]
-        t_lo, t_hi = s["pts"][0]["time"], s["pts"][-1]["time"]
+    for m in order:
+        pts = seen[m]
+        e_hi, e_lo = max(p["err"] for p in pts), min(p["err"] for p in pts)
+        t_lo, t_hi = min(p["time"] for p in pts), max(p["time"] for p in pts)
         errs = fmt(e_hi, err_unit) if e_hi == e_lo else f"{fmt(e_hi)} to {fmt(e_lo, err_unit)}"
         times = fmt(t_lo, time_unit) if t_lo == t_hi else f"{fmt(t_lo)}-{fmt(t_hi, time_unit)}"
-        parts.append(f"**{s['method']}** for errors {errs} ({times})")
-    methods = sorted({p["method"] for p in points})
-    on_front = {p["method"] for p in front}
-    text = "Pareto front, from cheapest to most accurate: " + "; then ".join(parts) + "."
-    off = [m for m in methods if m not in on_front]
+        parts.append(f"**{m}** ({errs}, {times})")
+    text = "Fastest run for each accuracy (Pareto front), cheapest first: " + "; ".join(parts) + "."
+    off = [m for m in dict.fromkeys(p["method"] for p in points) if m not in seen]
     if off:
         text += " Never on the front: " + ", ".join(off) + "."
-    by = {m: [p for p in points if p["method"] == m] for m in methods}
-    dom = [f"{a} dominates {b}" for a in methods for b in methods if a != b and dominates(by[a], by[b])]
-    if dom:
-        text += " " + "; ".join(dom) + " (every run of the second is matched by one of the first at no larger error and time)."
-    best = min(points, key=lambda p: (p["err"], p["time"]))
-    text += f" Smallest error: {fmt(best['err'], err_unit)} by {best['method']} ({best['label']}, {fmt(best['time'], time_unit)})."
     return text
+
+
+def gap_against_fixed(rs):
+    """Gap against fixed stepping at equal settings (kind, step_mm, tolerance): run-time ratios
+    and how often the contact instant is the same."""
+    key = lambda r: (r["kind"], r["step_mm"], r["toc_tolerance_s"])
+    fixed = {key(r): r for r in rs if r.get("stepping") == "fixed"}
+    pairs = [(r, fixed[key(r)]) for r in rs if r.get("stepping") == "gap" and key(r) in fixed]
+    if not pairs:
+        return ""
+    ratios = sorted(g["wall_us_median"] / f["wall_us_median"] for g, f in pairs)
+    same = sum(1 for g, f in pairs if abs(g["time_s"] - f["time_s"]) <= 1e-12)
+    within = sum(1 for g, f in pairs if abs(g["time_s"] - f["time_s"]) <= max(g["toc_tolerance_s"], 1e-12)
+                 and g["kind"] != "plain")
+    bis = sum(1 for g, f in pairs if g["kind"] != "plain")
+    mid = ratios[len(ratios) // 2]
+    return (f"*Gap against fixed stepping* at equal settings ({len(pairs)} pairs): run time x{ratios[0]:.2f} to "
+            f"x{ratios[-1]:.2f} (median x{mid:.2f}); the same contact instant in {same} of {len(pairs)}, "
+            f"and within toc_tolerance_s in {within} of the {bis} bisected pairs.")
 
 
 # ----------------------------------------------------------------------------------- contact
@@ -102,7 +109,8 @@ METHOD_STYLE = {}
 def style(method):
     if method not in METHOD_STYLE:
         markers = "osD^v<>"
-        METHOD_STYLE[method] = {"marker": markers[len(METHOD_STYLE) % len(markers)]}
+        METHOD_STYLE[method] = {"marker": markers[len(METHOD_STYLE) % len(markers)],
+                                "linestyle": "--" if method.startswith("gap") else "-"}
     return METHOD_STYLE[method]
 
 
@@ -135,7 +143,7 @@ def contact_section(docs, data):
                 mr = [r for r in rs if r["method"] == m]
                 xs = [max(r[key], FLOOR) for r in mr]
                 ys = [r["wall_us_median"] for r in mr]
-                ax.plot(xs, ys, linestyle="-", label=m, **style(m))
+                ax.plot(xs, ys, label=m, **style(m))
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_xlabel(xlabel)
@@ -158,6 +166,9 @@ def contact_section(docs, data):
         for key, unit, what in (("abs_time_error_s", "s", "Contact instant"), ("point_error_mm", "mm", "Contact point")):
             pts = [{"err": r[key], "time": r["wall_us_median"], "method": r["method"], "label": setting_label(r)} for r in rs]
             out.append(f"*{what}.* " + verdict(pts, unit) + "\n")
+        g = gap_against_fixed(rs)
+        if g:
+            out.append(g + "\n")
         inside = sum(1 for r in rs if r["t_star_outside_bracket_s"] <= 1e-9)
         pair = sum(1 for r in rs if r["expected_pair"])
         out.append(f"t* lies inside the reported bracket [time_free_s, time_s] (to 1e-9 s) in {inside} of {len(rs)} runs; "
@@ -218,7 +229,9 @@ def path_section(docs, data):
                             f"{d['h_mm']:.3g} mm apart and the joint-interpolated path leaves the line by at most "
                             f"{d['position_mm']:.2e} mm / {d['orientation_deg']:.2e} deg")
     all_orders = [o[3] for o in orders]
-    out.append(f"*Verdict.* Fitted orders {min(all_orders):.2f} to {max(all_orders):.2f}: the deviation shrinks with the square of the step. "
+    mean_order = sum(all_orders) / len(all_orders)
+    out.append(f"*Verdict.* Fitted orders {min(all_orders):.2f} to {max(all_orders):.2f}: the deviation shrinks as "
+               f"h^{mean_order:.1f} (mean order). "
                + "; ".join(verdicts) + ".\n")
     out.append("<details><summary>Data</summary>\n")
     out.append("| line | samples | step_mm | h [mm] | samples | position [mm] | orientation [deg] |")
@@ -263,8 +276,9 @@ def ik_section(docs, data):
         out.append(f"| {key.split('_')[0]} [{unit}] | {s['median']:.2e} | {s['p90']:.2e} | {s['p99']:.2e} | {s['max']:.2e} |")
     out.append("")
     out.append(f"*Verdict.* {cf['poses'] - cf['not_solved']} of {cf['poses']} poses solved in the true configuration; "
-               f"worst residual {cf['position_mm']['max']:.1e} mm / {cf['rotation_rad']['max']:.1e} rad, i.e. at the "
-               f"rounding level of the FK, at {cf['solve_us_median']:.2f} us median per solve.\n")
+               f"worst residual {cf['position_mm']['max']:.1e} mm / {cf['rotation_rad']['max']:.1e} rad"
+               + (" (rounding level: below 1e-9 mm / 1e-9 rad)" if cf['position_mm']['max'] < 1e-9 and cf['rotation_rad']['max'] < 1e-9 else "")
+               + f", at {cf['solve_us_median']:.2f} us median per solve.\n")
 
     nm = data["numeric_generic6"]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))

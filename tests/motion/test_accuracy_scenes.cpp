@@ -1,7 +1,7 @@
 // The analytic contact scenes of the work-precision reports (bench/bench_accuracy_scenes.hpp,
 // docs/accuracy.md) at one coarse setting: the analytic instant lies inside the bracket every
-// run reports, shrinks with the step without bisection and with the tolerance with it, and the
-// analytic contact point is where the bisected contact is.
+// run reports (fixed and gap stepping), shrinks with the step without bisection and with the
+// tolerance with it, and the analytic contact point is where the bisected contact is.
 #include "../../bench/bench_accuracy_scenes.hpp"
 
 #include <catch2/catch.hpp>
@@ -14,10 +14,12 @@ namespace {
 
 constexpr double kSlack = 1e-9;  // [s]: rounding of the inverse profile and of the IK along the line
 
-motion::CollisionSettings settings(double step_mm, double toc_tolerance_s) {
+motion::CollisionSettings settings(double step_mm, double toc_tolerance_s,
+                                   motion::Stepping stepping = motion::Stepping::fixed) {
   motion::CollisionSettings s;
   s.step_mm = step_mm;
   s.toc_tolerance_s = toc_tolerance_s;
+  s.stepping = stepping;
   return s;
 }
 
@@ -72,5 +74,21 @@ TEST_CASE("accuracy scenes: without bisection the contact-instant error shrinks 
     // The bracket is one sample interval: finer steps give shorter intervals and errors.
     CHECK(fine.time_s - fine.time_free_s < (coarse.time_s - coarse.time_free_s) / 2);
     CHECK(fine.time_s - s.t_star < coarse.time_s - s.t_star);
+  }
+}
+
+TEST_CASE("accuracy scenes: gap stepping brackets the analytic contact like fixed stepping", "[accuracy][toc][gap]") {
+  for (const AnalyticScene& s : analytic_scenes()) {
+    INFO(s.name);
+    const motion::CollisionReport plain = contact(run(s, settings(8, 1e9, motion::Stepping::gap)));
+    check_bracket(s, plain);
+    CHECK(plain.time_s - plain.time_free_s > 1e-4);
+    const motion::CollisionReport fine = contact(run(s, settings(1, 1e-7, motion::Stepping::gap)));
+    check_bracket(s, fine);
+    CHECK(fine.time_s - fine.time_free_s <= 1e-7);
+    CHECK((fine.point - s.point_star).norm() < 1e-3);
+    // Bisected to the same tolerance from a subset of the fixed poses: the same instant to 2 tol.
+    const motion::CollisionReport fixed = contact(run(s, settings(1, 1e-7, motion::Stepping::fixed)));
+    CHECK(std::abs(fine.time_s - fixed.time_s) <= 2e-7);
   }
 }
