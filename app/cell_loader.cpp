@@ -212,7 +212,7 @@ class Reader {
     }
     if (const auto c = root["collision"]) {
       expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled", "toc_tolerance_s", "pairs",
-                      "pair_samples"},
+                      "pair_samples", "stepping"},
                   "collision");
       auto& s = cell.collision;
       if (c["halvings"] && c["halvings"].IsScalar() && c["halvings"].Scalar() == "auto") {
@@ -238,6 +238,11 @@ class Reader {
         s.generated_pairs = v == "generated";
         // Shared with `asimov pairs CELL.yaml`: both build the same input, so one cache serves both.
         if (s.generated_pairs && !source_is_text_) s.pairs_cache = source_ + ".pairs";
+      }
+      if (const auto st = c["stepping"]) {
+        const auto v = st.IsScalar() ? st.Scalar() : std::string();
+        if (v != "fixed" && v != "gap") fail(st, "collision.stepping must be fixed or gap");
+        s.stepping = v == "gap" ? motion::Stepping::gap : motion::Stepping::fixed;
       }
       if (c["pair_samples"]) {
         const double n = number(c["pair_samples"], "collision.pair_samples");

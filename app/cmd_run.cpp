@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <ostream>
@@ -63,13 +64,20 @@ int check_command(const std::string& file, std::ostream& out, std::ostream& err)
 
 int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (!require_file(opt.file, err)) return kExitUsage;
+  using Clock = std::chrono::steady_clock;
+  const auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  const Clock::time_point start = Clock::now();
   auto cell = load_cell_for_command(opt.cell, err);
   if (!cell) return kExitUsage;
+  const double cell_s = since(start);
   motion::Simulator sim(std::move(*cell));
+  sim.add_preprocess_time(cell_s);
   sim.set_trace(!opt.trace.empty());
   val::Interpreter interp(sim, out);
   interp.set_input(std::cin, ::isatty(STDIN_FILENO) == 1);  // PROMPT asks again only at a terminal
+  const Clock::time_point parse_start = Clock::now();
   const auto diags = interp.load_file(opt.file);
+  sim.add_parse_time(since(parse_start));
   if (print_diagnostics(diags, err)) {
     const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), err);
     return rc != kExitCompleted ? rc : kExitProgramError;
@@ -100,6 +108,10 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   summary.counts = sim.collision_counts();
   summary.engine_used = sim.collision_engine_used();
   summary.bisection_checks = sim.bisection_checks();
+  summary.stepping = sim.cell().collision.stepping;
+  summary.accuracy = sim.accuracy();
+  summary.timing = sim.timing();
+  summary.wall_s = since(start);
 
   for (const auto& w : summary.result.warnings) err << "Warning: " << val::format_diagnostic(w);
   int rc = kExitCompleted;

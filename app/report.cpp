@@ -74,7 +74,27 @@ nlohmann::json run_report(const RunSummary& s) {
                              {"voxel_pairs", s.counts.voxel_pairs},
                              {"face_pairs", s.counts.face_pairs},
                              {"bisection_checks", s.bisection_checks}};
+  doc["accuracy"] = accuracy_json(s);
+  doc["timing"] = timing_json(s.timing, s.wall_s);
   return doc;
+}
+
+nlohmann::json accuracy_json(const RunSummary& s) {
+  const motion::RunAccuracy& a = s.accuracy;
+  return {{"stepping", s.stepping == motion::Stepping::gap ? "gap" : "fixed"},
+          {"motions", a.motions},
+          {"step_displacement_mm", a.step_displacement_mm},
+          {"contact_bracket_s", a.contacts ? nlohmann::json(a.contact_bracket_s) : nlohmann::json(nullptr)},
+          {"ik_residual", {{"position_mm", a.ik_residual.position_mm}, {"rotation_rad", a.ik_residual.rotation_rad},
+                           {"solves", a.ik_solves}}},
+          {"line_deviation", {{"position_mm", a.line_deviation.position_mm},
+                              {"rotation_rad", a.line_deviation.rotation_rad},
+                              {"intervals", a.line_intervals}}}};
+}
+
+nlohmann::json timing_json(const motion::RunTiming& t, double wall_s) {
+  return {{"parse_s", t.parse_s},         {"preprocess_s", t.preprocess_s}, {"motion_s", t.motion_s},
+          {"collision_s", t.collision_s}, {"wall_s", wall_s}};
 }
 
 nlohmann::json trace_document(const std::string& program, const robots::Robot& robot,

@@ -14,7 +14,15 @@ struct RunSummary {
   collision::StepCounts counts;     // summed over every checked pose
   bool engine_used = false;         // false when the cell has no enabled pair
   std::uint64_t bisection_checks = 0;  // poses checked by contact-time bisection (not in poses_checked)
+  motion::Stepping stepping = motion::Stepping::fixed;
+  motion::RunAccuracy accuracy;
+  motion::RunTiming timing;
+  double wall_s = 0;                // whole command: cell load to the end of the run
 };
+
+// The "accuracy" and "timing" objects of the report.
+nlohmann::json accuracy_json(const RunSummary& summary);
+nlohmann::json timing_json(const motion::RunTiming& timing, double wall_s);
 
 // Report for a run that could not start (load errors): status "error".
 nlohmann::json load_error_report(const std::string& file, const val::Diagnostic& first_error);

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -548,7 +549,9 @@ CommandStatus Monitor::cmd_load(Args rest) {
   }
   Memory& m = interp_.memory();
   const std::vector<std::shared_ptr<const Program>> before = m.programs;
+  const auto parse_start = std::chrono::steady_clock::now();
   const auto diags = interp_.load_file(path);
+  sim_.add_parse_time(std::chrono::duration<double>(std::chrono::steady_clock::now() - parse_start).count());
   bool error = false;
   for (const Diagnostic& d : diags) {
     out_ << (d.warning ? "Warning: " : "") << format_diagnostic(d);
@@ -632,6 +635,21 @@ CommandStatus Monitor::cmd_speed(Args rest) {
   return CommandStatus::ok;
 }
 
+namespace {
+// STATUS: the run's accuracy and wall time, as in the --report "accuracy" and "timing" objects.
+std::string accuracy_line(const motion::Simulator& sim) {
+  const motion::RunAccuracy& a = sim.accuracy();
+  const motion::RunTiming& t = sim.timing();
+  const std::string bracket = a.contacts ? fmt::format("{:.3g} s", a.contact_bracket_s) : "none";
+  return fmt::format("Accuracy: step <= {:.3g} mm, contact bracket {}, IK residual {:.3g} mm {:.3g} rad, "
+                     "line deviation {:.3g} mm {:.3g} rad; wall parse {:.3f} s, preprocessing {:.3f} s, "
+                     "motion {:.3f} s, collision {:.3f} s\n",
+                     a.step_displacement_mm, bracket, a.ik_residual.position_mm, a.ik_residual.rotation_rad,
+                     a.line_deviation.position_mm, a.line_deviation.rotation_rad, t.parse_s, t.preprocess_s,
+                     t.motion_s, t.collision_s);
+}
+}  // namespace
+
 CommandStatus Monitor::cmd_status() {
   auto pose = [](const motion::Location& t) {
     const motion::Xyzoat x = motion::decompose(t);
@@ -667,7 +685,7 @@ CommandStatus Monitor::cmd_status() {
        << "Base: " << pose(sim_.base()) << '\n'
        << "Collision checking: " << (sim_.collision_enabled() ? "on" : "off") << '\n'
        << "Clearance: " << format_number(sim_.clearance_mm()) << " mm\n"
-       << fmt::format("Simulated time: {:.3f} s\n", sim_.time_s());
+       << fmt::format("Simulated time: {:.3f} s\n", sim_.time_s()) << accuracy_line(sim_);
   return CommandStatus::ok;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 namespace asimov::motion {
 namespace {
@@ -57,6 +58,10 @@ LineStatus check_margins(const LineContext& c, const Location& flange, double s,
 LineStatus solve_sample(const LineContext& c, double s, const JointVector& prev, JointVector& out, LinePlan& plan) {
   const Location flange = c.base_inv * line_pose(c.req.path, s) * c.tool_inv;
   const robots::IkResult ik = robots::solve_ik(c.robot, flange, prev, c.req.config, false);
+  if (ik.status == robots::IkStatus::ok) {
+    plan.ik_residual.merge(pose_error(robots::flange_pose(c.robot, ik.joints), flange));
+    ++plan.ik_solves;
+  }
   if (ik.status == robots::IkStatus::out_of_reach) return fail(plan, LineStatus::out_of_reach, s);
   if (check_margins(c, flange, s, plan) != LineStatus::ok) return plan.status;
   if (ik.status == robots::IkStatus::joint_limit) {
@@ -90,9 +95,11 @@ int interval_count(double x) {
 
 // Appends samples strictly inside (a, b] so that the bound between neighbours is <= limit.
 LineStatus refine(const LineContext& c, const LineSample& a, const LineSample& b, int depth, LinePlan& plan) {
-  const double d = max_body_displacement(c.reach, b.joints - a.joints, c.req.pairs);
+  double body_max = 0;
+  const double d = max_body_displacement(c.reach, b.joints - a.joints, c.req.pairs, &body_max);
   if (d <= c.limit) {
     plan.samples.push_back(b);
+    plan.samples.back().bound_mm = body_max;
     return LineStatus::ok;
   }
   if (depth >= kMaxRefineDepth) return singular(plan, SingularityKind::unresolved, b.s);
@@ -114,7 +121,7 @@ LineStatus refine(const LineContext& c, const LineSample& a, const LineSample& b
 }  // namespace
 
 double max_body_displacement(std::span<const robots::BodyReach> reach, const JointVector& delta,
-                             std::span<const BodyPair> pairs) {
+                             std::span<const BodyPair> pairs, double* body_max) {
   constexpr std::size_t kMaxBodies = 32;
   std::array<double, kMaxBodies> d{};
   double m = 0;
@@ -123,10 +130,79 @@ double max_body_displacement(std::span<const robots::BodyReach> reach, const Joi
     if (k < kMaxBodies) d[k] = dk;
     m = std::max(m, dk);
   }
+  if (body_max) *body_max = m;
   for (const auto& [a, b] : pairs)
     if (static_cast<std::size_t>(std::max(a, b)) < std::min(reach.size(), kMaxBodies))
       m = std::max(m, d[static_cast<std::size_t>(a)] + d[static_cast<std::size_t>(b)]);
   return m;
+}
+
+void PoseError::merge(const PoseError& o) {
+  position_mm = std::max(position_mm, o.position_mm);
+  rotation_rad = std::max(rotation_rad, o.rotation_rad);
+}
+
+PoseError pose_error(const Location& a, const Location& b) {
+  // |R_a - R_b|_F = 2 sqrt(2) sin(theta / 2): exact for small angles, unlike acos of the trace.
+  const double chord = (a.linear() - b.linear()).norm() / (2 * std::sqrt(2.0));
+  return {(a.translation() - b.translation()).norm(), 2 * std::asin(std::min(1.0, chord))};
+}
+
+double gap_allowance(double gap_mm, double clearance_mm, double step_mm) {
+  return std::max({clearance_mm, step_mm, gap_mm - clearance_mm});
+}
+
+double pair_displacement(std::span<const robots::BodyReach> reach, const GapPair& p, const JointVector& delta) {
+  if (p.a < 0 || p.b < 0) {
+    const int k = std::max(p.a, p.b);
+    return k < 0 ? 0.0 : robots::max_displacement(reach[static_cast<std::size_t>(k)], delta);
+  }
+  const bool a_inner = p.link_a <= p.link_b;
+  const int inner = a_inner ? p.link_a : p.link_b, outer = a_inner ? p.link_b : p.link_a;
+  const robots::BodyReach& r = reach[static_cast<std::size_t>(a_inner ? p.b : p.a)];
+  constexpr double kDeg = std::numbers::pi / 180;  // display degrees, as robots::max_displacement
+  double d = 0;
+  for (int j = inner; j < outer && j < delta.size(); ++j) d += std::abs(delta[j]) * kDeg * r.radius[static_cast<std::size_t>(j)];
+  return d;
+}
+
+int gap_intervals(std::span<const double> pair_mm, std::span<const GapPair> pairs, int remaining) {
+  double k = remaining;
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    if (pair_mm[i] > 0) k = std::min(k, std::floor(pairs[i].allow_mm / pair_mm[i]));
+  return std::clamp(static_cast<int>(k), 1, std::max(1, remaining));
+}
+
+std::size_t gap_next_sample(std::span<const robots::BodyReach> reach, std::span<const LineSample> samples,
+                            std::size_t from, std::span<const GapPair> pairs, std::vector<double>& sums,
+                            double& bound_mm) {
+  const std::size_t n = reach.size(), m = pairs.size();
+  sums.assign(2 * (n + m) + n, 0.0);  // per body then per pair: accepted sums, tentative ones; step
+  double* acc = sums.data();
+  double* next = sums.data() + n + m;
+  double* step = sums.data() + 2 * (n + m);
+  bound_mm = 0;
+  for (std::size_t j = from + 1; j < samples.size(); ++j) {
+    const JointVector delta = samples[j].joints - samples[j - 1].joints;
+    for (std::size_t k = 0; k < n; ++k) step[k] = robots::max_displacement(reach[k], delta);
+    for (std::size_t k = 0; k < n; ++k) next[k] = acc[k] + step[k];
+    bool fits = true;
+    for (std::size_t i = 0; i < m; ++i) {
+      const GapPair& p = pairs[i];
+      // A pair with a fixed body moves by the other body's bound, computed once above.
+      const double d = p.a >= 0 && p.b >= 0 ? pair_displacement(reach, p, delta)
+                       : p.a >= 0           ? step[p.a]
+                       : p.b >= 0           ? step[p.b]
+                                            : 0.0;
+      next[n + i] = acc[n + i] + d;
+      fits = fits && next[n + i] <= kLineSafety * p.allow_mm;
+    }
+    if (!fits && j > from + 1) return j - 1;  // acc and bound_mm: up to j - 1
+    std::swap(acc, next);
+    bound_mm = n ? *std::max_element(acc, acc + n) : 0.0;
+    if (!fits) return j;  // one interval always goes (plan_line kept it within 0.9 * step_mm)
+  }
+  return samples.size() - 1;
 }
 
 int joint_move_intervals(std::span<const robots::BodyReach> reach, const JointVector& from, const JointVector& to,

@@ -4,6 +4,7 @@
 // at cell.base ("BASE moves neither robot nor cell"), so collision bodies use cell.base . frames[k].
 #include "motion/simulator.hpp"
 
+#include "collision/container_gap.hpp"
 #include "collision/engine.hpp"
 #include "motion/profile.hpp"
 #include "motion/sampler.hpp"
@@ -12,9 +13,13 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#if defined(__x86_64__) || defined(__i386__)
+#include <x86intrin.h>
+#endif
 
 namespace asimov::motion {
 namespace {
@@ -22,6 +27,25 @@ using robots::JointVector;
 
 constexpr double kMinStepMm = 1e-3; // guards against a zero or negative step_mm
 constexpr int kMaxBisectionRounds = 4;  // contact-time bisections per contact (another pair met)
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Adds the wall time of a scope to `acc`.
+struct ScopeTimer {
+  double& acc;
+  Clock::time_point t0 = Clock::now();
+  ~ScopeTimer() { acc += seconds_since(t0); }
+};
+
+// Per-query timer: reading the time-stamp counter costs a few ns, clock_gettime ~20 ns, which
+// at two reads per checked pose (~1 us each) was 7 % of a run. Ticks become seconds with the
+// steady_clock time of the whole motion (Impl::MotionClock); elsewhere steady_clock itself.
+#if defined(__x86_64__) || defined(__i386__)
+std::uint64_t ticks() { return __rdtsc(); }
+#else
+std::uint64_t ticks() { return static_cast<std::uint64_t>(Clock::now().time_since_epoch().count()); }
+#endif
 
 MotionResult error(const char* message, std::string detail = {}) {
   MotionResult r;
@@ -71,6 +95,42 @@ struct Simulator::Impl {
   bool start_checked = false;
   HandState hand = HandState::open;
   std::optional<HandState> hand_request;
+  RunAccuracy accuracy;
+  RunTiming timing;
+  std::vector<collision::BodyId> unprepared;  // engine bodies whose voxel grid is not built yet
+  std::uint64_t query_ticks = 0, grid_ticks = 0;  // this motion's engine queries (ticks())
+
+  // finish_motion's wall time: its queries' ticks, converted with the motion's steady_clock
+  // time, go to collision (or preprocessing when they built a lazy grid); the rest, less what
+  // bisection timed itself, is motion.
+  struct MotionClock {
+    Impl& s;
+    Clock::time_point t0 = Clock::now();
+    std::uint64_t k0 = ticks();
+    double other0 = s.timing.collision_s + s.timing.preprocess_s;
+    explicit MotionClock(Impl& impl) : s(impl) { s.query_ticks = s.grid_ticks = 0; }
+    ~MotionClock() {
+      const double wall = seconds_since(t0);
+      const std::uint64_t k = ticks() - k0;
+      const double per_tick = k > 0 ? wall / static_cast<double>(k) : 0.0;
+      s.timing.collision_s += static_cast<double>(s.query_ticks) * per_tick;
+      s.timing.preprocess_s += static_cast<double>(s.grid_ticks) * per_tick;
+      s.timing.motion_s += wall - (s.timing.collision_s + s.timing.preprocess_s - other0);
+    }
+  };
+
+  // Gap stepping (four-step.md §6.3): per engine body its step-2 container, where it sits and
+  // its world box; per enabled pair (engine->enabled_pairs() order) its allowance.
+  struct GapBody {
+    collision::Container container;
+    int reach = -1;          // index into `reach`; -1: never moves (object, base link)
+    int frame = -1;          // index into `frames`; -1: fixed pose
+    collision::Pose pose = collision::Pose::Identity();
+    collision::Box box;
+  };
+  std::vector<GapBody> gap_bodies;
+  std::vector<GapPair> gap_pairs;
+  std::vector<double> pair_mm, scratch;  // per pair bound of one grid interval; line scratch
 
   // The motion starts now: a pending OPEN/CLOSE/RELAX takes effect.
   void motion_started() {
@@ -86,6 +146,7 @@ struct Simulator::Impl {
     LinePlan line;
     LinePath path;                               // straight: the tool-point line, and what maps
     Location base_inv, tool_inv;                 //   it to the flange, for poses between samples
+    Location base, tool;                         // program BASE / TOOL (line deviation)
     robots::Configuration config;
     Profile profile;
     double t0 = 0;
@@ -93,6 +154,7 @@ struct Simulator::Impl {
   } pending;
 
   explicit Impl(Cell c) : cell(std::move(c)) {
+    const ScopeTimer timer{timing.preprocess_s};
     const auto& robot = cell.robot;
     joints = start_joints(cell);
     base = cell.base;
@@ -126,6 +188,19 @@ struct Simulator::Impl {
     std::vector<collision::BodyId> statics, scene_ids;
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {  // robot bodies, "tool", objects
       SceneBody& b = scene.bodies[i];
+      GapBody g;
+      g.container = collision::make_container(b.mesh.vertices);
+      if (i < robot.bodies.size() && robot.bodies[i].link > 0) {
+        g.reach = static_cast<int>(i);
+        g.frame = robot.bodies[i].link;
+      } else if (i >= robot.bodies.size() && b.object < 0) {  // the tool, on the flange
+        g.reach = static_cast<int>(robot.bodies.size());
+        g.frame = robot.joint_count();
+      } else {
+        g.pose = i < robot.bodies.size() ? cell.base : cell.objects[static_cast<std::size_t>(b.object)].pose;
+        g.box = collision::minimax_box(g.container, g.pose);
+      }
+      gap_bodies.push_back(std::move(g));
       const auto id = e.add_body({.name = std::move(b.name), .mesh = std::move(b.mesh), .group = b.group,
                                   .is_static = b.is_static, .halvings = cell.collision.halvings});
       scene_ids.push_back(id);
@@ -154,7 +229,47 @@ struct Simulator::Impl {
         if (moving_i && moving_j && e.pair_enabled(ids[i], ids[j]))
           moving_pairs.emplace_back(static_cast<int>(i), static_cast<int>(j));
       }
+    for (const collision::BodyPair& p : e.enabled_pairs()) {
+      const GapBody &a = gap_bodies[p.a], &b = gap_bodies[p.b];
+      gap_pairs.push_back({a.reach, b.reach, std::max(a.frame, 0), std::max(b.frame, 0), 0});
+    }
+    for (std::size_t i = 0; i < gap_bodies.size(); ++i) unprepared.push_back(static_cast<collision::BodyId>(i));
     engine.emplace(std::move(e));
+  }
+
+  // Gap stepping in use for the motion being carried out (needs the engine: gaps are its containers).
+  bool gap_stepping() const {
+    return engine && cell.collision.enabled && cell.collision.stepping == Stepping::gap;
+  }
+
+  // Allowance of every enabled pair at the pose whose link frames are in `frames`.
+  void update_gaps() {
+    for (GapBody& g : gap_bodies)
+      if (g.frame >= 0) {
+        g.pose = cell.base * frames[static_cast<std::size_t>(g.frame)];
+        g.box = collision::minimax_box(g.container, g.pose);
+      }
+    const auto pairs = engine->enabled_pairs();
+    const double c = cell.collision.clearance_mm, st = step();
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      const GapBody &a = gap_bodies[pairs[i].a], &b = gap_bodies[pairs[i].b];
+      const double margin = collision::relative_margin(a.container, a.pose, b.container, b.pose);
+      gap_pairs[i].allow_mm = gap_allowance(collision::container_gap(a.box, b.box, margin), c, st);
+    }
+  }
+
+  // Wall time of one engine query: preprocessing when it built a lazy voxel grid, else collision.
+  // Grids are built only for pairs that pass step 2, so most queries need no look at the bodies.
+  void charge_query(std::uint64_t dt, const collision::QueryResult& r) {
+    if (r.counts.pairs_after_minimax > 0 && !unprepared.empty()) {
+      const std::size_t before = unprepared.size();
+      std::erase_if(unprepared, [this](collision::BodyId id) { return engine->body_preprocessed(id); });
+      if (unprepared.size() != before) {
+        grid_ticks += dt;
+        return;
+      }
+    }
+    query_ticks += dt;
   }
 
   // Poses the moving bodies at `q` in the engine.
@@ -187,7 +302,10 @@ struct Simulator::Impl {
   bool collides(const JointVector& q, CollisionReport& report) {
     if (!engine || !cell.collision.enabled) return false;
     pose_bodies(q);
-    return record(engine->check(), q, report);
+    const std::uint64_t k0 = ticks();
+    const collision::QueryResult r = engine->check();
+    charge_query(ticks() - k0, r);
+    return record(r, q, report);
   }
 
   // Contact time (four-step.md §6.4). `report` holds the contact at the checked pose of
@@ -248,6 +366,7 @@ struct Simulator::Impl {
   // the clock at the contact time.
   template <class PathAt>
   MotionResult halt(CollisionReport report, double t_prev, bool was_free, PathAt&& at, int tag) {
+    const ScopeTimer timer{timing.collision_s};
     report.time_free_s = t_prev;
     last_free = was_free && bisect_contact(t_prev, joints, at, report);
     time = report.time_s;
@@ -270,6 +389,8 @@ struct Simulator::Impl {
     MotionResult r;
     r.status = MotionStatus::collision;
     report.tag = tag;
+    ++accuracy.contacts;
+    accuracy.contact_bracket_s = std::max(accuracy.contact_bracket_s, report.time_s - report.time_free_s);
     r.collision = std::move(report);
     return r;
   }
@@ -323,10 +444,15 @@ void Simulator::set_trace(bool on) { impl_->tracing = on; }
 const std::vector<TraceSample>& Simulator::trace() const { return impl_->trace; }
 const collision::StepCounts& Simulator::collision_counts() const { return impl_->counts; }
 bool Simulator::collision_engine_used() const { return impl_->engine.has_value(); }
+const RunAccuracy& Simulator::accuracy() const { return impl_->accuracy; }
+const RunTiming& Simulator::timing() const { return impl_->timing; }
+void Simulator::add_parse_time(double seconds) { impl_->timing.parse_s += seconds; }
+void Simulator::add_preprocess_time(double seconds) { impl_->timing.preprocess_s += seconds; }
 
 MotionResult Simulator::start_joint_move(const robots::JointVector& target, SpeedSettings speed, int tag) {
   if (impl_->pending.active)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
+  const ScopeTimer timer{impl_->timing.motion_s};
   const auto& robot = impl_->cell.robot;
   if (!(impl_->speed_factor(speed) > 0)) return error("*Illegal value*", "speed must be > 0");
   if (target.size() != robot.joint_count()) return error("*Illegal value*", "wrong number of joints");
@@ -339,6 +465,7 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   if (impl_->pending.active)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
   Impl& s = *impl_;
+  const ScopeTimer timer{s.timing.motion_s};
   const auto& robot = s.cell.robot;
   if (!(s.speed_factor(speed) > 0)) return error("*Illegal value*", "speed must be > 0");
   const Location flange = s.base.inverse() * target * s.tool.inverse();
@@ -349,6 +476,8 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
     if (ik.status == robots::IkStatus::out_of_reach) return error("*Location out of reach*");
     if (ik.status == robots::IkStatus::joint_limit)
       return error("*Joint limit exceeded*", fmt_limit(robot, ik.joint, ik.value));
+    s.accuracy.ik_residual.merge(pose_error(robots::flange_pose(robot, ik.joints), flange));
+    ++s.accuracy.ik_solves;
     s.request.righty = s.request.above = s.request.noflip = -1;  // consumed by this motion
     MotionResult r = s.plan_joint(ik.joints, speed, tag);
     s.dest = target;
@@ -363,7 +492,10 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   req.step_mm = s.step();
   req.pairs = s.moving_pairs;
   LinePlan plan;
-  switch (plan_line(robot, s.reach, req, plan)) {
+  const LineStatus planned = plan_line(robot, s.reach, req, plan);
+  s.accuracy.ik_residual.merge(plan.ik_residual);
+  s.accuracy.ik_solves += plan.ik_solves;
+  switch (planned) {
     case LineStatus::ok: break;
     case LineStatus::out_of_reach: return error("*Location out of reach*", fmt_fraction("no solution", plan.fail_fraction));
     case LineStatus::joint_limit:
@@ -411,6 +543,8 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   s.pending.path = req.path;
   s.pending.base_inv = s.base.inverse();
   s.pending.tool_inv = s.tool.inverse();
+  s.pending.base = s.base;
+  s.pending.tool = s.tool;
   s.pending.config = current;
   s.pending.profile = profile;
   s.pending.t0 = s.time;
@@ -438,6 +572,7 @@ MotionResult Simulator::wait(double seconds) {
 
 void Simulator::set_collision_enabled(bool on) {
   impl_->cell.collision.enabled = on;
+  const ScopeTimer timer{impl_->timing.preprocess_s};
   if (on && !impl_->engine_built) impl_->build_engine();
 }
 
@@ -465,43 +600,78 @@ int Simulator::inrange(const Location& target) const {
 MotionResult Simulator::finish_motion() {
   Impl& s = *impl_;
   if (!s.pending.active) return {};
+  const Impl::MotionClock clock{s};
   Impl::Pending& p = s.pending;
   p.active = false;
+  ++s.accuracy.motions;
   CollisionReport report;
   if (!s.start_checked) {  // the start pose of the first motion
     s.start_checked = true;
     if (s.visit(s.joints, s.time, report)) return s.collision_result(std::move(report), p.tag);
   }
+  const bool gap = s.gap_stepping();
+  if (gap) robots::link_frames(s.cell.robot, s.joints, s.frames);  // gaps at the start pose
+  RunAccuracy& acc = s.accuracy;
   JointVector q(s.joints.size());
   double t_prev = s.time;  // time of the current joints
   if (p.straight) {
     const auto& samples = p.line.samples;
-    for (std::size_t i = 1; i < samples.size(); ++i) {
-      const double t = p.t0 + p.profile.time_at(samples[i].s);
+    for (std::size_t i = 0; i + 1 < samples.size();) {
+      // Next checked sample j: the next one, or with gap stepping the farthest the gaps allow.
+      std::size_t j = i + 1;
+      double bound = samples[j].bound_mm;
+      if (gap) {
+        s.update_gaps();
+        j = gap_next_sample(s.reach, samples, i, s.gap_pairs, s.scratch, bound);
+      }
+      acc.step_displacement_mm = std::max(acc.step_displacement_mm, bound);
+      const LineSample &a = samples[i], &b = samples[j];
+      const JointVector mid = interpolate_joints(a.joints, b.joints, 0.5);
+      acc.line_deviation.merge(pose_error(p.base * robots::flange_pose(s.cell.robot, mid) * p.tool,
+                                          line_pose(p.path, (a.s + b.s) / 2)));
+      ++acc.line_intervals;
+      const double t = p.t0 + p.profile.time_at(b.s);
       const bool was_free = s.last_free;
-      if (s.visit(samples[i].joints, t, report)) {
+      if (s.visit(b.joints, t, report)) {
         // Between samples: the line's pose at sigma(t), IK in the motion's configuration seeded
         // with the nearest free joints, as plan_line solves its samples; where that fails or
         // jumps, the joints interpolated between the two samples.
-        const LineSample &a = samples[i - 1], &b = samples[i];
         const auto at = [&s, &p, &a, &b](double tm, const JointVector& ref) {
           const double sigma = std::clamp(p.profile.sigma(tm - p.t0), a.s, b.s);
           const JointVector lin = interpolate_joints(a.joints, b.joints, b.s > a.s ? (sigma - a.s) / (b.s - a.s) : 1.0);
           const Location flange = p.base_inv * line_pose(p.path, sigma) * p.tool_inv;
           const robots::IkResult ik = robots::solve_ik(s.cell.robot, flange, ref, p.config, false);
           if (ik.status != robots::IkStatus::ok || (ik.joints - lin).cwiseAbs().maxCoeff() > kMaxJointJumpDeg) return lin;
+          s.accuracy.ik_residual.merge(pose_error(robots::flange_pose(s.cell.robot, ik.joints), flange));
+          ++s.accuracy.ik_solves;
           return ik.joints;
         };
         return s.halt(std::move(report), t_prev, was_free, at, p.tag);
       }
-      s.joints = samples[i].joints;
+      s.joints = b.joints;
       t_prev = t;
+      i = j;
     }
   } else {
     const auto at = [&p](double tm, const JointVector&) {
       return interpolate_joints(p.from, p.to, p.profile.sigma(tm - p.t0));
     };
-    for (int i = 1; i <= p.intervals; ++i) {
+    // Bound per grid interval of each body: the bound is linear in the joint step.
+    const JointVector step = (p.to - p.from) / p.intervals;
+    double body_max = 0;
+    for (const robots::BodyReach& r : s.reach) body_max = std::max(body_max, robots::max_displacement(r, step));
+    if (gap) {
+      s.pair_mm.resize(s.gap_pairs.size());
+      for (std::size_t k = 0; k < s.gap_pairs.size(); ++k) s.pair_mm[k] = pair_displacement(s.reach, s.gap_pairs[k], step);
+    }
+    for (int i = 0; i < p.intervals;) {
+      int k = 1;
+      if (gap) {
+        s.update_gaps();
+        k = gap_intervals(s.pair_mm, s.gap_pairs, p.intervals - i);
+      }
+      i += k;
+      acc.step_displacement_mm = std::max(acc.step_displacement_mm, k * body_max);
       const double sigma = static_cast<double>(i) / p.intervals;
       q = i == p.intervals ? p.to : interpolate_joints(p.from, p.to, sigma);
       const double t = p.t0 + p.profile.time_at(sigma);

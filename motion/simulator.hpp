@@ -7,6 +7,7 @@
 #pragma once
 #include "collision/query.hpp"
 #include "motion/cell.hpp"
+#include "motion/sampler.hpp"
 #include "robots/configuration.hpp"
 #include <memory>
 #include <string>
@@ -55,6 +56,30 @@ struct SpeedSettings {
   double program = 100;  // program speed for this motion [%]
   double rotation = -1;  // program speed of straight-line rotation [%]; < 0: same as program
   double duration_s = 0; // DURATION: minimum motion time [s]; 0 = off
+};
+
+// What the run's settings cost in accuracy, measured along the run (README "accuracy").
+struct RunAccuracy {
+  // Largest four-step.md §6.3 bound on the displacement of any body point (links, tool) between
+  // two consecutive checked poses [mm]: an upper bound, real points move less.
+  double step_displacement_mm = 0;
+  std::uint64_t contacts = 0;     // contacts reported (collision results)
+  double contact_bracket_s = 0;   // largest t_hit - t_free of those contacts
+  PoseError ik_residual;          // largest |FK(IK(target)) - target| (flange) over every IK solve
+  std::uint64_t ik_solves = 0;    //   of motion targets, straight-line samples and their bisection
+  PoseError line_deviation;       // straight lines: largest deviation of the tool pose at the joint
+                                  //   midpoint of two checked poses from the line at the mid sigma
+  std::uint64_t line_intervals = 0;
+  std::uint64_t motions = 0;      // motions carried out (finish_motion with a pending motion)
+};
+
+// Wall time [s] (steady_clock) spent in each phase. parse and the cell file part of preprocess
+// are added by the caller (add_parse_time, add_preprocess_time).
+struct RunTiming {
+  double parse_s = 0;       // program files: load and check
+  double preprocess_s = 0;  // cell load, engine preprocessing (incl. the checks that built a lazy grid)
+  double motion_s = 0;      // planning, IK, sampling, FK
+  double collision_s = 0;   // engine queries at checked poses and contact-time bisection
 };
 
 // Hand (dialect §5): OPEN / CLOSE / RELAX take effect when the next motion starts; OPENI /
@@ -121,6 +146,11 @@ class Simulator {
   // engine query per pose, on the pairs that collided at the first colliding checked pose.
   std::uint64_t bisection_checks() const;
   bool collision_engine_used() const;  // false when the cell has no enabled pair
+
+  const RunAccuracy& accuracy() const;
+  const RunTiming& timing() const;
+  void add_parse_time(double seconds);
+  void add_preprocess_time(double seconds);
 
  private:
   struct Impl;

@@ -13,6 +13,10 @@ packages=(
 if [ "${ASIMOV_WITH_PEERS:-1}" = 1 ]; then
   packages+=(libfcl-dev liborocos-kdl-dev lua5.4)
 fi
+# Plots of the work-precision reports (scripts/accuracy.sh); nothing else needs them.
+if [ "${ASIMOV_WITH_PLOTS:-1}" = 1 ]; then
+  packages+=(python3-matplotlib)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

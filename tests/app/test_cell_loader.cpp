@@ -204,3 +204,13 @@ TEST_CASE("collision keys: contact-time tolerance, generated pairs with a cache 
   e = error_of("collision: {toc_tolerance_s: 0}\n");
   CHECK(std::string(e.what()).find("> 0") != std::string::npos);
 }
+
+TEST_CASE("collision.stepping: gap by default, fixed or gap, anything else is a cell error") {
+  CHECK(app::default_cell().collision.stepping == motion::Stepping::gap);
+  CHECK(load_cell_text("{}", "c.yaml").collision.stepping == motion::Stepping::gap);
+  CHECK(load_cell_text("collision: {stepping: fixed}\n", "c.yaml").collision.stepping == motion::Stepping::fixed);
+  CHECK(load_cell_text("collision: {stepping: gap}\n", "c.yaml").collision.stepping == motion::Stepping::gap);
+  const auto e = error_of("collision: {stepping: adaptive}\n");
+  CHECK(std::string(e.what()).find("fixed or gap") != std::string::npos);
+  CHECK(e.line == 1);
+}

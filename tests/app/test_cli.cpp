@@ -33,7 +33,7 @@ TEST_CASE("pick_place demo completes with exit 0 and a completed report") {
   const auto doc = read_json(report);
   CHECK(doc["status"] == "completed");
   CHECK(doc["program"] == "pick_place");
-  CHECK(doc["poses_checked"].get<std::uint64_t>() > 1000);
+  CHECK(doc["poses_checked"].get<std::uint64_t>() > 100);  // gap stepping (docs/collision.md §10)
   CHECK(doc["sim_time_s"].get<double>() > 1.0);
   CHECK(doc["collision_engine"]["used"] == true);
 }

@@ -1,0 +1,38 @@
+// container_gap (gap stepping, four-step.md §6.3): a lower bound on the distance of two bodies.
+#include "collision/container_gap.hpp"
+#include "collision/polyhedron.hpp"
+
+#include <catch2/catch.hpp>
+#include <random>
+
+using namespace asimov::collision;
+
+TEST_CASE("box_distance: apart along one axis, along a diagonal, overlapping") {
+  const Box a{Vec3(0, 0, 0), Vec3(1, 1, 1)};
+  CHECK(box_distance(a, Box{Vec3(3, 0, 0), Vec3(4, 1, 1)}) == 2);
+  CHECK(box_distance(a, Box{Vec3(4, 5, 0), Vec3(6, 7, 1)}) == Approx(5));  // 3-4-5 between corners
+  CHECK(box_distance(a, Box{Vec3(0.5, 0.5, 0.5), Vec3(2, 2, 2)}) == 0);
+  CHECK(box_distance(a, Box{Vec3(1, 0, 0), Vec3(2, 1, 1)}) == 0);  // touching
+}
+
+TEST_CASE("container_gap never exceeds the distance between the two meshes' vertices") {
+  const Polyhedron box = make_box({40, 60, 100});
+  const Container c = make_container(box.vertices);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int apart = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Pose pa = Pose(Eigen::AngleAxisd(u(rng) * 3, Vec3(u(rng), u(rng), u(rng)).normalized()));
+    Pose pb = Pose(Eigen::AngleAxisd(u(rng) * 3, Vec3(u(rng), u(rng), u(rng)).normalized()));
+    pb.translation() = Vec3(u(rng), u(rng), u(rng)) * 300;
+    const double g = container_gap(c, pa, c, pb);
+    // Boxes are convex: the closest points are no farther than the closest vertex pair.
+    double closest = 1e300;
+    for (const Vec3& va : box.vertices)
+      for (const Vec3& vb : box.vertices) closest = std::min(closest, (pa * va - pb * vb).norm());
+    CHECK(g >= 0);
+    CHECK(g <= closest);
+    apart += g > 0;
+  }
+  CHECK(apart > 50);  // the bound is not always 0
+}
