@@ -61,7 +61,7 @@ robots::JointVector sweep_start() {
 // `offset` mm along the blade's normal, and reaches up to the blade's middle: the blade
 // crosses it edge-first over its lower 50 mm, its thin side leading (rotating about J1, the
 // blade's far end sets the sample spacing, its near end the time inside the plate).
-Cell thin_cell(const Setting& s, double offset) {
+Cell thin_cell(const Setting& s, double offset, Stepping stepping) {
   Cell c = base_cell();
   robots::JointVector mid = sweep_start();
   mid[0] += 10;
@@ -74,18 +74,21 @@ Cell thin_cell(const Setting& s, double offset) {
   c.objects.push_back(plate);
   c.collision.step_mm = s.step_mm;
   c.collision.clearance_mm = s.clearance_mm;
+  c.collision.stepping = stepping;
   c.start_joints = sweep_start();
   return c;
 }
 
-Outcome sweep(const Setting& s, double speed = 100) {
+// Fixed stepping unless told: the spacing rules below are about the step_mm grid; gap stepping
+// (the default in cells) checks a subset of that grid and must see the same contacts.
+Outcome sweep(const Setting& s, double speed = 100, Stepping stepping = Stepping::fixed) {
   Outcome out;
   const robots::JointVector start = sweep_start();
   robots::JointVector target = start;
   target[0] += 20;
   // Phases: the plate shifted along its normal across the largest spacing the step rule allows.
   for (int k = 0; k < kPhases; ++k) {
-    const Cell cell = thin_cell(s, std::max(s.step_mm, s.clearance_mm) * k / kPhases);
+    const Cell cell = thin_cell(s, std::max(s.step_mm, s.clearance_mm) * k / kPhases, stepping);
     Simulator sim(cell);
     sim.set_trace(true);
     SpeedSettings speed_settings;
@@ -138,6 +141,10 @@ TEST_CASE("thin plates at clearance 0: samples closer than plate plus blade neve
     CHECK(o.max_tool_step <= s.step_mm);
     CHECK(o.max_tool_step <= s.plate_mm + kBlade);
     CHECK(o.contacts == kPhases);
+    const Outcome gap = sweep(s, 100, Stepping::gap);
+    CHECK(gap.other == 0);
+    CHECK(gap.contacts == kPhases);
+    CHECK(gap.poses < o.poses);  // far from the plate, gap stepping skips grid poses
   }
 }
 
@@ -150,6 +157,9 @@ TEST_CASE("thin plates: clearance c > 0 with step_mm <= c never misses, even wit
                   << o.contacts << " of " << kPhases << ", max tool step " << o.max_tool_step);
     CHECK(o.other == 0);
     CHECK(o.contacts == kPhases);
+    const Outcome gap = sweep(s, 100, Stepping::gap);
+    CHECK(gap.other == 0);
+    CHECK(gap.contacts == kPhases);
   }
 }
 
