@@ -6,9 +6,7 @@
 
 #include "collision/containment.hpp"
 #include "collision/face_distance.hpp"
-#include "collision/face_pairs.hpp"
 #include "collision/face_test.hpp"
-#include "collision/interference.hpp"
 #include "collision/minimax.hpp"
 #include "collision/participation.hpp"
 #include "collision/voxel_grid.hpp"
@@ -58,9 +56,6 @@ struct Engine::Impl {
   std::vector<Body> bodies;
   Participation participation;
   double clearance = 0;
-  std::vector<std::uint32_t> a_faces;    // A faces met by the current B voxel, reused
-  std::vector<std::uint32_t> mark;       // per A face: stamp of the last B voxel that listed it
-  std::uint32_t stamp = 0;
 
   static bool never_tested(const Body& a, const Body& b) {
     return (a.def.group >= 0 && a.def.group == b.def.group) || (a.def.is_static && b.def.is_static);
@@ -110,12 +105,6 @@ struct Engine::Impl {
     return xlo.x() > yhi.x() + pad || ylo.x() > xhi.x() + pad || xlo.y() > yhi.y() + pad ||
            ylo.y() > xhi.y() + pad || xlo.z() > yhi.z() + pad || ylo.z() > xhi.z() + pad;
   }
-  void next_stamp() {
-    if (++stamp == 0) {  // wrapped: forget every old stamp
-      std::fill(mark.begin(), mark.end(), 0);
-      stamp = 1;
-    }
-  }
   static void preprocess(Body& b) {
     if (b.grid) return;
     b.faces.resize(b.def.mesh.triangles.size());
@@ -159,71 +148,36 @@ struct Engine::Impl {
     return false;
   }
 
-  // One non-empty voxel (i, j, k) of B's sub-matrix: the A faces of the non-empty A voxels it
-  // meets (unique, by stamp), filtered by the box of its own faces, then each of its faces
-  // against them. True at the first contact (res filled).
-  bool visit_b_voxel(BodyId ia, BodyId ib, const VoxelMapping& vm, int i, int j, int k, double pad, bool& any_pair,
-                     QueryResult& res) {
+  // Step 3 per pose [ours]: B's frame in A's, for testing a node of A's halvings tree against
+  // one of B's as two oriented boxes on their six face normals.
+  struct NodeTest {
+    Mat3 r, ar;  // B's axes in A's frame, and |r|
+    Vec3 t;      // B's origin in A's frame
+    double grow = 0;
+    // -1 when the boxes are farther apart than `grow` along one of A's or B's axes, else the
+    // squared distance of their centres (visit the nearer pair first). The rounding of the
+    // mapping is a few ulps of the magnitudes ε_r is 64 ulps of, as for the minimax boxes.
+    double overlap(const TreeNode& x, const TreeNode& y) const {
+      const Vec3 d = r * y.centre + t - x.centre;
+      if (((d.cwiseAbs() - x.half - ar * y.half).array() > grow).any()) return -1;
+      const Vec3 e = r.transpose() * d;
+      if (((e.cwiseAbs() - ar.transpose() * x.half - y.half).array() > grow).any()) return -1;
+      return d.squaredNorm();
+    }
+  };
+
+  // A voxel pair: each face of B's voxel against each face of A's (exact bounding-box
+  // rejection, then the exact test). True at the first contact (res filled).
+  bool visit_voxel_pair(BodyId ia, BodyId ib, std::uint32_t va, std::uint32_t vb, double pad, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
-    const VoxelGrid& ga = *a.grid;
-    const VoxelGrid& gb = *b.grid;
-    const std::size_t vb = gb.index(i, j, k);
-    if (gb.voxel_empty(vb)) return false;
-    (void)i, (void)j, (void)k;
-    // B's voxel content (its faces' part of the voxel) mapped into A's frame: the A voxels
-    // whose content meets it are the voxel pairs (tighter than whole voxels, same guarantee:
-    // a contact point lies in both contents).
-    const Box mb = vm.mapped_content(gb, vb);
-    const Box& cb = gb.content[vb];
-    const CellRange ra = intersect(cell_range(ga, mb), vm.sub.a);
-    if (ra.empty() || ga.count_nonempty(ra) == 0) return false;
-    next_stamp();
-    a_faces.clear();
-    for (int kk = ra.lo[2]; kk <= ra.hi[2]; ++kk)
-      for (int jj = ra.lo[1]; jj <= ra.hi[1]; ++jj)
-        for (int ii = ra.lo[0]; ii <= ra.hi[0]; ++ii) {
-          const std::size_t va = ga.index(ii, jj, kk);
-          if (ga.voxel_empty(va)) continue;
-          const Box& ca = ga.content[va];
-          if (ca.lo.x() > mb.hi.x() || mb.lo.x() > ca.hi.x() || ca.lo.y() > mb.hi.y() || mb.lo.y() > ca.hi.y() ||
-              ca.lo.z() > mb.hi.z() || mb.lo.z() > ca.hi.z())
-            continue;
-          // And the reverse: A's content mapped into B's frame against B's (the other three
-          // face axes of the two oriented boxes).
-          const Box ab = vm.mapped_to_b(ca);
-          if (cb.lo.x() > ab.hi.x() || ab.lo.x() > cb.hi.x() || cb.lo.y() > ab.hi.y() || ab.lo.y() > cb.hi.y() ||
-              cb.lo.z() > ab.hi.z() || ab.lo.z() > cb.hi.z())
-            continue;
-          ++res.counts.voxel_pairs;
-          for (const std::uint32_t fa : ga.faces_in(va))
-            if (mark[fa] != stamp) {
-              mark[fa] = stamp;
-              a_faces.push_back(fa);
-            }
-        }
-    if (a_faces.empty()) return false;
-    if (!any_pair) {
-      any_pair = true;
-      ++res.counts.pairs_after_voxels;
-    }
-    res.counts.face_pairs += a_faces.size() * gb.faces_in(vb).size();
-    // Keep the A faces whose world box meets the box of the B voxel's faces.
-    Vec3 blo = Vec3::Constant(INFINITY), bhi = Vec3::Constant(-INFINITY);
-    for (const std::uint32_t fb : gb.faces_in(vb)) {
+    const auto fas = a.grid->faces_in(va);
+    const auto fbs = b.grid->faces_in(vb);
+    if (res.counts.voxel_pairs++ == 0) ++res.counts.pairs_after_voxels;
+    res.counts.face_pairs += fas.size() * fbs.size();
+    for (const std::uint32_t fb : fbs) {
       const WorldFace& wb = world_face(b, fb);
-      blo = blo.cwiseMin(wb.lo);
-      bhi = bhi.cwiseMax(wb.hi);
-    }
-    std::size_t kept = 0;
-    for (const std::uint32_t fa : a_faces) {
-      const WorldFace& wa = world_face(a, fa);
-      if (!boxes_disjoint(wa.lo, wa.hi, blo, bhi, pad)) a_faces[kept++] = fa;
-    }
-    a_faces.resize(kept);
-    for (const std::uint32_t fb : gb.faces_in(vb)) {
-      const WorldFace& wb = world_face(b, fb);
-      for (const std::uint32_t fa : a_faces) {
+      for (const std::uint32_t fa : fas) {
         const WorldFace& wa = world_face(a, fa);
         // Disjoint bounding boxes: triangles_intersect would say no (min/max are exact).
         if (boxes_disjoint(wa.lo, wa.hi, wb.lo, wb.hi, pad)) continue;
@@ -245,36 +199,50 @@ struct Engine::Impl {
     return false;
   }
 
-  // Block (bi, bj, bk) of level `level` (sides 16, then 4; aligned to the grid), clipped to
-  // B's sub-matrix: skipped when it holds no non-empty voxel there or when its content box,
-  // mapped into A's frame, meets no non-empty A voxel; else its sub-blocks or voxels.
-  bool visit_block(BodyId ia, BodyId ib, const VoxelMapping& vm, int level, int bi, int bj, int bk, double pad,
-                   bool& any_pair, QueryResult& res) {
-    const VoxelGrid& ga = *bodies[ia].grid;
-    const VoxelGrid& gb = *bodies[ib].grid;
-    const CellRange& sb = vm.sub.b;
-    const int side = VoxelGrid::kBlockSides[static_cast<std::size_t>(level)];
-    const std::array<int, 3> b{bi, bj, bk};
-    CellRange block;
-    for (std::size_t x = 0; x < 3; ++x) {
-      block.lo[x] = std::max(b[x] * side, sb.lo[x]);
-      block.hi[x] = std::min(b[x] * side + side - 1, sb.hi[x]);
+  // Steps 3 and 4, streamed: both halvings trees descended together, depth first, splitting
+  // the node with the larger box; child pairs whose boxes do not meet are dropped, the nearer
+  // child is visited first. Every pair of leaves (non-empty voxels) whose content boxes meet is
+  // a voxel pair and goes to step 4 at once; the first hit ends the query.
+  bool descend(BodyId ia, BodyId ib, const NodeTest& nt, double pad, QueryResult& res) {
+    const std::vector<TreeNode>& ta = bodies[ia].grid->tree;
+    const std::vector<TreeNode>& tb = bodies[ib].grid->tree;
+    if (ta.empty() || tb.empty() || nt.overlap(ta[0], tb[0]) < 0) return false;
+    // Each step pops one pair and pushes at most two, one level deeper: depth A + depth B + 1.
+    std::array<std::pair<std::uint32_t, std::uint32_t>, 2 * kMaxHalvings + 2> stack;
+    std::size_t n = 0;
+    stack[n++] = {0, 0};
+    while (n > 0) {
+      const auto [x, y] = stack[--n];
+      const TreeNode& nx = ta[x];
+      const TreeNode& ny = tb[y];
+      if (nx.leaf() && ny.leaf()) {
+        if (visit_voxel_pair(ia, ib, nx.voxel, ny.voxel, pad, res)) return true;
+        continue;
+      }
+      const bool split_a = !nx.leaf() && (ny.leaf() || nx.half.squaredNorm() >= ny.half.squaredNorm());
+      std::pair<std::uint32_t, std::uint32_t> p1, p2;
+      double k1, k2;
+      if (split_a) {
+        p1 = {x + 1, y};
+        p2 = {nx.second, y};
+        k1 = nt.overlap(ta[x + 1], ny);
+        k2 = nt.overlap(ta[nx.second], ny);
+      } else {
+        p1 = {x, y + 1};
+        p2 = {x, ny.second};
+        k1 = nt.overlap(nx, tb[y + 1]);
+        k2 = nt.overlap(nx, tb[ny.second]);
+      }
+      if (k1 >= 0 && k2 >= 0) {  // the nearer one on top
+        if (k1 <= k2) std::swap(p1, p2);
+        stack[n++] = p1;
+        stack[n++] = p2;
+      } else if (k1 >= 0) {
+        stack[n++] = p1;
+      } else if (k2 >= 0) {
+        stack[n++] = p2;
+      }
     }
-    if (block.empty() || gb.count_nonempty(block) == 0) return false;
-    const Box& bc = gb.block_content[static_cast<std::size_t>(level)][gb.block_index(level, bi, bj, bk)];
-    if (ga.count_nonempty(intersect(cell_range(ga, vm.mapped(bc)), vm.sub.a)) == 0) return false;
-    if (level == 0) {
-      for (int k = block.lo[2]; k <= block.hi[2]; ++k)
-        for (int j = block.lo[1]; j <= block.hi[1]; ++j)
-          for (int i = block.lo[0]; i <= block.hi[0]; ++i)
-            if (visit_b_voxel(ia, ib, vm, i, j, k, pad, any_pair, res)) return true;
-      return false;
-    }
-    const int child = VoxelGrid::kBlockSides[static_cast<std::size_t>(level - 1)];
-    for (int k = block.lo[2] / child; k <= block.hi[2] / child; ++k)
-      for (int j = block.lo[1] / child; j <= block.hi[1] / child; ++j)
-        for (int i = block.lo[0] / child; i <= block.hi[0] / child; ++i)
-          if (visit_block(ia, ib, vm, level - 1, i, j, k, pad, any_pair, res)) return true;
     return false;
   }
 
@@ -288,30 +256,12 @@ struct Engine::Impl {
     if (containers_separated(a.container, a.pose, b.container, b.pose, grow)) return false;
     ++res.counts.pairs_after_minimax;
 
-    // Steps 3 and 4, streamed: for each non-empty voxel of B's sub-matrix (index order), the
-    // A faces of the non-empty A voxels it overlaps (unique per B voxel, by stamp), then each
-    // face of the B voxel against them; the first hit ends the query. A face pair shared by
-    // several voxel pairs may be tested again (same answer); de-duplicating every pair before
-    // the first test made a colliding query wait for the whole buffer.
     preprocess(a);
     preprocess(b);
-    const VoxelGrid& ga = *a.grid;
-    const VoxelGrid& gb = *b.grid;
-    const VoxelMapping vm = map_voxels(ga, a.pose, gb, b.pose, grow);
+    const Pose a_from_b = a.pose.inverse(Eigen::Isometry) * b.pose;
+    NodeTest nt{.r = a_from_b.linear(), .ar = a_from_b.linear().cwiseAbs(), .t = a_from_b.translation(), .grow = grow};
     const double pad = clearance > 0 ? 2 * clearance + margin : 0.0;
-    if (!vm.empty()) {
-      bool any_pair = false;
-      if (mark.size() < ga.face_count) mark.resize(ga.face_count, 0);
-      // Aligned blocks of 16^3, then 4^3 B voxels first: a block with no non-empty voxel, or
-      // whose content box mapped into A's frame meets no non-empty A voxel, is skipped whole
-      // (summed-volume counts, O(1) each).
-      const CellRange& sb = vm.sub.b;
-      constexpr int top = VoxelGrid::kBlockSides[1];
-      for (int k = sb.lo[2] / top; k <= sb.hi[2] / top; ++k)
-        for (int j = sb.lo[1] / top; j <= sb.hi[1] / top; ++j)
-          for (int i = sb.lo[0] / top; i <= sb.hi[0] / top; ++i)
-            if (visit_block(ia, ib, vm, 1, i, j, k, pad, any_pair, res)) return true;
-    }
+    if (descend(ia, ib, nt, pad, res)) return true;
     // §6.1: no faces meet, but one body may lie inside the other.
     if (contained(ia, ib, margin, res.contact)) {
       res.collided = true;

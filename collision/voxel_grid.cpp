@@ -64,6 +64,62 @@ void classify_voxels(VoxelGrid& g, const Polyhedron& mesh) {
       }
 }
 
+// The axis each of the M halvings doubles, in order (halve_cells' choices).
+std::vector<int> halving_axes(const Vec3& size, int halvings) {
+  std::vector<int> axes;
+  std::array<int, 3> n{1, 1, 1};
+  for (int m = 0; m < halvings; ++m) {
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (size[k] / n[k] > size[axis] / n[axis]) axis = k;
+    n[static_cast<std::size_t>(axis)] *= 2;
+    axes.push_back(axis);
+  }
+  return axes;
+}
+
+// Appends the subtree of the cell `r` (after `depth` halvings) in preorder and returns its
+// box; nothing when the cell holds no non-empty voxel. A cell with one non-empty half is
+// replaced by that half's subtree (same box), so every inner node has two children.
+bool add_subtree(VoxelGrid& g, const std::vector<int>& axes, const CellRange& r, std::size_t depth, Box& box) {
+  if (g.count_nonempty(r) == 0) return false;
+  if (depth == axes.size()) {
+    const std::size_t v = g.index(r.lo[0], r.lo[1], r.lo[2]);
+    box = g.content[v];
+    const Vec3 c = 0.5 * (box.lo + box.hi);
+    g.tree.push_back({.centre = c, .half = (c - box.lo).cwiseMax(box.hi - c), .second = 0,
+                      .voxel = static_cast<std::uint32_t>(v)});
+    return true;
+  }
+  const auto axis = static_cast<std::size_t>(axes[depth]);
+  CellRange lo = r, hi = r;
+  lo.hi[axis] = (r.lo[axis] + r.hi[axis]) / 2;
+  hi.lo[axis] = lo.hi[axis] + 1;
+  const bool lo_full = g.count_nonempty(lo) != 0, hi_full = g.count_nonempty(hi) != 0;
+  if (!lo_full || !hi_full) return add_subtree(g, axes, lo_full ? lo : hi, depth + 1, box);
+  const std::size_t node = g.tree.size();
+  g.tree.emplace_back();
+  Box a, b;
+  add_subtree(g, axes, lo, depth + 1, a);
+  g.tree[node].second = static_cast<std::uint32_t>(g.tree.size());
+  add_subtree(g, axes, hi, depth + 1, b);
+  box = Box{a.lo.cwiseMin(b.lo), a.hi.cwiseMax(b.hi)};
+  // Half sides from both ends: the rounding of the centre cannot shrink the box by more than
+  // an ulp, far inside the grid margin the content boxes already carry.
+  TreeNode& n = g.tree[node];
+  n.centre = 0.5 * (box.lo + box.hi);
+  n.half = (n.centre - box.lo).cwiseMax(box.hi - n.centre);
+  return true;
+}
+
+void build_tree(VoxelGrid& g, const std::vector<int>& axes) {
+  g.tree.clear();
+  CellRange all;
+  for (std::size_t k = 0; k < 3; ++k) all.hi[k] = g.cells[k] - 1;
+  Box box;
+  add_subtree(g, axes, all, 0, box);
+}
+
 }  // namespace
 
 Box VoxelGrid::voxel_box(int i, int j, int k) const {
@@ -105,12 +161,7 @@ std::uint32_t VoxelGrid::count_nonempty(const CellRange& r) const {
 
 std::array<int, 3> halve_cells(const Vec3& size, int halvings) {
   std::array<int, 3> n{1, 1, 1};
-  for (int m = 0; m < halvings; ++m) {
-    int axis = 0;
-    for (int k = 1; k < 3; ++k)
-      if (size[k] / n[k] > size[axis] / n[axis]) axis = k;
-    n[axis] *= 2;
-  }
+  for (const int axis : halving_axes(size, halvings)) n[static_cast<std::size_t>(axis)] *= 2;
   return n;
 }
 
@@ -173,23 +224,6 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
         const Box fb = grown(Box{lo, hi}, g.margin);
         g.content[v] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
       }
-  // Block content boxes, blocks aligned at multiples of the side.
-  for (std::size_t level = 0; level < 2; ++level) {
-    const int side = VoxelGrid::kBlockSides[level];
-    auto& nb = g.block_cells[level];
-    for (int x = 0; x < 3; ++x) nb[static_cast<std::size_t>(x)] = (g.cells[static_cast<std::size_t>(x)] + side - 1) / side;
-    g.block_content[level].assign(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2],
-                                  Box{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)});
-    for (int k = 0; k < g.cells[2]; ++k)
-      for (int j = 0; j < g.cells[1]; ++j)
-        for (int i = 0; i < g.cells[0]; ++i) {
-          const std::size_t v = g.index(i, j, k);
-          if (g.voxel_empty(v)) continue;
-          Box& b = g.block_content[level][g.block_index(static_cast<int>(level), i / side, j / side, k / side)];
-          b.lo = b.lo.cwiseMin(g.content[v].lo);
-          b.hi = b.hi.cwiseMax(g.content[v].hi);
-        }
-  }
   // Summed-volume table of non-empty voxels.
   const std::size_t sx = static_cast<std::size_t>(g.cells[0]) + 1, sy = static_cast<std::size_t>(g.cells[1]) + 1;
   g.occupied.assign(sx * sy * (static_cast<std::size_t>(g.cells[2]) + 1), 0);
@@ -203,6 +237,7 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
                       at(i, j, k - 1) - at(i - 1, j - 1, k) - at(i - 1, j, k - 1) - at(i, j - 1, k - 1) +
                       at(i - 1, j - 1, k - 1);
 
+  build_tree(g, halving_axes(g.container.size, std::clamp(halvings, 0, kMaxHalvings)));
   if (is_closed(mesh)) classify_voxels(g, mesh);
   return g;
 }

@@ -18,6 +18,15 @@ struct CellRange {
   bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
 };
 
+// A node of the halvings tree: centre and half sides of the union of the content boxes of
+// its voxels (local frame; content boxes are already grown by the grid margin).
+struct TreeNode {
+  Vec3 centre = Vec3::Zero(), half = Vec3::Zero();
+  std::uint32_t second = 0;  // index of the second child; 0 for a leaf (the root is never a child)
+  std::uint32_t voxel = 0;   // leaf: its voxel index
+  bool leaf() const { return second == 0; }
+};
+
 // Containment class of a voxel (four-step.md §6.1).
 enum class VoxelClass : std::uint8_t { surface, outside, inside };
 
@@ -35,14 +44,11 @@ struct VoxelGrid {
   std::vector<Box> content;           // per non-empty voxel: the voxel (grown by margin) cut to the
                                       //   union of its faces' boxes (grown): holds every face point
                                       //   inside the voxel, often much smaller than the voxel
-  static constexpr std::array<int, 2> kBlockSides{4, 16};  // block levels for step 3
-  std::array<std::array<int, 3>, 2> block_cells{};  // blocks per axis, per level
-  std::array<std::vector<Box>, 2> block_content;    // per block: union of its voxels' content
-                                                    //   boxes (lo > hi when it has none)
-  std::size_t block_index(int level, int bi, int bj, int bk) const {
-    const auto& n = block_cells[static_cast<std::size_t>(level)];
-    return static_cast<std::size_t>(bi) + static_cast<std::size_t>(n[0]) * (bj + static_cast<std::size_t>(n[1]) * bk);
-  }
+  // The halvings tree [ours]: node = a cell of some halving level holding a non-empty voxel,
+  // children = its two halves (a half with no non-empty voxel is dropped, a node with one child
+  // is replaced by it), leaves = non-empty voxels. Step 3 descends both bodies' trees together,
+  // so only subtrees whose boxes overlap are visited. Preorder: first child at index + 1.
+  std::vector<TreeNode> tree;         // tree[0] is the root; empty when the mesh has no face
   std::vector<std::uint32_t> occupied;  // summed-volume table of non-empty voxels,
                                         //   (nx+1)(ny+1)(nz+1): count with indices < (i, j, k)
   std::size_t face_count = 0;         // triangles of the mesh
