@@ -9,6 +9,7 @@
 #include "collision/face_test.hpp"
 #include "collision/minimax.hpp"
 #include "collision/participation.hpp"
+#include "collision/tree_descent.hpp"
 #include "collision/voxel_grid.hpp"
 
 #include <algorithm>
@@ -56,6 +57,7 @@ struct Engine::Impl {
   std::vector<Body> bodies;
   Participation participation;
   double clearance = 0;
+  std::vector<std::uint32_t> a_faces;  // A faces of the current voxel pair, reused (no allocation per pose)
 
   static bool never_tested(const Body& a, const Body& b) {
     return (a.def.group >= 0 && a.def.group == b.def.group) || (a.def.is_static && b.def.is_static);
@@ -148,36 +150,38 @@ struct Engine::Impl {
     return false;
   }
 
-  // Step 3 per pose [ours]: B's frame in A's, for testing a node of A's halvings tree against
-  // one of B's as two oriented boxes on their six face normals.
-  struct NodeTest {
-    Mat3 r, ar;  // B's axes in A's frame, and |r|
-    Vec3 t;      // B's origin in A's frame
-    double grow = 0;
-    // -1 when the boxes are farther apart than `grow` along one of A's or B's axes, else the
-    // squared distance of their centres (visit the nearer pair first). The rounding of the
-    // mapping is a few ulps of the magnitudes ε_r is 64 ulps of, as for the minimax boxes.
-    double overlap(const TreeNode& x, const TreeNode& y) const {
-      const Vec3 d = r * y.centre + t - x.centre;
-      if (((d.cwiseAbs() - x.half - ar * y.half).array() > grow).any()) return -1;
-      const Vec3 e = r.transpose() * d;
-      if (((e.cwiseAbs() - ar.transpose() * x.half - y.half).array() > grow).any()) return -1;
-      return d.squaredNorm();
-    }
-  };
-
-  // A voxel pair: each face of B's voxel against each face of A's (exact bounding-box
-  // rejection, then the exact test). True at the first contact (res filled).
-  bool visit_voxel_pair(BodyId ia, BodyId ib, std::uint32_t va, std::uint32_t vb, double pad, QueryResult& res) {
+  // A voxel pair [ours]: a contact point of faces fa, fb lies in a voxel of A listing fa and
+  // one of B listing fb, and that voxel pair is visited too; so here only the part of each face
+  // inside its voxel matters. Faces whose part (local box) misses the other voxel's box mapped
+  // into their frame are dropped before any world vertex is computed; then each kept B face
+  // against each kept A face (exact bounding-box rejection, then the exact test). True at the
+  // first contact (res filled).
+  bool visit_voxel_pair(BodyId ia, BodyId ib, std::uint32_t va, std::uint32_t vb, const NodePair& p, double grow,
+                        double pad, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
-    const auto fas = a.grid->faces_in(va);
-    const auto fbs = b.grid->faces_in(vb);
+    const VoxelGrid& ga = *a.grid;
+    const VoxelGrid& gb = *b.grid;
     if (res.counts.voxel_pairs++ == 0) ++res.counts.pairs_after_voxels;
-    res.counts.face_pairs += fas.size() * fbs.size();
-    for (const std::uint32_t fb : fbs) {
+    auto misses = [grow](const Box& part, const double* centre, const double* reach) {
+      for (int k = 0; k < 3; ++k)
+        if (part.lo[k] > centre[k] + reach[k] + grow || part.hi[k] < centre[k] - reach[k] - grow) return true;
+      return false;
+    };
+    a_faces.clear();
+    const auto fas = ga.faces_in(va);
+    const auto pas = ga.face_parts_in(va);
+    for (std::size_t n = 0; n < fas.size(); ++n)
+      if (!misses(pas[n], p.y_centre_a, p.y_reach_a)) a_faces.push_back(fas[n]);
+    if (a_faces.empty()) return false;
+    const auto fbs = gb.faces_in(vb);
+    const auto pbs = gb.face_parts_in(vb);
+    for (std::size_t n = 0; n < fbs.size(); ++n) {
+      if (misses(pbs[n], p.x_centre_b, p.x_reach_b)) continue;
+      const std::uint32_t fb = fbs[n];
+      res.counts.face_pairs += a_faces.size();
       const WorldFace& wb = world_face(b, fb);
-      for (const std::uint32_t fa : fas) {
+      for (const std::uint32_t fa : a_faces) {
         const WorldFace& wa = world_face(a, fa);
         // Disjoint bounding boxes: triangles_intersect would say no (min/max are exact).
         if (boxes_disjoint(wa.lo, wa.hi, wb.lo, wb.hi, pad)) continue;
@@ -199,53 +203,6 @@ struct Engine::Impl {
     return false;
   }
 
-  // Steps 3 and 4, streamed: both halvings trees descended together, depth first, splitting
-  // the node with the larger box; child pairs whose boxes do not meet are dropped, the nearer
-  // child is visited first. Every pair of leaves (non-empty voxels) whose content boxes meet is
-  // a voxel pair and goes to step 4 at once; the first hit ends the query.
-  bool descend(BodyId ia, BodyId ib, const NodeTest& nt, double pad, QueryResult& res) {
-    const std::vector<TreeNode>& ta = bodies[ia].grid->tree;
-    const std::vector<TreeNode>& tb = bodies[ib].grid->tree;
-    if (ta.empty() || tb.empty() || nt.overlap(ta[0], tb[0]) < 0) return false;
-    // Each step pops one pair and pushes at most two, one level deeper: depth A + depth B + 1.
-    std::array<std::pair<std::uint32_t, std::uint32_t>, 2 * kMaxHalvings + 2> stack;
-    std::size_t n = 0;
-    stack[n++] = {0, 0};
-    while (n > 0) {
-      const auto [x, y] = stack[--n];
-      const TreeNode& nx = ta[x];
-      const TreeNode& ny = tb[y];
-      if (nx.leaf() && ny.leaf()) {
-        if (visit_voxel_pair(ia, ib, nx.voxel, ny.voxel, pad, res)) return true;
-        continue;
-      }
-      const bool split_a = !nx.leaf() && (ny.leaf() || nx.half.squaredNorm() >= ny.half.squaredNorm());
-      std::pair<std::uint32_t, std::uint32_t> p1, p2;
-      double k1, k2;
-      if (split_a) {
-        p1 = {x + 1, y};
-        p2 = {nx.second, y};
-        k1 = nt.overlap(ta[x + 1], ny);
-        k2 = nt.overlap(ta[nx.second], ny);
-      } else {
-        p1 = {x, y + 1};
-        p2 = {x, ny.second};
-        k1 = nt.overlap(nx, tb[y + 1]);
-        k2 = nt.overlap(nx, tb[ny.second]);
-      }
-      if (k1 >= 0 && k2 >= 0) {  // the nearer one on top
-        if (k1 <= k2) std::swap(p1, p2);
-        stack[n++] = p1;
-        stack[n++] = p2;
-      } else if (k1 >= 0) {
-        stack[n++] = p1;
-      } else if (k2 >= 0) {
-        stack[n++] = p2;
-      }
-    }
-    return false;
-  }
-
   bool test_pair(BodyId ia, BodyId ib, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
@@ -259,9 +216,14 @@ struct Engine::Impl {
     preprocess(a);
     preprocess(b);
     const Pose a_from_b = a.pose.inverse(Eigen::Isometry) * b.pose;
-    NodeTest nt{.r = a_from_b.linear(), .ar = a_from_b.linear().cwiseAbs(), .t = a_from_b.translation(), .grow = grow};
     const double pad = clearance > 0 ? 2 * clearance + margin : 0.0;
-    if (descend(ia, ib, nt, pad, res)) return true;
+    // Steps 3 and 4, streamed: every voxel pair the descent finds goes to the face tests at
+    // once; the first hit ends the query.
+    if (descend(a.grid->tree, b.grid->tree, NodeTest(a_from_b, grow),
+                [&](std::uint32_t va, std::uint32_t vb, const NodePair& p) {
+                  return visit_voxel_pair(ia, ib, va, vb, p, grow, pad, res);
+                }))
+      return true;
     // §6.1: no faces meet, but one body may lie inside the other.
     if (contained(ia, ib, margin, res.contact)) {
       res.collided = true;

@@ -207,22 +207,23 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
 
   // Content boxes: voxel (grown) cut to the union of its faces' boxes (grown).
   g.content.assign(n, Box{});
+  g.face_parts.resize(hits.size());
   for (int k = 0; k < g.cells[2]; ++k)
     for (int j = 0; j < g.cells[1]; ++j)
       for (int i = 0; i < g.cells[0]; ++i) {
         const std::size_t v = g.index(i, j, k);
         if (g.voxel_empty(v)) continue;
-        Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
-        for (const std::uint32_t f : g.faces_in(v)) {
-          const Triangle& tri = mesh.triangles[f];
-          for (const std::uint32_t x : tri) {
-            lo = lo.cwiseMin(mesh.vertices[x]);
-            hi = hi.cwiseMax(mesh.vertices[x]);
-          }
-        }
         const Box vb = grown(g.voxel_box(i, j, k), g.margin);
-        const Box fb = grown(Box{lo, hi}, g.margin);
-        g.content[v] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
+        Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+        for (std::uint32_t n = g.offsets[v]; n < g.offsets[v + 1]; ++n) {
+          const Triangle& tri = mesh.triangles[g.faces[n]];
+          const Vec3 &p = mesh.vertices[tri[0]], &q = mesh.vertices[tri[1]], &r = mesh.vertices[tri[2]];
+          const Box fb = grown(Box{p.cwiseMin(q).cwiseMin(r), p.cwiseMax(q).cwiseMax(r)}, g.margin);
+          g.face_parts[n] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
+          lo = lo.cwiseMin(g.face_parts[n].lo);
+          hi = hi.cwiseMax(g.face_parts[n].hi);
+        }
+        g.content[v] = Box{lo, hi};
       }
   // Summed-volume table of non-empty voxels.
   const std::size_t sx = static_cast<std::size_t>(g.cells[0]) + 1, sy = static_cast<std::size_t>(g.cells[1]) + 1;

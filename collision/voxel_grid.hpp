@@ -38,6 +38,8 @@ struct VoxelGrid {
   double margin = 0;                  // growth of each voxel in the triangle-box test [mm]
   std::vector<std::uint32_t> offsets; // CSR: faces of voxel v are faces[offsets[v] .. offsets[v+1])
   std::vector<std::uint32_t> faces;   // triangle indices
+  std::vector<Box> face_parts;        // parallel to faces: the voxel (grown) cut to the face's box
+                                      //   (grown), holding every point of the face in the voxel
   std::vector<std::uint32_t> face_offsets;  // inverse CSR: voxels of face f are
   std::vector<std::uint32_t> face_voxels;   //   face_voxels[face_offsets[f] .. face_offsets[f+1])
   std::vector<VoxelClass> classes;    // per voxel; empty when the mesh is not closed
@@ -60,6 +62,9 @@ struct VoxelGrid {
   bool voxel_empty(std::size_t v) const { return offsets[v] == offsets[v + 1]; }
   std::span<const std::uint32_t> faces_in(std::size_t v) const {
     return {faces.data() + offsets[v], faces.data() + offsets[v + 1]};
+  }
+  std::span<const Box> face_parts_in(std::size_t v) const {
+    return {face_parts.data() + offsets[v], face_parts.data() + offsets[v + 1]};
   }
   std::span<const std::uint32_t> voxels_of(std::uint32_t f) const {
     return {face_voxels.data() + face_offsets[f], face_voxels.data() + face_offsets[f + 1]};
