@@ -163,9 +163,12 @@ struct Engine::Impl {
     const VoxelGrid& ga = *a.grid;
     const VoxelGrid& gb = *b.grid;
     if (res.counts.voxel_pairs++ == 0) ++res.counts.pairs_after_voxels;
-    auto misses = [grow](const Box& part, const double* centre, const double* reach) {
-      for (int k = 0; k < 3; ++k)
-        if (part.lo[k] > centre[k] + reach[k] + grow || part.hi[k] < centre[k] - reach[k] - grow) return true;
+    // The float centre, reach and grow of the descent: conservative (tree_descent.hpp).
+    auto misses = [grow](const Box& part, const float* centre, const float* reach) {
+      for (int k = 0; k < 3; ++k) {
+        const double c = centre[k], r = static_cast<double>(reach[k]) + grow;
+        if (part.lo[k] > c + r || part.hi[k] < c - r) return true;
+      }
       return false;
     };
     a_faces.clear();
@@ -219,10 +222,10 @@ struct Engine::Impl {
     const double pad = clearance > 0 ? 2 * clearance + margin : 0.0;
     // Steps 3 and 4, streamed: every voxel pair the descent finds goes to the face tests at
     // once; the first hit ends the query.
-    if (descend(a.grid->tree, b.grid->tree, NodeTest(a_from_b, grow),
-                [&](std::uint32_t va, std::uint32_t vb, const NodePair& p) {
-                  return visit_voxel_pair(ia, ib, va, vb, p, grow, pad, res);
-                }))
+    const NodeTest nt(a_from_b, grow, a.container.scale, b.container.scale);
+    if (descend(*a.grid, *b.grid, nt, [&](std::uint32_t va, std::uint32_t vb, const NodePair& p) {
+          return visit_voxel_pair(ia, ib, va, vb, p, nt.grow, pad, res);
+        }))
       return true;
     // §6.1: no faces meet, but one body may lie inside the other.
     if (contained(ia, ib, margin, res.contact)) {

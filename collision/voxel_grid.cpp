@@ -78,17 +78,24 @@ std::vector<int> halving_axes(const Vec3& size, int halvings) {
   return axes;
 }
 
+// The binary halvings tree as built.
+struct BinaryNode {
+  Box box;
+  std::uint32_t second = 0;  // index of the second child (the first is next); 0 for a leaf
+  std::uint32_t voxel = 0;   // leaf: its voxel index
+  bool leaf() const { return second == 0; }
+};
+
 // Appends the subtree of the cell `r` (after `depth` halvings) in preorder and returns its
 // box; nothing when the cell holds no non-empty voxel. A cell with one non-empty half is
 // replaced by that half's subtree (same box), so every inner node has two children.
-bool add_subtree(VoxelGrid& g, const std::vector<int>& axes, const CellRange& r, std::size_t depth, Box& box) {
+bool add_subtree(const VoxelGrid& g, const std::vector<int>& axes, const CellRange& r, std::size_t depth,
+                 std::vector<BinaryNode>& tree, Box& box) {
   if (g.count_nonempty(r) == 0) return false;
   if (depth == axes.size()) {
     const std::size_t v = g.index(r.lo[0], r.lo[1], r.lo[2]);
     box = g.content[v];
-    const Vec3 c = 0.5 * (box.lo + box.hi);
-    g.tree.push_back({.centre = c, .half = (c - box.lo).cwiseMax(box.hi - c), .second = 0,
-                      .voxel = static_cast<std::uint32_t>(v)});
+    tree.push_back({.box = box, .second = 0, .voxel = static_cast<std::uint32_t>(v)});
     return true;
   }
   const auto axis = static_cast<std::size_t>(axes[depth]);
@@ -96,28 +103,73 @@ bool add_subtree(VoxelGrid& g, const std::vector<int>& axes, const CellRange& r,
   lo.hi[axis] = (r.lo[axis] + r.hi[axis]) / 2;
   hi.lo[axis] = lo.hi[axis] + 1;
   const bool lo_full = g.count_nonempty(lo) != 0, hi_full = g.count_nonempty(hi) != 0;
-  if (!lo_full || !hi_full) return add_subtree(g, axes, lo_full ? lo : hi, depth + 1, box);
-  const std::size_t node = g.tree.size();
-  g.tree.emplace_back();
+  if (!lo_full || !hi_full) return add_subtree(g, axes, lo_full ? lo : hi, depth + 1, tree, box);
+  const std::size_t node = tree.size();
+  tree.emplace_back();
   Box a, b;
-  add_subtree(g, axes, lo, depth + 1, a);
-  g.tree[node].second = static_cast<std::uint32_t>(g.tree.size());
-  add_subtree(g, axes, hi, depth + 1, b);
+  add_subtree(g, axes, lo, depth + 1, tree, a);
+  tree[node].second = static_cast<std::uint32_t>(tree.size());
+  add_subtree(g, axes, hi, depth + 1, tree, b);
   box = Box{a.lo.cwiseMin(b.lo), a.hi.cwiseMax(b.hi)};
-  // Half sides from both ends: the rounding of the centre cannot shrink the box by more than
-  // an ulp, far inside the grid margin the content boxes already carry.
-  TreeNode& n = g.tree[node];
-  n.centre = 0.5 * (box.lo + box.hi);
-  n.half = (n.centre - box.lo).cwiseMax(box.hi - n.centre);
+  tree[node].box = box;
   return true;
+}
+
+// A box (the double box lo, hi) as float centre and half sides that hold it.
+void float_box(const Vec3& lo, const Vec3& hi, float* centre, float* half) {
+  for (int k = 0; k < 3; ++k) {
+    float l = static_cast<float>(lo[k]), h = static_cast<float>(hi[k]);
+    if (static_cast<double>(l) > lo[k]) l = std::nextafter(l, -INFINITY);
+    if (static_cast<double>(h) < hi[k]) h = std::nextafter(h, INFINITY);
+    centre[k] = 0.5f * (l + h);
+    half[k] = std::nextafter(std::max(centre[k] - l, h - centre[k]), INFINITY);  // covers their rounding
+  }
+}
+
+std::uint32_t leaf_ref(const BinaryNode& n) { return TreeNode::kLeaf | n.voxel; }
+
+// Node of the 4-ary tree for binary inner node i: its children, or for an inner child its two
+// children, as lanes. Returns the node's index.
+std::uint32_t add_node(VoxelGrid& g, const std::vector<BinaryNode>& bin, std::uint32_t i) {
+  const auto index = static_cast<std::uint32_t>(g.tree.size());
+  g.tree.emplace_back();
+  std::array<std::uint32_t, 4> lanes{};
+  int n = 0;
+  for (const std::uint32_t c : {i + 1, bin[i].second}) {
+    if (bin[c].leaf()) {
+      lanes[static_cast<std::size_t>(n++)] = c;
+    } else {
+      lanes[static_cast<std::size_t>(n++)] = c + 1;
+      lanes[static_cast<std::size_t>(n++)] = bin[c].second;
+    }
+  }
+  for (int s = 0; s < 4; ++s) {
+    const auto u = static_cast<std::size_t>(s);
+    float centre[3] = {0, 0, 0}, half[3] = {-1e30f, -1e30f, -1e30f};  // unused: ref kNone, masked
+    std::uint32_t ref = TreeNode::kNone;
+    if (s < n) {
+      const BinaryNode& b = bin[lanes[u]];
+      float_box(b.box.lo, b.box.hi, centre, half);
+      ref = b.leaf() ? leaf_ref(b) : add_node(g, bin, lanes[u]);
+    }
+    TreeNode& t = g.tree[index];  // add_node may have moved the vector
+    t.cx[u] = centre[0], t.cy[u] = centre[1], t.cz[u] = centre[2];
+    t.hx[u] = half[0], t.hy[u] = half[1], t.hz[u] = half[2];
+    t.child[u] = ref;
+  }
+  return index;
 }
 
 void build_tree(VoxelGrid& g, const std::vector<int>& axes) {
   g.tree.clear();
+  g.root = VoxelGrid::kNoRoot;
   CellRange all;
   for (std::size_t k = 0; k < 3; ++k) all.hi[k] = g.cells[k] - 1;
+  std::vector<BinaryNode> bin;
   Box box;
-  add_subtree(g, axes, all, 0, box);
+  if (!add_subtree(g, axes, all, 0, bin, box)) return;
+  float_box(bin[0].box.lo, bin[0].box.hi, g.root_centre.data(), g.root_half.data());
+  g.root = bin[0].leaf() ? leaf_ref(bin[0]) : add_node(g, bin, 0);
 }
 
 }  // namespace

@@ -18,13 +18,15 @@ struct CellRange {
   bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
 };
 
-// A node of the halvings tree: centre and half sides of the union of the content boxes of
-// its voxels (local frame; content boxes are already grown by the grid margin).
+// A node of the halvings tree [ours], as step 3 reads it: two levels of halvings at once, so up
+// to four children, their boxes side by side in float lanes (one SIMD test for all four). A
+// child box is the union of its voxels' content boxes (local frame), rounded outward to float.
 struct TreeNode {
-  Vec3 centre = Vec3::Zero(), half = Vec3::Zero();
-  std::uint32_t second = 0;  // index of the second child; 0 for a leaf (the root is never a child)
-  std::uint32_t voxel = 0;   // leaf: its voxel index
-  bool leaf() const { return second == 0; }
+  static constexpr std::uint32_t kLeaf = 0x80000000u;  // child ref: kLeaf | voxel index, else a node index
+  static constexpr std::uint32_t kNone = 0xffffffffu;  // an unused lane
+  std::array<float, 4> cx{}, cy{}, cz{};  // children's centres
+  std::array<float, 4> hx{}, hy{}, hz{};  // children's half sides
+  std::array<std::uint32_t, 4> child{};
 };
 
 // Containment class of a voxel (four-step.md §6.1).
@@ -48,9 +50,12 @@ struct VoxelGrid {
                                       //   inside the voxel, often much smaller than the voxel
   // The halvings tree [ours]: node = a cell of some halving level holding a non-empty voxel,
   // children = its two halves (a half with no non-empty voxel is dropped, a node with one child
-  // is replaced by it), leaves = non-empty voxels. Step 3 descends both bodies' trees together,
-  // so only subtrees whose boxes overlap are visited. Preorder: first child at index + 1.
-  std::vector<TreeNode> tree;         // tree[0] is the root; empty when the mesh has no face
+  // is replaced by it), leaves = non-empty voxels; stored two levels per TreeNode. Step 3
+  // descends both bodies' trees together, so only subtrees whose boxes meet are visited.
+  std::vector<TreeNode> tree;           // nodes; the root's box and ref below
+  std::array<float, 3> root_centre{}, root_half{};
+  std::uint32_t root = kNoRoot;         // kNoRoot when the mesh has no face
+  static constexpr std::uint32_t kNoRoot = 0xffffffffu;
   std::vector<std::uint32_t> occupied;  // summed-volume table of non-empty voxels,
                                         //   (nx+1)(ny+1)(nz+1): count with indices < (i, j, k)
   std::size_t face_count = 0;         // triangles of the mesh
