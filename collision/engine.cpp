@@ -115,10 +115,10 @@ struct Engine::Impl {
     b.shells = shell_vertices(b.def.mesh);
   }
 
-  // Is world point w (a vertex of the other body) inside body x? Voxel classes decide when
-  // every voxel within the margin agrees; otherwise the exact test in world coordinates.
-  bool inside(Body& x, const Vec3& w, double margin) {
-    const Vec3 p = x.pose.inverse(Eigen::Isometry) * w;
+  // Is vertex v of body `in` inside body x? p is the vertex in x's frame (mapped by the pair's
+  // relative pose; its rounding is within ε_r). Voxel classes decide when every voxel within
+  // the margin agrees; otherwise the exact test in world coordinates.
+  bool inside(Body& x, const Vec3& p, Body& in, std::uint32_t v, double margin) {
     const CellRange r = cell_range(*x.grid, Box{p.array() - margin, p.array() + margin});
     if (r.empty()) return false;  // outside the container
     bool all_in = true, all_out = true;
@@ -131,18 +131,20 @@ struct Engine::Impl {
         }
     if (all_in) return true;
     if (all_out) return false;
-    return world_point_inside(w, world(x), x.def.mesh);
+    return world_point_inside(world_vertex(in, v), world(x), x.def.mesh);
   }
 
-  bool contained(BodyId ia, BodyId ib, double margin, Contact& c) {
-    for (const auto& [outer, inner] : {std::pair{ia, ib}, std::pair{ib, ia}}) {
-      Body& o = bodies[outer];
-      Body& in = bodies[inner];
+  bool contained(BodyId ia, BodyId ib, const Pose& a_from_b, double margin, Contact& c) {
+    for (const bool a_outer : {true, false}) {
+      Body& o = bodies[a_outer ? ia : ib];
+      Body& in = bodies[a_outer ? ib : ia];
       if (!o.closed) continue;
       for (const std::uint32_t v : in.shells) {
-        const Vec3 w = world_vertex(in, v);
-        if (inside(o, w, margin)) {
-          c = Contact{.kind = ContactKind::containment, .body_a = ia, .body_b = ib, .point = w};
+        const Vec3& local = in.def.mesh.vertices[v];
+        const Vec3 p = a_outer ? Vec3(a_from_b * local)
+                               : Vec3(a_from_b.linear().transpose() * (local - a_from_b.translation()));
+        if (inside(o, p, in, v, margin)) {
+          c = Contact{.kind = ContactKind::containment, .body_a = ia, .body_b = ib, .point = world_vertex(in, v)};
           return true;
         }
       }
@@ -213,12 +215,12 @@ struct Engine::Impl {
     const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
     const double grow = clearance + margin;
     if (separated(world_box(a), world_box(b), grow)) return false;
-    if (containers_separated(a.container, a.pose, b.container, b.pose, grow)) return false;
+    const Pose a_from_b = relative_pose(a.pose, b.pose);
+    if (containers_separated(a.container, b.container, a_from_b, grow)) return false;
     ++res.counts.pairs_after_minimax;
 
     preprocess(a);
     preprocess(b);
-    const Pose a_from_b = a.pose.inverse(Eigen::Isometry) * b.pose;
     const double pad = clearance > 0 ? 2 * clearance + margin : 0.0;
     // Steps 3 and 4, streamed: every voxel pair the descent finds goes to the face tests at
     // once; the first hit ends the query.
@@ -228,7 +230,7 @@ struct Engine::Impl {
         }))
       return true;
     // §6.1: no faces meet, but one body may lie inside the other.
-    if (contained(ia, ib, margin, res.contact)) {
+    if (contained(ia, ib, a_from_b, margin, res.contact)) {
       res.collided = true;
       return true;
     }
