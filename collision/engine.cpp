@@ -41,6 +41,8 @@ struct Body {
   std::vector<std::uint64_t> face_version;  //   face_version[f] == version (step 4 cache)
   int halvings = 9;                 // M in use (resolved from def.halvings, kAutoHalvings = cost model)
   Box box;                          // world minimax box, valid when box_version == version
+  std::uint64_t sphere_version = 0; // world centre of the vertex sphere, valid when sphere_version == version
+  Vec3 sphere_centre = Vec3::Zero();
   std::uint64_t box_version = 0;
 };
 
@@ -69,6 +71,13 @@ struct Engine::Impl {
       b.box_version = b.version;
     }
     return b.box;
+  }
+  const Vec3& world_sphere_centre(Body& b) {
+    if (b.sphere_version != b.version) {
+      b.sphere_centre = b.pose * b.container.centre();
+      b.sphere_version = b.version;
+    }
+    return b.sphere_centre;
   }
   const std::vector<Vec3>& world(Body& b) {
     if (b.world_version != b.version) {
@@ -211,9 +220,12 @@ struct Engine::Impl {
   bool test_pair(BodyId ia, BodyId ib, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
-    // Step 2: world minimax boxes.
+    // Step 2: [ours] the vertex spheres first (the cheapest), the world minimax boxes (the
+    // thesis), then [ours] the oriented containers.
     const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
     const double grow = clearance + margin;
+    if (spheres_separated(world_sphere_centre(a), a.container.radius, world_sphere_centre(b), b.container.radius, grow))
+      return false;
     if (separated(world_box(a), world_box(b), grow)) return false;
     const Pose a_from_b = relative_pose(a.pose, b.pose);
     if (containers_separated(a.container, b.container, a_from_b, grow)) return false;

@@ -15,6 +15,8 @@ struct Container {
   Vec3 origin = Vec3::Zero();  // local corner O [mm]
   Vec3 size = Vec3::Ones();    // edge lengths [mm], > 0 (thin sides padded)
   double scale = 1;            // largest |coordinate| of the container, for relative margins
+  double radius = 0;           // [ours] every vertex lies within radius of the container's centre
+  Vec3 centre() const { return origin + 0.5 * size; }
 };
 
 Container make_container(const std::vector<Vec3>& vertices);
@@ -42,6 +44,12 @@ Pose relative_pose(const Pose& pose_a, const Pose& pose_b);
 // a_from_b itself is within ε_r, which `grow` includes). The world minimax boxes are loose for
 // rotated bodies; this is not.
 bool containers_separated(const Container& a, const Container& b, const Pose& a_from_b, double grow);
+
+// Step 2, sphere test [ours]: the spheres about two container centres (world) holding each
+// body's vertices are farther apart than `grow` (with a bound on the rounding of the test).
+// Tighter than the boxes at their corners (a ring's box corners are empty), looser elsewhere:
+// a cheap extra rejection between the minimax boxes and the oriented boxes.
+bool spheres_separated(const Vec3& centre_a, double radius_a, const Vec3& centre_b, double radius_b, double grow);
 
 // Largest positive separation along an axis (0 when the boxes overlap): a lower bound on
 // the distance between anything inside a and anything inside b.
