@@ -182,10 +182,20 @@ Box VoxelGrid::voxel_box(int i, int j, int k) const {
 int auto_halvings(const Polyhedron& mesh) {
   const std::size_t f = mesh.triangles.size();
   if (f < 2) return 3;
-  // About four voxels per face: the halvings tree skips empty and far voxels in O(log), so
-  // finer cells than the flat scan could afford only cut the face pairs of each voxel pair
-  // (bench/bench_m_sweep.cpp, docs/collision.md §7).
-  const int m = static_cast<int>(std::lround(std::log2(static_cast<double>(f)))) + 2;
+  int m = static_cast<int>(std::lround(std::log2(static_cast<double>(f))));
+  // Size: cells no smaller than the mean face size sqrt(2 area) (volume / size^3 cells at
+  // most). Not the longest edge: a cylinder's long slivers still part well across.
+  double edge = 0;
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    edge += std::sqrt((b - a).cross(c - a).norm());
+  }
+  edge /= static_cast<double>(f);
+  const Container c = make_container(mesh.vertices);
+  if (edge > 0) {
+    const double cells = c.size.prod() / (edge * edge * edge);
+    if (cells >= 1) m = std::min(m, static_cast<int>(std::floor(std::log2(cells))) + 1);
+  }
   return std::clamp(m, 3, 18);
 }
 

@@ -283,10 +283,9 @@ TEST_CASE("halvings: explicit M kept, kAutoHalvings resolved by the cost model",
   CHECK(e.body_halvings(a) >= 3);
   CHECK(e.body_halvings(b) <= 18);
   CHECK(e.body_halvings(a) < e.body_halvings(b));  // more faces, finer grid
-  // About four voxels per face: 2^(round(log2 F) + 2) cells, within [3, 18].
-  CHECK(auto_halvings(large) == 13);
-  CHECK(auto_halvings(make_box(Vec3(10, 10, 10))) == 6);  // 12 faces
-  CHECK(auto_halvings(Polyhedron{}) == 3);
+  // About one face per voxel (2^round(log2 F) cells), but no cell much smaller than a face.
+  CHECK(auto_halvings(large) == 11);
+  CHECK(auto_halvings(make_box(Vec3(10, 10, 10))) == 3);
 }
 
 TEST_CASE("voxel grids are built lazily, only for bodies of an enabled pair that reach step 3", "[engine]") {
