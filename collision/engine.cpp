@@ -1,6 +1,6 @@
 // The four steps wired together. Per body: preprocessing (container, voxel grid, shells)
-// done lazily for bodies in an enabled pair; per pose: world box and world vertices cached
-// by pose version, so a static body computes them once. Buffers are members and reused, so
+// done lazily for bodies in an enabled pair; per pose: sphere centre, world box and world
+// vertices cached by pose version, so a static body computes them once. Buffers are members and reused, so
 // after the first checks no query allocates.
 #include "collision/engine.hpp"
 
@@ -41,9 +41,9 @@ struct Body {
   std::vector<std::uint64_t> face_version;  //   face_version[f] == version (step 4 cache)
   int halvings = 9;                 // M in use (resolved from def.halvings, kAutoHalvings = cost model)
   Box box;                          // world minimax box, valid when box_version == version
-  std::uint64_t sphere_version = 0; // world centre of the vertex sphere, valid when sphere_version == version
-  Vec3 sphere_centre = Vec3::Zero();
   std::uint64_t box_version = 0;
+  Vec3 sphere_centre = Vec3::Zero();// world centre of the vertex sphere, valid when
+  std::uint64_t sphere_version = 0; //   sphere_version == version
 };
 
 TriangleVerts triangle_at(const std::vector<Vec3>& v, const Triangle& t) { return {v[t[0]], v[t[1]], v[t[2]]}; }
