@@ -1,7 +1,7 @@
 // The four steps wired together. Per body: preprocessing (container, voxel grid, shells)
 // done lazily for bodies in an enabled pair; per pose: sphere centre, world box and world
-// vertices cached by pose version, so a static body computes them once. Buffers are members and reused, so
-// after the first checks no query allocates.
+// vertices cached by pose version, so a static body computes them once. Buffers are members
+// and reused, so after the first checks no query allocates.
 #include "collision/engine.hpp"
 
 #include "collision/containment.hpp"
