@@ -1,4 +1,4 @@
-// The thesis' M = 9 claim (four-step.md §3, §8): M = 3..12 halvings over pairs of bodies of
+// The thesis' M = 9 claim (four-step.md §3, §8): M = 3..14 halvings over pairs of bodies of
 // 50 to 1,400 faces (the thesis' range), plus larger bodies (5,000 - 50,000 faces, M up to 18)
 // for the per-body cost model. Per (faces, M): us per query (median, mean over fixed-seed
 // random poses; best of three runs), preprocessing time and memory of one grid. Writes bench/results/m_sweep.json
@@ -40,9 +40,12 @@ double thread_cpu_us() {
   return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
 }
 
+// Everything a body's step 3 keeps: face lists both ways, per-incidence face parts, content
+// boxes, the summed-volume table, voxel classes and the halvings tree.
 std::size_t grid_bytes(const VoxelGrid& g) {
-  return sizeof(std::uint32_t) * (g.offsets.size() + g.faces.size() + g.face_offsets.size() + g.face_voxels.size()) +
-         g.classes.size();
+  return sizeof(std::uint32_t) * (g.offsets.size() + g.faces.size() + g.face_offsets.size() + g.face_voxels.size() +
+                                  g.occupied.size()) +
+         sizeof(Box) * (g.face_parts.size() + g.content.size()) + sizeof(TreeNode) * g.tree.size() + g.classes.size();
 }
 
 Cell measure_once(const Polyhedron& mesh, int m, const std::vector<Pose>& poses) {
@@ -103,9 +106,9 @@ int main(int argc, char** argv) {
     int faces, m_lo, m_hi;
     std::size_t poses;
   };
-  const std::vector<Range> ranges = {{50, 3, 12, 4000},    {100, 3, 12, 4000},   {200, 3, 12, 4000},
-                                     {400, 3, 12, 4000},   {800, 3, 12, 4000},   {1400, 3, 12, 4000},
-                                     {5000, 6, 16, 1000},  {20000, 8, 18, 400},  {50000, 9, 18, 300}};
+  const std::vector<Range> ranges = {{50, 3, 14, 4000},    {100, 3, 14, 4000},   {200, 3, 14, 4000},
+                                     {400, 3, 14, 4000},   {800, 3, 14, 4000},   {1400, 3, 15, 4000},
+                                     {5000, 6, 17, 1000},  {20000, 8, 18, 400},  {50000, 9, 18, 300}};
   nlohmann::json rows = nlohmann::json::array();
   std::printf("%7s %3s %10s %10s %9s %10s %6s\n", "faces", "M", "median us", "mean us", "prep ms", "grid KiB", "coll");
   for (const Range& r : ranges) {

@@ -1,16 +1,15 @@
 // The four steps wired together. Per body: preprocessing (container, voxel grid, shells)
-// done lazily for bodies in an enabled pair; per pose: world box and world vertices cached
-// by pose version, so a static body computes them once. Buffers are members and reused, so
-// after the first checks no query allocates.
+// done lazily for bodies in an enabled pair; per pose: sphere centre, world box and world
+// vertices cached by pose version, so a static body computes them once. Buffers are members
+// and reused, so after the first checks no query allocates.
 #include "collision/engine.hpp"
 
 #include "collision/containment.hpp"
 #include "collision/face_distance.hpp"
-#include "collision/face_pairs.hpp"
 #include "collision/face_test.hpp"
-#include "collision/interference.hpp"
 #include "collision/minimax.hpp"
 #include "collision/participation.hpp"
+#include "collision/tree_descent.hpp"
 #include "collision/voxel_grid.hpp"
 
 #include <algorithm>
@@ -43,6 +42,8 @@ struct Body {
   int halvings = 9;                 // M in use (resolved from def.halvings, kAutoHalvings = cost model)
   Box box;                          // world minimax box, valid when box_version == version
   std::uint64_t box_version = 0;
+  Vec3 sphere_centre = Vec3::Zero();// world centre of the vertex sphere, valid when
+  std::uint64_t sphere_version = 0; //   sphere_version == version
 };
 
 TriangleVerts triangle_at(const std::vector<Vec3>& v, const Triangle& t) { return {v[t[0]], v[t[1]], v[t[2]]}; }
@@ -57,10 +58,9 @@ bool world_point_inside(const Vec3& w, const std::vector<Vec3>& world, const Pol
 struct Engine::Impl {
   std::vector<Body> bodies;
   Participation participation;
+  std::vector<std::uint32_t> pair_count;  // enabled pairs per body (step 2 test order)
   double clearance = 0;
-  std::vector<std::uint32_t> a_faces;    // A faces met by the current B voxel, reused
-  std::vector<std::uint32_t> mark;       // per A face: stamp of the last B voxel that listed it
-  std::uint32_t stamp = 0;
+  std::vector<std::uint32_t> a_faces;  // A faces of the current voxel pair, reused (no allocation per pose)
 
   static bool never_tested(const Body& a, const Body& b) {
     return (a.def.group >= 0 && a.def.group == b.def.group) || (a.def.is_static && b.def.is_static);
@@ -72,6 +72,13 @@ struct Engine::Impl {
       b.box_version = b.version;
     }
     return b.box;
+  }
+  const Vec3& world_sphere_centre(Body& b) {
+    if (b.sphere_version != b.version) {
+      b.sphere_centre = b.pose * b.container.centre();
+      b.sphere_version = b.version;
+    }
+    return b.sphere_centre;
   }
   const std::vector<Vec3>& world(Body& b) {
     if (b.world_version != b.version) {
@@ -110,10 +117,11 @@ struct Engine::Impl {
     return xlo.x() > yhi.x() + pad || ylo.x() > xhi.x() + pad || xlo.y() > yhi.y() + pad ||
            ylo.y() > xhi.y() + pad || xlo.z() > yhi.z() + pad || ylo.z() > xhi.z() + pad;
   }
-  void next_stamp() {
-    if (++stamp == 0) {  // wrapped: forget every old stamp
-      std::fill(mark.begin(), mark.end(), 0);
-      stamp = 1;
+  void count_pairs() {
+    pair_count.assign(bodies.size(), 0);
+    for (const BodyPair& p : participation.pairs()) {
+      ++pair_count[p.a];
+      ++pair_count[p.b];
     }
   }
   static void preprocess(Body& b) {
@@ -124,10 +132,10 @@ struct Engine::Impl {
     b.shells = shell_vertices(b.def.mesh);
   }
 
-  // Is world point w (a vertex of the other body) inside body x? Voxel classes decide when
-  // every voxel within the margin agrees; otherwise the exact test in world coordinates.
-  bool inside(Body& x, const Vec3& w, double margin) {
-    const Vec3 p = x.pose.inverse(Eigen::Isometry) * w;
+  // Is vertex v of body `in` inside body x? p is the vertex in x's frame (mapped by the pair's
+  // relative pose; its rounding is within ε_r). Voxel classes decide when every voxel within
+  // the margin agrees; otherwise the exact test in world coordinates.
+  bool inside(Body& x, const Vec3& p, Body& in, std::uint32_t v, double margin) {
     const CellRange r = cell_range(*x.grid, Box{p.array() - margin, p.array() + margin});
     if (r.empty()) return false;  // outside the container
     bool all_in = true, all_out = true;
@@ -140,18 +148,20 @@ struct Engine::Impl {
         }
     if (all_in) return true;
     if (all_out) return false;
-    return world_point_inside(w, world(x), x.def.mesh);
+    return world_point_inside(world_vertex(in, v), world(x), x.def.mesh);
   }
 
-  bool contained(BodyId ia, BodyId ib, double margin, Contact& c) {
-    for (const auto& [outer, inner] : {std::pair{ia, ib}, std::pair{ib, ia}}) {
-      Body& o = bodies[outer];
-      Body& in = bodies[inner];
+  bool contained(BodyId ia, BodyId ib, const Pose& a_from_b, double margin, Contact& c) {
+    for (const bool a_outer : {true, false}) {
+      Body& o = bodies[a_outer ? ia : ib];
+      Body& in = bodies[a_outer ? ib : ia];
       if (!o.closed) continue;
       for (const std::uint32_t v : in.shells) {
-        const Vec3 w = world_vertex(in, v);
-        if (inside(o, w, margin)) {
-          c = Contact{.kind = ContactKind::containment, .body_a = ia, .body_b = ib, .point = w};
+        const Vec3& local = in.def.mesh.vertices[v];
+        const Vec3 p = a_outer ? Vec3(a_from_b * local)
+                               : Vec3(a_from_b.linear().transpose() * (local - a_from_b.translation()));
+        if (inside(o, p, in, v, margin)) {
+          c = Contact{.kind = ContactKind::containment, .body_a = ia, .body_b = ib, .point = world_vertex(in, v)};
           return true;
         }
       }
@@ -159,69 +169,39 @@ struct Engine::Impl {
     return false;
   }
 
-  // One non-empty voxel (i, j, k) of B's sub-matrix: the A faces of the non-empty A voxels it
-  // meets (unique, by stamp), filtered by the box of its own faces, then each of its faces
-  // against them. True at the first contact (res filled).
-  bool visit_b_voxel(BodyId ia, BodyId ib, const VoxelMapping& vm, int i, int j, int k, double pad, bool& any_pair,
-                     QueryResult& res) {
+  // A voxel pair [ours]: a contact point of faces fa, fb lies in a voxel of A listing fa and
+  // one of B listing fb, and that voxel pair is visited too; so here only the part of each face
+  // inside its voxel matters. Faces whose part (local box) misses the other voxel's box mapped
+  // into their frame are dropped before any world vertex is computed; then each kept B face
+  // against each kept A face (exact bounding-box rejection, then the exact test). True at the
+  // first contact (res filled).
+  bool visit_voxel_pair(BodyId ia, BodyId ib, std::uint32_t va, std::uint32_t vb, const NodePair& p, double grow,
+                        double pad, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
     const VoxelGrid& ga = *a.grid;
     const VoxelGrid& gb = *b.grid;
-    const std::size_t vb = gb.index(i, j, k);
-    if (gb.voxel_empty(vb)) return false;
-    (void)i, (void)j, (void)k;
-    // B's voxel content (its faces' part of the voxel) mapped into A's frame: the A voxels
-    // whose content meets it are the voxel pairs (tighter than whole voxels, same guarantee:
-    // a contact point lies in both contents).
-    const Box mb = vm.mapped_content(gb, vb);
-    const Box& cb = gb.content[vb];
-    const CellRange ra = intersect(cell_range(ga, mb), vm.sub.a);
-    if (ra.empty() || ga.count_nonempty(ra) == 0) return false;
-    next_stamp();
+    if (res.counts.voxel_pairs++ == 0) ++res.counts.pairs_after_voxels;
+    // The float centre, reach and grow of the descent: conservative (tree_descent.hpp).
+    auto misses = [grow](const Box& part, const float* centre, const float* reach) {
+      for (int k = 0; k < 3; ++k) {
+        const double c = centre[k], r = static_cast<double>(reach[k]) + grow;
+        if (part.lo[k] > c + r || part.hi[k] < c - r) return true;
+      }
+      return false;
+    };
     a_faces.clear();
-    for (int kk = ra.lo[2]; kk <= ra.hi[2]; ++kk)
-      for (int jj = ra.lo[1]; jj <= ra.hi[1]; ++jj)
-        for (int ii = ra.lo[0]; ii <= ra.hi[0]; ++ii) {
-          const std::size_t va = ga.index(ii, jj, kk);
-          if (ga.voxel_empty(va)) continue;
-          const Box& ca = ga.content[va];
-          if (ca.lo.x() > mb.hi.x() || mb.lo.x() > ca.hi.x() || ca.lo.y() > mb.hi.y() || mb.lo.y() > ca.hi.y() ||
-              ca.lo.z() > mb.hi.z() || mb.lo.z() > ca.hi.z())
-            continue;
-          // And the reverse: A's content mapped into B's frame against B's (the other three
-          // face axes of the two oriented boxes).
-          const Box ab = vm.mapped_to_b(ca);
-          if (cb.lo.x() > ab.hi.x() || ab.lo.x() > cb.hi.x() || cb.lo.y() > ab.hi.y() || ab.lo.y() > cb.hi.y() ||
-              cb.lo.z() > ab.hi.z() || ab.lo.z() > cb.hi.z())
-            continue;
-          ++res.counts.voxel_pairs;
-          for (const std::uint32_t fa : ga.faces_in(va))
-            if (mark[fa] != stamp) {
-              mark[fa] = stamp;
-              a_faces.push_back(fa);
-            }
-        }
+    const auto fas = ga.faces_in(va);
+    const auto pas = ga.face_parts_in(va);
+    for (std::size_t n = 0; n < fas.size(); ++n)
+      if (!misses(pas[n], p.y_centre_a, p.y_reach_a)) a_faces.push_back(fas[n]);
     if (a_faces.empty()) return false;
-    if (!any_pair) {
-      any_pair = true;
-      ++res.counts.pairs_after_voxels;
-    }
-    res.counts.face_pairs += a_faces.size() * gb.faces_in(vb).size();
-    // Keep the A faces whose world box meets the box of the B voxel's faces.
-    Vec3 blo = Vec3::Constant(INFINITY), bhi = Vec3::Constant(-INFINITY);
-    for (const std::uint32_t fb : gb.faces_in(vb)) {
-      const WorldFace& wb = world_face(b, fb);
-      blo = blo.cwiseMin(wb.lo);
-      bhi = bhi.cwiseMax(wb.hi);
-    }
-    std::size_t kept = 0;
-    for (const std::uint32_t fa : a_faces) {
-      const WorldFace& wa = world_face(a, fa);
-      if (!boxes_disjoint(wa.lo, wa.hi, blo, bhi, pad)) a_faces[kept++] = fa;
-    }
-    a_faces.resize(kept);
-    for (const std::uint32_t fb : gb.faces_in(vb)) {
+    const auto fbs = gb.faces_in(vb);
+    const auto pbs = gb.face_parts_in(vb);
+    for (std::size_t n = 0; n < fbs.size(); ++n) {
+      if (misses(pbs[n], p.x_centre_b, p.x_reach_b)) continue;
+      const std::uint32_t fb = fbs[n];
+      res.counts.face_pairs += a_faces.size();
       const WorldFace& wb = world_face(b, fb);
       for (const std::uint32_t fa : a_faces) {
         const WorldFace& wa = world_face(a, fa);
@@ -245,75 +225,39 @@ struct Engine::Impl {
     return false;
   }
 
-  // Block (bi, bj, bk) of level `level` (sides 16, then 4; aligned to the grid), clipped to
-  // B's sub-matrix: skipped when it holds no non-empty voxel there or when its content box,
-  // mapped into A's frame, meets no non-empty A voxel; else its sub-blocks or voxels.
-  bool visit_block(BodyId ia, BodyId ib, const VoxelMapping& vm, int level, int bi, int bj, int bk, double pad,
-                   bool& any_pair, QueryResult& res) {
-    const VoxelGrid& ga = *bodies[ia].grid;
-    const VoxelGrid& gb = *bodies[ib].grid;
-    const CellRange& sb = vm.sub.b;
-    const int side = VoxelGrid::kBlockSides[static_cast<std::size_t>(level)];
-    const std::array<int, 3> b{bi, bj, bk};
-    CellRange block;
-    for (std::size_t x = 0; x < 3; ++x) {
-      block.lo[x] = std::max(b[x] * side, sb.lo[x]);
-      block.hi[x] = std::min(b[x] * side + side - 1, sb.hi[x]);
-    }
-    if (block.empty() || gb.count_nonempty(block) == 0) return false;
-    const Box& bc = gb.block_content[static_cast<std::size_t>(level)][gb.block_index(level, bi, bj, bk)];
-    if (ga.count_nonempty(intersect(cell_range(ga, vm.mapped(bc)), vm.sub.a)) == 0) return false;
-    if (level == 0) {
-      for (int k = block.lo[2]; k <= block.hi[2]; ++k)
-        for (int j = block.lo[1]; j <= block.hi[1]; ++j)
-          for (int i = block.lo[0]; i <= block.hi[0]; ++i)
-            if (visit_b_voxel(ia, ib, vm, i, j, k, pad, any_pair, res)) return true;
-      return false;
-    }
-    const int child = VoxelGrid::kBlockSides[static_cast<std::size_t>(level - 1)];
-    for (int k = block.lo[2] / child; k <= block.hi[2] / child; ++k)
-      for (int j = block.lo[1] / child; j <= block.hi[1] / child; ++j)
-        for (int i = block.lo[0] / child; i <= block.hi[0] / child; ++i)
-          if (visit_block(ia, ib, vm, level - 1, i, j, k, pad, any_pair, res)) return true;
-    return false;
-  }
-
   bool test_pair(BodyId ia, BodyId ib, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
-    // Step 2: world minimax boxes.
+    // Step 2: [ours] the vertex spheres first (the cheapest), the world minimax boxes (the
+    // thesis), then [ours] the oriented containers.
     const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
     const double grow = clearance + margin;
-    if (separated(world_box(a), world_box(b), grow)) return false;
-    if (containers_separated(a.container, a.pose, b.container, b.pose, grow)) return false;
+    if (spheres_separated(world_sphere_centre(a), a.container.radius, world_sphere_centre(b), b.container.radius, grow))
+      return false;
+    // A body's world box is computed once per pose and shared by all its pairs (the thesis'
+    // reason for it). When this pair would compute one for itself alone (a moving body in no
+    // other enabled pair), the oriented boxes go first: they reject most of what the world
+    // boxes would, and the world boxes still follow.
+    const bool box_alone = (a.box_version != a.version && pair_count[ia] <= 1) ||
+                           (b.box_version != b.version && pair_count[ib] <= 1);
+    if (!box_alone && separated(world_box(a), world_box(b), grow)) return false;
+    const Pose a_from_b = relative_pose(a.pose, b.pose);
+    if (containers_separated(a.container, b.container, a_from_b, grow)) return false;
+    if (box_alone && separated(world_box(a), world_box(b), grow)) return false;
     ++res.counts.pairs_after_minimax;
 
-    // Steps 3 and 4, streamed: for each non-empty voxel of B's sub-matrix (index order), the
-    // A faces of the non-empty A voxels it overlaps (unique per B voxel, by stamp), then each
-    // face of the B voxel against them; the first hit ends the query. A face pair shared by
-    // several voxel pairs may be tested again (same answer); de-duplicating every pair before
-    // the first test made a colliding query wait for the whole buffer.
     preprocess(a);
     preprocess(b);
-    const VoxelGrid& ga = *a.grid;
-    const VoxelGrid& gb = *b.grid;
-    const VoxelMapping vm = map_voxels(ga, a.pose, gb, b.pose, grow);
     const double pad = clearance > 0 ? 2 * clearance + margin : 0.0;
-    if (!vm.empty()) {
-      bool any_pair = false;
-      if (mark.size() < ga.face_count) mark.resize(ga.face_count, 0);
-      // Aligned blocks of 16^3, then 4^3 B voxels first: a block with no non-empty voxel, or
-      // whose content box mapped into A's frame meets no non-empty A voxel, is skipped whole
-      // (summed-volume counts, O(1) each).
-      const CellRange& sb = vm.sub.b;
-      constexpr int top = VoxelGrid::kBlockSides[1];
-      for (int k = sb.lo[2] / top; k <= sb.hi[2] / top; ++k)
-        for (int j = sb.lo[1] / top; j <= sb.hi[1] / top; ++j)
-          for (int i = sb.lo[0] / top; i <= sb.hi[0] / top; ++i)
-            if (visit_block(ia, ib, vm, 1, i, j, k, pad, any_pair, res)) return true;
-    }
+    // Steps 3 and 4, streamed: every voxel pair the descent finds goes to the face tests at
+    // once; the first hit ends the query.
+    const NodeTest nt(a_from_b, grow, a.container.scale, b.container.scale);
+    if (descend(*a.grid, *b.grid, nt, [&](std::uint32_t va, std::uint32_t vb, const NodePair& p) {
+          return visit_voxel_pair(ia, ib, va, vb, p, nt.grow, pad, res);
+        }))
+      return true;
     // §6.1: no faces meet, but one body may lie inside the other.
-    if (contained(ia, ib, margin, res.contact)) {
+    if (contained(ia, ib, a_from_b, margin, res.contact)) {
       res.collided = true;
       return true;
     }
@@ -345,6 +289,7 @@ BodyId Engine::add_body(BodyDef def) {
   impl_->participation.resize(impl_->bodies.size());
   for (BodyId other = 0; other < id; ++other)
     if (!Impl::never_tested(impl_->bodies[other], impl_->bodies[id])) impl_->participation.set(other, id, true);
+  impl_->count_pairs();
   return id;
 }
 
@@ -360,6 +305,7 @@ void Engine::set_pair_enabled(BodyId a, BodyId b, bool enabled) {
   // Pairs inside one rigid group and static-static pairs are never tested (four-step.md §1).
   if (enabled && Impl::never_tested(impl_->bodies[a], impl_->bodies[b])) return;
   impl_->participation.set(a, b, enabled);
+  impl_->count_pairs();
 }
 bool Engine::pair_enabled(BodyId a, BodyId b) const { return impl_->participation.enabled(a, b); }
 bool Engine::has_enabled_pairs() const { return !impl_->participation.pairs().empty(); }

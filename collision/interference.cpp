@@ -26,32 +26,12 @@ VoxelMapping map_voxels(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid
   m.hi_off = m.dx.cwiseMax(0.0) + m.dy.cwiseMax(0.0) + m.dz.cwiseMax(0.0) + Vec3::Constant(grow);
   m.base = a_from_b * gb.container.origin;
   m.grow = grow;
-  m.r = r;
-  m.t = a_from_b.translation();
   return m;
 }
 
 CellRange VoxelMapping::a_cells(const VoxelGrid& ga, int i, int j, int k) const {
   const Vec3 corner = base + static_cast<double>(i) * dx + static_cast<double>(j) * dy + static_cast<double>(k) * dz;
   return intersect(cell_range(ga, Box{corner + lo_off, corner + hi_off}), sub.a);
-}
-
-Box VoxelMapping::mapped(const Box& c) const { return basic_axes_box(r * c.lo + t, r, c.hi - c.lo, grow); }
-
-Box VoxelMapping::mapped_to_b(const Box& c) const {
-  const Mat3 rt = r.transpose();
-  return basic_axes_box(rt * (c.lo - t), rt, c.hi - c.lo, grow);
-}
-
-CellRange VoxelMapping::a_cells_of_block(const VoxelGrid& ga, const CellRange& block) const {
-  const Vec3 corner = base + static_cast<double>(block.lo[0]) * dx + static_cast<double>(block.lo[1]) * dy +
-                      static_cast<double>(block.lo[2]) * dz;
-  const Vec3 ex = static_cast<double>(block.hi[0] - block.lo[0] + 1) * dx;
-  const Vec3 ey = static_cast<double>(block.hi[1] - block.lo[1] + 1) * dy;
-  const Vec3 ez = static_cast<double>(block.hi[2] - block.lo[2] + 1) * dz;
-  const Vec3 lo = corner + ex.cwiseMin(0.0) + ey.cwiseMin(0.0) + ez.cwiseMin(0.0) - Vec3::Constant(2 * grow);
-  const Vec3 hi = corner + ex.cwiseMax(0.0) + ey.cwiseMax(0.0) + ez.cwiseMax(0.0) + Vec3::Constant(2 * grow);
-  return intersect(cell_range(ga, Box{lo, hi}), sub.a);
 }
 
 void collect_voxel_pairs(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb, const Pose& pose_b,

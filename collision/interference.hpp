@@ -30,18 +30,7 @@ struct VoxelMapping {
   bool empty() const { return sub.a.empty() || sub.b.empty(); }
   // A voxels (within A's sub-matrix) that B's voxel (i, j, k), mapped and grown, overlaps.
   CellRange a_cells(const VoxelGrid& ga, int i, int j, int k) const;
-  // The same for a block of B voxels, with the box grown by twice `grow` (covers the rounding
-  // of every voxel box of the block, whose corners are computed differently).
-  CellRange a_cells_of_block(const VoxelGrid& ga, const CellRange& block) const;
   double grow = 0;
-  Mat3 r = Mat3::Identity();  // B's frame to A's: rotation and translation
-  Vec3 t = Vec3::Zero();
-  // Minimax box in A's frame of B voxel v's content box, grown by `grow`.
-  Box mapped_content(const VoxelGrid& gb, std::size_t v) const { return mapped(gb.content[v]); }
-  // Minimax box in A's frame of a box in B's frame, grown by `grow`.
-  Box mapped(const Box& local) const;
-  // The reverse: minimax box in B's frame of a box in A's frame, grown by `grow`.
-  Box mapped_to_b(const Box& a_local) const;
 };
 VoxelMapping map_voxels(const VoxelGrid& ga, const Pose& pose_a, const VoxelGrid& gb, const Pose& pose_b,
                         double grow);

@@ -30,6 +30,11 @@ Container make_container(const std::vector<Vec3>& vertices) {
     c.size[k] = s;
   }
   c.scale = std::max(lo.cwiseAbs().maxCoeff(), (lo + c.size).cwiseAbs().maxCoeff());
+  const Vec3 centre = c.centre();
+  double r2 = 0;
+  for (const Vec3& v : vertices) r2 = std::max(r2, (v - centre).squaredNorm());
+  // Rounded up past the rounding of the squared norms (a few ulps), with room.
+  c.radius = std::sqrt(r2) * (1 + 64 * DBL_EPSILON);
   return c;
 }
 
@@ -57,32 +62,73 @@ bool separated(const Box& a, const Box& b, double margin) {
   return false;
 }
 
-bool containers_separated(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b, double grow) {
-  const Vec3 ha = 0.5 * a.size, hb = 0.5 * b.size;
-  const Vec3 ca = pose_a * (a.origin + ha), cb = pose_b * (b.origin + hb);
-  const Mat3 ra = pose_a.linear(), rb = pose_b.linear();
-  const Mat3 r = ra.transpose() * rb;  // B's axes in A's frame
-  const Vec3 t = ra.transpose() * (cb - ca);
-  Mat3 ar = r.cwiseAbs();
-  // Rounding slack: a few ulps of every magnitude in play (centres, half sizes), with room.
-  const double mag = ca.cwiseAbs().maxCoeff() + cb.cwiseAbs().maxCoeff() + ha.maxCoeff() + hb.maxCoeff();
-  const double slack = grow + 256 * DBL_EPSILON * mag;
-  ar.array() += 256 * DBL_EPSILON;
-  for (int i = 0; i < 3; ++i)  // A's axes
-    if (std::fabs(t[i]) > ha[i] + ar.row(i).dot(hb) + slack) return true;
-  for (int j = 0; j < 3; ++j)  // B's axes
-    if (std::fabs(r.col(j).dot(t)) > ar.col(j).dot(ha) + hb[j] + slack) return true;
-  for (int i = 0; i < 3; ++i)  // A_i x B_j
+Pose relative_pose(const Pose& pose_a, const Pose& pose_b) {
+  // Written out: Eigen's inverse-then-product went through a 4x4 temporary (a fifth of a
+  // step-3 query's fixed cost in the FCL benchmark).
+  const Mat3& ra = pose_a.linear();
+  const Mat3& rb = pose_b.linear();
+  const Vec3 d = pose_b.translation() - pose_a.translation();
+  Pose p;
+  p.makeAffine();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) p.linear()(i, j) = ra(0, i) * rb(0, j) + ra(1, i) * rb(1, j) + ra(2, i) * rb(2, j);
+    p.translation()[i] = ra(0, i) * d[0] + ra(1, i) * d[1] + ra(2, i) * d[2];
+  }
+  return p;
+}
+
+bool containers_separated(const Container& a, const Container& b, const Pose& a_from_b, double grow) {
+  // Scalar, branch-free within the six face axes and within the nine edge axes (the early
+  // exits per axis mispredicted on random poses and cost more than the arithmetic).
+  double r[3][3], ar[3][3], ha[3], hb[3], cb[3], t[3];
+  for (int i = 0; i < 3; ++i) {
+    ha[i] = 0.5 * a.size[i];
+    hb[i] = 0.5 * b.size[i];
+  }
+  double mag_a = 0, mag_b = 0, mag_h = 0;
+  for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      const double d = std::fabs(t[i2] * r(i1, j) - t[i1] * r(i2, j));
-      const double ra_ = ha[i1] * ar(i2, j) + ha[i2] * ar(i1, j);
-      const double rb_ = hb[j1] * ar(i, j2) + hb[j2] * ar(i, j1);
+      r[i][j] = a_from_b.linear()(i, j);  // B's axes in A's frame
+      ar[i][j] = std::fabs(r[i][j]) + 256 * DBL_EPSILON;
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    cb[i] = a_from_b.translation()[i];
+    for (int j = 0; j < 3; ++j) cb[i] += r[i][j] * (b.origin[j] + hb[j]);
+    const double ca = a.origin[i] + ha[i];
+    t[i] = cb[i] - ca;
+    mag_a = std::max(mag_a, std::fabs(ca));
+    mag_b = std::max(mag_b, std::fabs(cb[i]));
+    mag_h = std::max({mag_h, ha[i], hb[i]});
+  }
+  // Rounding slack: a few ulps of every magnitude in play (centres, half sizes), with room.
+  const double slack = grow + 256 * DBL_EPSILON * (mag_a + mag_b + 2 * mag_h);
+  bool apart = false;
+  for (int i = 0; i < 3; ++i)  // A's axes
+    apart |= std::fabs(t[i]) > ha[i] + ar[i][0] * hb[0] + ar[i][1] * hb[1] + ar[i][2] * hb[2] + slack;
+  for (int j = 0; j < 3; ++j)  // B's axes
+    apart |= std::fabs(r[0][j] * t[0] + r[1][j] * t[1] + r[2][j] * t[2]) >
+             ar[0][j] * ha[0] + ar[1][j] * ha[1] + ar[2][j] * ha[2] + hb[j] + slack;
+  if (apart) return true;
+  for (int i = 0; i < 3; ++i) {  // A_i x B_j
+    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    for (int j = 0; j < 3; ++j) {
+      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const double d = std::fabs(t[i2] * r[i1][j] - t[i1] * r[i2][j]);
+      const double ra = ha[i1] * ar[i2][j] + ha[i2] * ar[i1][j];
+      const double rb = hb[j1] * ar[i][j2] + hb[j2] * ar[i][j1];
       // The axis has length sin(angle) <= 1: compare unnormalised, slack scaled the same way
       // (for a near-zero axis both sides vanish and the test cannot separate).
-      if (d > ra_ + rb_ + slack) return true;
+      apart |= d > ra + rb + slack;
     }
-  return false;
+  }
+  return apart;
+}
+
+bool spheres_separated(const Vec3& centre_a, double radius_a, const Vec3& centre_b, double radius_b, double grow) {
+  const double reach = radius_a + radius_b + grow;
+  // The squared distance and the squared reach carry a few ulps each: 16 ulps of room.
+  return (centre_a - centre_b).squaredNorm() > reach * reach * (1 + 16 * DBL_EPSILON);
 }
 
 double box_gap(const Box& a, const Box& b) {

@@ -64,6 +64,114 @@ void classify_voxels(VoxelGrid& g, const Polyhedron& mesh) {
       }
 }
 
+// The axis each of the M halvings doubles, in order (halve_cells' choices).
+std::vector<int> halving_axes(const Vec3& size, int halvings) {
+  std::vector<int> axes;
+  std::array<int, 3> n{1, 1, 1};
+  for (int m = 0; m < halvings; ++m) {
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (size[k] / n[k] > size[axis] / n[axis]) axis = k;
+    n[static_cast<std::size_t>(axis)] *= 2;
+    axes.push_back(axis);
+  }
+  return axes;
+}
+
+// The binary halvings tree as built.
+struct BinaryNode {
+  Box box;
+  std::uint32_t second = 0;  // index of the second child (the first is next); 0 for a leaf
+  std::uint32_t voxel = 0;   // leaf: its voxel index
+  bool leaf() const { return second == 0; }
+};
+
+// Appends the subtree of the cell `r` (after `depth` halvings) in preorder and returns its
+// box; nothing when the cell holds no non-empty voxel. A cell with one non-empty half is
+// replaced by that half's subtree (same box), so every inner node has two children.
+bool add_subtree(const VoxelGrid& g, const std::vector<int>& axes, const CellRange& r, std::size_t depth,
+                 std::vector<BinaryNode>& tree, Box& box) {
+  if (g.count_nonempty(r) == 0) return false;
+  if (depth == axes.size()) {
+    const std::size_t v = g.index(r.lo[0], r.lo[1], r.lo[2]);
+    box = g.content[v];
+    tree.push_back({.box = box, .second = 0, .voxel = static_cast<std::uint32_t>(v)});
+    return true;
+  }
+  const auto axis = static_cast<std::size_t>(axes[depth]);
+  CellRange lo = r, hi = r;
+  lo.hi[axis] = (r.lo[axis] + r.hi[axis]) / 2;
+  hi.lo[axis] = lo.hi[axis] + 1;
+  const bool lo_full = g.count_nonempty(lo) != 0, hi_full = g.count_nonempty(hi) != 0;
+  if (!lo_full || !hi_full) return add_subtree(g, axes, lo_full ? lo : hi, depth + 1, tree, box);
+  const std::size_t node = tree.size();
+  tree.emplace_back();
+  Box a, b;
+  add_subtree(g, axes, lo, depth + 1, tree, a);
+  tree[node].second = static_cast<std::uint32_t>(tree.size());
+  add_subtree(g, axes, hi, depth + 1, tree, b);
+  box = Box{a.lo.cwiseMin(b.lo), a.hi.cwiseMax(b.hi)};
+  tree[node].box = box;
+  return true;
+}
+
+// A box (the double box lo, hi) as float centre and half sides that hold it.
+void float_box(const Vec3& lo, const Vec3& hi, float* centre, float* half) {
+  for (int k = 0; k < 3; ++k) {
+    float l = static_cast<float>(lo[k]), h = static_cast<float>(hi[k]);
+    if (static_cast<double>(l) > lo[k]) l = std::nextafter(l, -INFINITY);
+    if (static_cast<double>(h) < hi[k]) h = std::nextafter(h, INFINITY);
+    centre[k] = 0.5f * (l + h);
+    half[k] = std::nextafter(std::max(centre[k] - l, h - centre[k]), INFINITY);  // covers their rounding
+  }
+}
+
+std::uint32_t leaf_ref(const BinaryNode& n) { return TreeNode::kLeaf | n.voxel; }
+
+// Node of the 4-ary tree for binary inner node i: its children, or for an inner child its two
+// children, as lanes. Returns the node's index.
+std::uint32_t add_node(VoxelGrid& g, const std::vector<BinaryNode>& bin, std::uint32_t i) {
+  const auto index = static_cast<std::uint32_t>(g.tree.size());
+  g.tree.emplace_back();
+  std::array<std::uint32_t, 4> lanes{};
+  int n = 0;
+  for (const std::uint32_t c : {i + 1, bin[i].second}) {
+    if (bin[c].leaf()) {
+      lanes[static_cast<std::size_t>(n++)] = c;
+    } else {
+      lanes[static_cast<std::size_t>(n++)] = c + 1;
+      lanes[static_cast<std::size_t>(n++)] = bin[c].second;
+    }
+  }
+  for (int s = 0; s < 4; ++s) {
+    const auto u = static_cast<std::size_t>(s);
+    float centre[3] = {0, 0, 0}, half[3] = {-1e30f, -1e30f, -1e30f};  // unused: ref kNone, masked
+    std::uint32_t ref = TreeNode::kNone;
+    if (s < n) {
+      const BinaryNode& b = bin[lanes[u]];
+      float_box(b.box.lo, b.box.hi, centre, half);
+      ref = b.leaf() ? leaf_ref(b) : add_node(g, bin, lanes[u]);
+    }
+    TreeNode& t = g.tree[index];  // add_node may have moved the vector
+    t.cx[u] = centre[0], t.cy[u] = centre[1], t.cz[u] = centre[2];
+    t.hx[u] = half[0], t.hy[u] = half[1], t.hz[u] = half[2];
+    t.child[u] = ref;
+  }
+  return index;
+}
+
+void build_tree(VoxelGrid& g, const std::vector<int>& axes) {
+  g.tree.clear();
+  g.root = VoxelGrid::kNoRoot;
+  CellRange all;
+  for (std::size_t k = 0; k < 3; ++k) all.hi[k] = g.cells[k] - 1;
+  std::vector<BinaryNode> bin;
+  Box box;
+  if (!add_subtree(g, axes, all, 0, bin, box)) return;
+  float_box(bin[0].box.lo, bin[0].box.hi, g.root_centre.data(), g.root_half.data());
+  g.root = bin[0].leaf() ? leaf_ref(bin[0]) : add_node(g, bin, 0);
+}
+
 }  // namespace
 
 Box VoxelGrid::voxel_box(int i, int j, int k) const {
@@ -105,12 +213,7 @@ std::uint32_t VoxelGrid::count_nonempty(const CellRange& r) const {
 
 std::array<int, 3> halve_cells(const Vec3& size, int halvings) {
   std::array<int, 3> n{1, 1, 1};
-  for (int m = 0; m < halvings; ++m) {
-    int axis = 0;
-    for (int k = 1; k < 3; ++k)
-      if (size[k] / n[k] > size[axis] / n[axis]) axis = k;
-    n[axis] *= 2;
-  }
+  for (const int axis : halving_axes(size, halvings)) n[static_cast<std::size_t>(axis)] *= 2;
   return n;
 }
 
@@ -156,40 +259,24 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
 
   // Content boxes: voxel (grown) cut to the union of its faces' boxes (grown).
   g.content.assign(n, Box{});
+  g.face_parts.resize(hits.size());
   for (int k = 0; k < g.cells[2]; ++k)
     for (int j = 0; j < g.cells[1]; ++j)
       for (int i = 0; i < g.cells[0]; ++i) {
         const std::size_t v = g.index(i, j, k);
         if (g.voxel_empty(v)) continue;
-        Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
-        for (const std::uint32_t f : g.faces_in(v)) {
-          const Triangle& tri = mesh.triangles[f];
-          for (const std::uint32_t x : tri) {
-            lo = lo.cwiseMin(mesh.vertices[x]);
-            hi = hi.cwiseMax(mesh.vertices[x]);
-          }
-        }
         const Box vb = grown(g.voxel_box(i, j, k), g.margin);
-        const Box fb = grown(Box{lo, hi}, g.margin);
-        g.content[v] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
-      }
-  // Block content boxes, blocks aligned at multiples of the side.
-  for (std::size_t level = 0; level < 2; ++level) {
-    const int side = VoxelGrid::kBlockSides[level];
-    auto& nb = g.block_cells[level];
-    for (int x = 0; x < 3; ++x) nb[static_cast<std::size_t>(x)] = (g.cells[static_cast<std::size_t>(x)] + side - 1) / side;
-    g.block_content[level].assign(static_cast<std::size_t>(nb[0]) * nb[1] * nb[2],
-                                  Box{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)});
-    for (int k = 0; k < g.cells[2]; ++k)
-      for (int j = 0; j < g.cells[1]; ++j)
-        for (int i = 0; i < g.cells[0]; ++i) {
-          const std::size_t v = g.index(i, j, k);
-          if (g.voxel_empty(v)) continue;
-          Box& b = g.block_content[level][g.block_index(static_cast<int>(level), i / side, j / side, k / side)];
-          b.lo = b.lo.cwiseMin(g.content[v].lo);
-          b.hi = b.hi.cwiseMax(g.content[v].hi);
+        Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+        for (std::uint32_t n = g.offsets[v]; n < g.offsets[v + 1]; ++n) {
+          const Triangle& tri = mesh.triangles[g.faces[n]];
+          const Vec3 &p = mesh.vertices[tri[0]], &q = mesh.vertices[tri[1]], &r = mesh.vertices[tri[2]];
+          const Box fb = grown(Box{p.cwiseMin(q).cwiseMin(r), p.cwiseMax(q).cwiseMax(r)}, g.margin);
+          g.face_parts[n] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
+          lo = lo.cwiseMin(g.face_parts[n].lo);
+          hi = hi.cwiseMax(g.face_parts[n].hi);
         }
-  }
+        g.content[v] = Box{lo, hi};
+      }
   // Summed-volume table of non-empty voxels.
   const std::size_t sx = static_cast<std::size_t>(g.cells[0]) + 1, sy = static_cast<std::size_t>(g.cells[1]) + 1;
   g.occupied.assign(sx * sy * (static_cast<std::size_t>(g.cells[2]) + 1), 0);
@@ -203,6 +290,7 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
                       at(i, j, k - 1) - at(i - 1, j - 1, k) - at(i - 1, j, k - 1) - at(i, j - 1, k - 1) +
                       at(i - 1, j - 1, k - 1);
 
+  build_tree(g, halving_axes(g.container.size, std::clamp(halvings, 0, kMaxHalvings)));
   if (is_closed(mesh)) classify_voxels(g, mesh);
   return g;
 }

@@ -18,6 +18,17 @@ struct CellRange {
   bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
 };
 
+// A node of the halvings tree [ours], as step 3 reads it: two levels of halvings at once, so up
+// to four children, their boxes side by side in float lanes (one SIMD test for all four). A
+// child box is the union of its voxels' content boxes (local frame), rounded outward to float.
+struct TreeNode {
+  static constexpr std::uint32_t kLeaf = 0x80000000u;  // child ref: kLeaf | voxel index, else a node index
+  static constexpr std::uint32_t kNone = 0xffffffffu;  // an unused lane
+  std::array<float, 4> cx{}, cy{}, cz{};  // children's centres
+  std::array<float, 4> hx{}, hy{}, hz{};  // children's half sides
+  std::array<std::uint32_t, 4> child{};
+};
+
 // Containment class of a voxel (four-step.md §6.1).
 enum class VoxelClass : std::uint8_t { surface, outside, inside };
 
@@ -29,20 +40,22 @@ struct VoxelGrid {
   double margin = 0;                  // growth of each voxel in the triangle-box test [mm]
   std::vector<std::uint32_t> offsets; // CSR: faces of voxel v are faces[offsets[v] .. offsets[v+1])
   std::vector<std::uint32_t> faces;   // triangle indices
+  std::vector<Box> face_parts;        // parallel to faces: the voxel (grown) cut to the face's box
+                                      //   (grown), holding every point of the face in the voxel
   std::vector<std::uint32_t> face_offsets;  // inverse CSR: voxels of face f are
   std::vector<std::uint32_t> face_voxels;   //   face_voxels[face_offsets[f] .. face_offsets[f+1])
   std::vector<VoxelClass> classes;    // per voxel; empty when the mesh is not closed
   std::vector<Box> content;           // per non-empty voxel: the voxel (grown by margin) cut to the
                                       //   union of its faces' boxes (grown): holds every face point
                                       //   inside the voxel, often much smaller than the voxel
-  static constexpr std::array<int, 2> kBlockSides{4, 16};  // block levels for step 3
-  std::array<std::array<int, 3>, 2> block_cells{};  // blocks per axis, per level
-  std::array<std::vector<Box>, 2> block_content;    // per block: union of its voxels' content
-                                                    //   boxes (lo > hi when it has none)
-  std::size_t block_index(int level, int bi, int bj, int bk) const {
-    const auto& n = block_cells[static_cast<std::size_t>(level)];
-    return static_cast<std::size_t>(bi) + static_cast<std::size_t>(n[0]) * (bj + static_cast<std::size_t>(n[1]) * bk);
-  }
+  // The halvings tree [ours]: node = a cell of some halving level holding a non-empty voxel,
+  // children = its two halves (a half with no non-empty voxel is dropped, a node with one child
+  // is replaced by it), leaves = non-empty voxels; stored two levels per TreeNode. Step 3
+  // descends both bodies' trees together, so only subtrees whose boxes meet are visited.
+  std::vector<TreeNode> tree;           // nodes; the root's box and ref below
+  std::array<float, 3> root_centre{}, root_half{};
+  std::uint32_t root = kNoRoot;         // kNoRoot when the mesh has no face
+  static constexpr std::uint32_t kNoRoot = 0xffffffffu;
   std::vector<std::uint32_t> occupied;  // summed-volume table of non-empty voxels,
                                         //   (nx+1)(ny+1)(nz+1): count with indices < (i, j, k)
   std::size_t face_count = 0;         // triangles of the mesh
@@ -54,6 +67,9 @@ struct VoxelGrid {
   bool voxel_empty(std::size_t v) const { return offsets[v] == offsets[v + 1]; }
   std::span<const std::uint32_t> faces_in(std::size_t v) const {
     return {faces.data() + offsets[v], faces.data() + offsets[v + 1]};
+  }
+  std::span<const Box> face_parts_in(std::size_t v) const {
+    return {face_parts.data() + offsets[v], face_parts.data() + offsets[v + 1]};
   }
   std::span<const std::uint32_t> voxels_of(std::uint32_t f) const {
     return {face_voxels.data() + face_offsets[f], face_voxels.data() + face_offsets[f + 1]};
@@ -67,9 +83,9 @@ constexpr int kAutoHalvings = -1;  // BodyDef::halvings: let the cost model choo
 constexpr int kMaxHalvings = 24;
 
 // M for a body from a cost model of its face count and size (bench/bench_m_sweep.cpp,
-// docs/collision.md): about one face per voxel, M = round(log2 F)
-// (the fastest M measured was log2 F within about 1 from 50 to 50,000 faces), but no voxel much
-// smaller than the mean face size sqrt(2 area) (finer cells only repeat faces in more voxels); within [3, 18].
+// docs/collision.md §7): about one face per voxel, M = round(log2 F) (the fastest mean measured
+// is within about 2 of log2 F from 400 to 50,000 faces, for the flat scan and for the halvings
+// tree), but no voxel much smaller than the mean face size sqrt(2 area); within [3, 18].
 int auto_halvings(const Polyhedron& mesh);
 
 // Cells per axis after M halvings, each doubling the axis whose cells are longest (ties x, y, z).

@@ -60,3 +60,23 @@ TEST_CASE("the six separation tests and the gap", "[minimax]") {
   CHECK_FALSE(separated(a, Box{Vec3(1, 1, 1), Vec3(2, 2, 2)}, 0));  // touching corners
   CHECK(box_gap(a, Box{Vec3(0.5, 0.5, 0.5), Vec3(2, 2, 2)}) == 0);
 }
+
+TEST_CASE("the vertex sphere holds every vertex and rejects discs whose boxes overlap at a corner", "[minimax]") {
+  const Polyhedron m = test::make_merged_part();
+  const Container c = make_container(m.vertices);
+  for (const Vec3& v : m.vertices) CHECK((v - c.centre()).norm() <= c.radius);
+  // Two flat discs (radius 10, 2 thick) side by side on a diagonal: their boxes overlap on
+  // every axis, their spheres (radius sqrt(101)) do not, and they are 1.2 mm apart.
+  const Polyhedron disc = make_cylinder(10, 2, 64);
+  const Container d = make_container(disc.vertices);
+  CHECK(d.radius >= std::sqrt(101.0));
+  CHECK(d.radius < std::sqrt(101.0) * (1 + 1e-12));
+  Pose pb = Pose::Identity();
+  pb.translation() = Vec3(15, 15, 0);
+  CHECK_FALSE(separated(minimax_box(d, Pose::Identity()), minimax_box(d, pb), 0));
+  CHECK_FALSE(containers_separated(d, d, relative_pose(Pose::Identity(), pb), 0));
+  CHECK(spheres_separated(d.centre(), d.radius, pb * d.centre(), d.radius, 0));
+  CHECK_FALSE(spheres_separated(d.centre(), d.radius, pb * d.centre(), d.radius, 1.5));  // grown by a clearance
+  pb.translation() = Vec3(14, 14, 0);  // 19.8 apart: the spheres meet
+  CHECK_FALSE(spheres_separated(d.centre(), d.radius, pb * d.centre(), d.radius, 0));
+}

@@ -1,7 +1,8 @@
 // Step 3: halvings, conservative face lists (checked by sampling), voxel classes, and the
-// interference sub-matrices / voxel-pair buffer.
+// interference sub-matrices / voxel-pair buffer, the halvings tree and its descent.
 #include "collision/containment.hpp"
 #include "collision/interference.hpp"
+#include "collision/tree_descent.hpp"
 #include "collision/voxel_grid.hpp"
 #include "scenes.hpp"
 
@@ -171,4 +172,91 @@ TEST_CASE("interference sub-matrices and voxel pairs cover every pair of overlap
         }
   }
   CHECK(nonempty_runs > 30);
+}
+
+namespace {
+
+// Leaves of the halvings tree under ref (voxel indices), depth first.
+void tree_leaves(const VoxelGrid& g, std::uint32_t ref, std::vector<std::uint32_t>& out) {
+  if (ref & TreeNode::kLeaf) {
+    out.push_back(ref & ~TreeNode::kLeaf);
+    return;
+  }
+  for (const std::uint32_t c : g.tree[ref].child)
+    if (c != TreeNode::kNone) tree_leaves(g, c, out);
+}
+
+// Exact in double: do content boxes x (A's frame) and y (B's frame, placed by a_from_b) meet
+// within `grow` on all six face normals?
+bool boxes_meet(const Box& x, const Box& y, const Pose& a_from_b, double grow) {
+  const Vec3 xc = 0.5 * (x.lo + x.hi), xh = 0.5 * (x.hi - x.lo);
+  const Vec3 yc = 0.5 * (y.lo + y.hi), yh = 0.5 * (y.hi - y.lo);
+  const Mat3 r = a_from_b.linear(), ar = r.cwiseAbs();
+  const Vec3 d = a_from_b * yc - xc;
+  for (int i = 0; i < 3; ++i)
+    if (std::fabs(d[i]) > xh[i] + ar.row(i).dot(yh) + grow) return false;
+  const Vec3 e = r.transpose() * d;
+  for (int j = 0; j < 3; ++j)
+    if (std::fabs(e[j]) > ar.col(j).dot(xh) + yh[j] + grow) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("the halvings tree has every non-empty voxel as one leaf, boxes holding its content", "[voxel_grid]") {
+  for (const auto& [mesh, m] : {std::pair{test::make_merged_part(), 6}, std::pair{make_cylinder(12, 40, 12), 9},
+                                std::pair{test::make_l_prism(40, 10, 20), 3}, std::pair{make_box(Vec3(1, 1, 1)), 0}}) {
+    const VoxelGrid g = build_voxel_grid(mesh, m);
+    REQUIRE(g.root != VoxelGrid::kNoRoot);
+    std::vector<std::uint32_t> leaves;
+    tree_leaves(g, g.root, leaves);
+    std::vector<std::uint32_t> nonempty;
+    for (std::uint32_t v = 0; v < g.voxel_count(); ++v)
+      if (!g.voxel_empty(v)) nonempty.push_back(v);
+    std::sort(leaves.begin(), leaves.end());
+    CHECK(leaves == nonempty);
+    // Every node lane's float box holds the content boxes of the voxels below it.
+    for (const TreeNode& n : g.tree)
+      for (std::size_t s = 0; s < 4; ++s) {
+        if (n.child[s] == TreeNode::kNone) continue;
+        std::vector<std::uint32_t> below;
+        tree_leaves(g, n.child[s], below);
+        const Vec3 c(n.cx[s], n.cy[s], n.cz[s]), h(n.hx[s], n.hy[s], n.hz[s]);
+        for (const std::uint32_t v : below)
+          for (int k = 0; k < 3; ++k) {
+            REQUIRE(g.content[v].lo[k] >= c[k] - h[k]);
+            REQUIRE(g.content[v].hi[k] <= c[k] + h[k]);
+          }
+      }
+  }
+}
+
+TEST_CASE("the tree descent visits every voxel pair whose content boxes meet, and stops when asked", "[voxel_grid]") {
+  std::mt19937_64 rng(8);
+  const VoxelGrid ga = build_voxel_grid(test::make_merged_part(), 7);
+  const VoxelGrid gb = build_voxel_grid(make_cylinder(12, 40, 12), 6);
+  int with_pairs = 0;
+  for (int n = 0; n < 300; ++n) {
+    const Pose a_from_b = test::random_pose(rng, 25);
+    const double grow = 0.25 * (n % 3);
+    const NodeTest nt(a_from_b, grow, ga.container.scale, gb.container.scale);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> got;
+    descend(ga, gb, nt, [&](std::uint32_t va, std::uint32_t vb, const NodePair&) {
+      REQUIRE(got.emplace(va, vb).second);  // each voxel pair once
+      return false;
+    });
+    with_pairs += !got.empty();
+    for (std::uint32_t va = 0; va < ga.voxel_count(); ++va) {
+      if (ga.voxel_empty(va)) continue;
+      for (std::uint32_t vb = 0; vb < gb.voxel_count(); ++vb)
+        if (!gb.voxel_empty(vb) && boxes_meet(ga.content[va], gb.content[vb], a_from_b, grow))
+          REQUIRE(got.count({va, vb}) == 1);
+    }
+    if (got.size() > 1) {  // the first voxel pair that asks to stop ends the descent
+      int calls = 0;
+      CHECK(descend(ga, gb, nt, [&](std::uint32_t, std::uint32_t, const NodePair&) { return ++calls == 2; }));
+      CHECK(calls == 2);
+    }
+  }
+  CHECK(with_pairs > 30);
 }
