@@ -14,12 +14,17 @@ double box_distance(const Box& a, const Box& b) {
   return std::sqrt(sum);
 }
 
-double container_gap(const Box& world_a, const Box& world_b, double margin) {
-  return std::max(0.0, box_distance(world_a, world_b) - margin);
+PlacedContainer place(const Container& c, const Pose& pose) {
+  return {minimax_box(c, pose), pose * c.centre(), c.radius};
+}
+
+double container_gap(const PlacedContainer& a, const PlacedContainer& b, double margin) {
+  const double spheres = (a.centre - b.centre).norm() - a.radius - b.radius;
+  return std::max(0.0, std::max(box_distance(a.box, b.box), spheres) - margin);
 }
 
 double container_gap(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b) {
-  return container_gap(minimax_box(a, pose_a), minimax_box(b, pose_b), relative_margin(a, pose_a, b, pose_b));
+  return container_gap(place(a, pose_a), place(b, pose_b), relative_margin(a, pose_a, b, pose_b));
 }
 
 }  // namespace asimov::collision

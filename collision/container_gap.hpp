@@ -9,12 +9,22 @@ namespace asimov::collision {
 // Euclidean distance [mm] between two axis-aligned boxes (0 when they overlap or touch).
 double box_distance(const Box& a, const Box& b);
 
-// Distance between the world minimax boxes of two containers at their poses, less a margin for
-// the rounding of the mapping (relative_margin), never below 0: a lower bound on the distance
-// between the two bodies.
-double container_gap(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b);
+// A container placed at a pose, as the gap needs it: its world minimax box and the world centre
+// of its vertex sphere (Container::radius). Computed once per body and pose, used by every pair.
+struct PlacedContainer {
+  Box box;
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+};
+PlacedContainer place(const Container& c, const Pose& pose);
 
-// The same from world boxes already computed (minimax_box) for the poses; `margin` as above.
-double container_gap(const Box& world_a, const Box& world_b, double margin);
+// Gap of two placed containers: the larger of two lower bounds on the bodies' distance (their
+// world boxes' distance, their vertex spheres' distance; the spheres win for long bodies lying
+// diagonally, whose world boxes are mostly empty), less `margin` for the rounding of the
+// mapping (relative_margin), never below 0.
+double container_gap(const PlacedContainer& a, const PlacedContainer& b, double margin);
+
+// The same from the containers and their poses.
+double container_gap(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b);
 
 }  // namespace asimov::collision

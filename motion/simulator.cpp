@@ -126,7 +126,7 @@ struct Simulator::Impl {
     int reach = -1;          // index into `reach`; -1: never moves (object, base link)
     int frame = -1;          // index into `frames`; -1: fixed pose
     collision::Pose pose = collision::Pose::Identity();
-    collision::Box box;
+    collision::PlacedContainer placed;  // at `pose`
   };
   std::vector<GapBody> gap_bodies;
   std::vector<GapPair> gap_pairs;
@@ -198,7 +198,7 @@ struct Simulator::Impl {
         g.frame = robot.joint_count();
       } else {
         g.pose = i < robot.bodies.size() ? cell.base : cell.objects[static_cast<std::size_t>(b.object)].pose;
-        g.box = collision::minimax_box(g.container, g.pose);
+        g.placed = collision::place(g.container, g.pose);
       }
       gap_bodies.push_back(std::move(g));
       const auto id = e.add_body({.name = std::move(b.name), .mesh = std::move(b.mesh), .group = b.group,
@@ -247,14 +247,14 @@ struct Simulator::Impl {
     for (GapBody& g : gap_bodies)
       if (g.frame >= 0) {
         g.pose = cell.base * frames[static_cast<std::size_t>(g.frame)];
-        g.box = collision::minimax_box(g.container, g.pose);
+        g.placed = collision::place(g.container, g.pose);
       }
     const auto pairs = engine->enabled_pairs();
     const double c = cell.collision.clearance_mm, st = step();
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       const GapBody &a = gap_bodies[pairs[i].a], &b = gap_bodies[pairs[i].b];
       const double margin = collision::relative_margin(a.container, a.pose, b.container, b.pose);
-      gap_pairs[i].allow_mm = gap_allowance(collision::container_gap(a.box, b.box, margin), c, st);
+      gap_pairs[i].allow_mm = gap_allowance(collision::container_gap(a.placed, b.placed, margin), c, st);
     }
   }
 
