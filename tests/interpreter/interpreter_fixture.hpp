@@ -3,6 +3,7 @@
 #include "interpreter/interpreter.hpp"
 #include "robots/puma560.hpp"
 
+#include <catch2/catch.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -40,5 +41,16 @@ struct InterpreterFixture {
   bool loaded = false;
   std::string load_report;
 };
+
+// Loads `programs`, runs `main`, requires that it completes and returns its TYPE output.
+inline std::string output_of_programs(const std::string& programs) {
+  InterpreterFixture f;
+  const auto r = f.run(programs);
+  INFO(f.load_report);
+  REQUIRE(f.loaded);
+  INFO(val::format_diagnostic(r.error));
+  REQUIRE(r.status == val::RunStatus::completed);
+  return f.out.str();
+}
 
 }  // namespace asimov::test

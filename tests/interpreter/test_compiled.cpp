@@ -8,24 +8,10 @@
 using asimov::test::InterpreterFixture;
 using asimov::val::RunStatus;
 
-namespace {
-
-std::string output_of(const std::string& programs) {
-  InterpreterFixture f;
-  const auto r = f.run(programs);
-  INFO(f.load_report);
-  REQUIRE(f.loaded);
-  INFO(asimov::val::format_diagnostic(r.error));
-  REQUIRE(r.status == RunStatus::completed);
-  return f.out.str();
-}
-
-}  // namespace
-
 TEST_CASE("compiled MOD and arithmetic agree with the generic path", "[evaluator][compiled]") {
   // ABS(0) forces the generic path; the numbers cover signs, zero results, non-integers and
   // operands outside 32 bits (the compiled MOD uses integers only inside).
-  const std::string out = output_of(R"(.PROGRAM main()
+  const std::string out = asimov::test::output_of_programs(R"(.PROGRAM main()
     z = 0
     FOR i = 1 TO 12
         x = i * 7 - 40
@@ -67,18 +53,18 @@ TEST_CASE("compiled MOD and arithmetic agree with the generic path", "[evaluator
     CHECK(line.substr(line.size() - 5) == " 0 -1");
     start = end + 1;
   }
-  CHECK(output_of(".PROGRAM main()\nx = -6\ny = 3\nTYPE x MOD y, -7 MOD 3, 7 MOD -3\n.END\n") == "0 -1 1\n");
+  CHECK(asimov::test::output_of_programs(".PROGRAM main()\nx = -6\ny = 3\nTYPE x MOD y, -7 MOD 3, 7 MOD -3\n.END\n") == "0 -1 1\n");
 }
 
 TEST_CASE("compiled array indices round halves away from zero", "[evaluator][compiled]") {
-  CHECK(output_of(".PROGRAM main()\na[3] = 30\na[0] = 7\ni = 2.5\nj = -0.4\nTYPE a[i], a[j], a[2.5]\n"
+  CHECK(asimov::test::output_of_programs(".PROGRAM main()\na[3] = 30\na[0] = 7\ni = 2.5\nj = -0.4\nTYPE a[i], a[j], a[2.5]\n"
                   "a[i] = 31\nTYPE a[3]\n.END\n") == "30 7 30\n31\n");
 }
 
 TEST_CASE("a reused frame starts with fresh parameters and AUTO variables", "[evaluator][compiled]") {
   // f runs from the same reused frame each time: its AUTO and by-value parameter must not
   // keep the previous call's values, and a by-reference argument is the caller's variable.
-  CHECK(output_of(R"(.PROGRAM main()
+  CHECK(asimov::test::output_of_programs(R"(.PROGRAM main()
     FOR k = 1 TO 3
         CALL f(k * 10, r)
         TYPE r

@@ -10,13 +10,7 @@ namespace {
 
 // Runs `body` as the program `main` and returns its TYPE output.
 std::string output_of(const std::string& body) {
-  InterpreterFixture f;
-  const auto r = f.run(".PROGRAM main()\n" + body + "\n.END\n");
-  INFO(f.load_report);
-  REQUIRE(f.loaded);
-  INFO(asimov::val::format_diagnostic(r.error));
-  REQUIRE(r.status == RunStatus::completed);
-  return f.out.str();
+  return asimov::test::output_of_programs(".PROGRAM main()\n" + body + "\n.END\n");
 }
 
 }  // namespace
