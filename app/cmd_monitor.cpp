@@ -24,8 +24,9 @@
 namespace asimov::app {
 namespace {
 
-// Set by SIGINT. At the prompt it clears the line; while a program runs the evaluator polls it
-// between steps (Limits::interrupt) and stops the program.
+// Set by SIGINT. At the prompt it clears the line; while a program runs (Limits::interrupt) the
+// evaluator polls it between steps and the simulator before each checked pose of a motion, so
+// the program stops and the arm stops where it is.
 std::atomic<bool> g_interrupted{false};
 
 extern "C" void on_sigint(int) { g_interrupted.store(true); }

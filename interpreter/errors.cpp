@@ -19,7 +19,7 @@ constexpr std::array<std::string_view, 11> kErrorMessages = {
     "*Too many statements*",  // our limit on executed statements (runaway programs)
     "*Motion error*",         // replaced by the simulator's own text
     "*Not supported in simulation*",
-    "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps
+    "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps or in a motion
     "*Wait limit exceeded*",  // WAIT still false after Limits::max_wait_s simulated seconds
 };
 static_assert(kErrorMessages.size() == static_cast<std::size_t>(ErrorKind::count));

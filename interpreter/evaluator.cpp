@@ -56,14 +56,20 @@ RunResult Evaluator::run(int slot, bool resumable) {
     top.temps.resize(static_cast<std::size_t>(program->temps));
     stack_.commit();
   });
-  if (!resumable) stopped_.reset();
+  if (!resumable) {
+    stopped_.reset();
+    if (r.interrupt) sim_.drop_halted_motion();  // a DO's halted motion is not resumed either
+  }
   if (!stopped_) stopped_ = std::move(earlier);  // only the latest stopped execution is kept
   return r;
 }
 
 bool Evaluator::can_resume() const { return stopped_.has_value(); }
 
-void Evaluator::abort() { stopped_.reset(); }
+void Evaluator::abort() {
+  if (stopped_ && stopped_->motion_halted) sim_.drop_halted_motion();
+  stopped_.reset();
+}
 
 RunResult Evaluator::resume(bool retry) {
   if (!stopped_) {
@@ -81,6 +87,9 @@ RunResult Evaluator::resume(bool retry) {
   duration_next_ = s.duration_next;
   last_motion_ = s.motion;
   return protected_run(s.program, [&] {
+    // After Ctrl-C halted a motion, PROCEED and RETRY first carry out its rest (a real
+    // controller resumes the interrupted motion towards its target).
+    if (s.motion_halted) resume_halted_motion();
     // After a collision the step that found the contact runs again (PROCEED and RETRY);
     // RETRY after an error re-runs the failing step; PROCEED after an error skips it.
     // After PAUSE both continue with the next step.
@@ -96,6 +105,13 @@ RunResult Evaluator::resume(bool retry) {
 RunResult Evaluator::protected_run(const std::string& name, const std::function<void()>& setup) {
   RunResult result;
   warnings_.clear();
+  halt_.reset();
+  // The simulator reads the Ctrl-C flag while this run goes on, and only then.
+  struct InterruptWiring {
+    motion::Simulator& sim;
+    ~InterruptWiring() { sim.set_interrupt(nullptr); }
+  } wiring{sim_};
+  sim_.set_interrupt(limits_.interrupt);
   memory_.globals.resize(memory_.symbols.globals.size());
   globals_.resize(memory_.globals.size());  // no global is added while a run goes on
   for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
@@ -127,11 +143,13 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     result.error.message = e.message;
     result.error.detail = e.detail;
     locate(result.error, current_program_, current_line_);
-    // The motion already started still completes (forward processing); contact wins.
+    // The motion already started still completes (forward processing); contact wins. After
+    // Ctrl-C (the flag is still set) it stops at once, where it is, and its rest is kept.
     try {
       if (sim_.motion_pending()) {
         const motion::MotionResult r = sim_.finish_motion();
         if (r.status == motion::MotionStatus::collision) collided(r.collision);
+        if (r.status == motion::MotionStatus::interrupted) halt_ = r.interrupt;
       }
     } catch (...) {
     }
@@ -146,11 +164,13 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   if (result.status == RunStatus::completed) {
     result.program = name;
     result.line = result.step = 0;
-  } else if (!stack_.empty() || result.status == RunStatus::collision) {
+  } else if (!stack_.empty() || result.status == RunStatus::collision || halt_) {
     stopped_ = Stopped{stack_.take(), result.status, name, speed_always_, speed_next_, last_motion_,
                        duration_always_, duration_next_,
-                       result.error.message == error_message(ErrorKind::interrupted), memory_.programs};
+                       result.error.message == error_message(ErrorKind::interrupted), halt_.has_value(),
+                       memory_.programs};
   }
+  result.interrupt = halt_;
   stack_.clear();
   result.warnings = std::move(warnings_);
   warnings_.clear();
@@ -473,6 +493,15 @@ void Evaluator::finish_motion() {
 // at the motion instruction.
 void Evaluator::check_motion(const motion::MotionResult& r) {
   if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
+  if (r.status == motion::MotionStatus::interrupted) {
+    // Ctrl-C halted the motion: reported at the motion instruction, as a contact is; the step
+    // that was waiting for the motion (none at the run's end) runs again after its rest.
+    halt_ = r.interrupt;
+    if (!stack_.empty()) --stack_.back().pc;
+    current_program_ = motion_program_;
+    current_line_ = motion_line_;
+    raise(ErrorKind::interrupted);
+  }
   if (r.status == motion::MotionStatus::error) {
     current_program_ = motion_program_;  // reported at the motion instruction
     current_line_ = motion_line_;
@@ -545,11 +574,25 @@ void Evaluator::motion(const Instr& in) {
   start_motion(m);
 }
 
+// PROCEED / RETRY after Ctrl-C halted a motion: the rest of it, from where the arm stopped;
+// when a DO has moved the arm since (the simulator dropped the rest), the same motion
+// instruction again from where the arm is. The monitor speed now in effect applies.
+void Evaluator::resume_halted_motion() {
+  if (!last_motion_) return;
+  motion_program_ = last_motion_->program;
+  motion_line_ = last_motion_->line;
+  if (sim_.halted_motion()) return check_motion(sim_.resume_motion(speed_monitor_));
+  MotionRequest m = *last_motion_;
+  m.speed.monitor = speed_monitor_;
+  start_motion(m);
+}
+
 // Starts a resolved motion (also RETRY's restart of an interrupted one).
 void Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
+  if (r.status == motion::MotionStatus::interrupted) check_motion(r);  // the previous motion's halt
   motion_program_ = m.program;
   motion_line_ = m.line;
   last_motion_ = m;

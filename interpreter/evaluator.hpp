@@ -119,6 +119,7 @@ class Evaluator {
     double duration_always = 0;
     std::optional<double> duration_next;
     bool interrupted = false;                   // Ctrl-C: pc is the step not yet run
+    bool motion_halted = false;                 // Ctrl-C halted `motion`: its rest runs first
     std::vector<std::shared_ptr<const Program>> pinned;  // the frames' programs, even if reloaded
   };
 
@@ -133,7 +134,8 @@ class Evaluator {
   void type(const Instr& in);
   std::vector<Value> eval_all(const std::vector<Node>& nodes);
   void finish_motion();
-  void check_motion(const motion::MotionResult& r);  // a failed finish: collision or error
+  void check_motion(const motion::MotionResult& r);  // a failed finish: collision, error, Ctrl-C
+  void resume_halted_motion();  // PROCEED / RETRY after Ctrl-C halted a motion
   void wait(const Instr& in);
   void prompt(const Instr& in);
   void settings(const Instr& in);
@@ -196,6 +198,7 @@ class Evaluator {
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
+  std::optional<motion::InterruptReport> halt_;  // this run's motion halted by Ctrl-C
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
   FastCtx ctx_;                               // globals_ and the running frame's slots
 };

@@ -44,13 +44,18 @@ struct RunResult {
   int step = 0;
   Diagnostic error;               // status == error (also filled for collision: "*Collision*")
   motion::CollisionReport collision;  // status == collision
+  // Ctrl-C halted a motion (status error, "*Program interrupted*"): where the arm stopped.
+  // PROCEED and RETRY first carry out the rest of that motion.
+  std::optional<motion::InterruptReport> interrupt;
   std::vector<Diagnostic> warnings;   // V+ constructs ignored with a warning (dialect §7), once each
 };
 
 struct Limits {
   std::uint64_t max_statements = 100'000'000;  // executed statements per run
   int max_call_depth = 1000;
-  const std::atomic<bool>* interrupt = nullptr;  // set (Ctrl-C): the run stops between steps
+  // Set (Ctrl-C): the run stops before the next step, and a motion being carried out stops at
+  // its next checked pose (the simulator reads the flag while a run goes on).
+  const std::atomic<bool>* interrupt = nullptr;
   double tick_s = 0.016;          // WAIT: the clock advances by ticks [s]
   double max_wait_s = 3600;       // WAIT: simulated seconds before *Wait limit exceeded*
 };
@@ -81,8 +86,10 @@ class Interpreter {
   // The execution that the last error or collision stopped (dialect §9). PROCEED skips the
   // failing step (after a collision: drops the interrupted motion and re-runs the step that
   // found the contact); RETRY re-runs the failing step (after a collision: first restarts the
-  // interrupted motion from the halted pose). run() keeps a stopped execution (so DO can
-  // fix a value before RETRY); abort() drops it. Without one: "*No program to resume*".
+  // interrupted motion from the halted pose). After Ctrl-C both run the step not yet run; when
+  // Ctrl-C halted a motion, both first carry out its rest towards its target (at the monitor
+  // speed then in effect). run() keeps a stopped execution (so DO can fix a value before
+  // RETRY); abort() drops it. Without one: "*No program to resume*".
   bool can_resume() const;
   RunResult proceed();
   RunResult retry();

@@ -263,6 +263,7 @@ CommandStatus Monitor::dispatch(Command c, Args rest) {
     case Command::abort:  // with nothing stopped: nothing to do
       interp_.abort();
       if (state_ != ExecState::completed) state_ = ExecState::idle;
+      halted_.reset();
       return CommandStatus::ok;
     case Command::calibrate: return CommandStatus::ok;  // no-op in simulation
     case Command::delete_: return cmd_delete(rest);
@@ -328,6 +329,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
            : r.error.message == kInterruptMessage ? ExecState::interrupted
                                                   : ExecState::error;
     state_step_ = r.step;
+    halted_ = r.interrupt;
   }
   switch (r.status) {
     case RunStatus::completed:
@@ -335,7 +337,16 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
       return CommandStatus::ok;
     case RunStatus::paused:  // PAUSE (PROCEED continues) and HALT are not failures
     case RunStatus::halted: out_ << format_pause(r) << '\n'; return CommandStatus::ok;
-    case RunStatus::error: out_ << format_diagnostic(d); return CommandStatus::failed;
+    case RunStatus::error:
+      out_ << format_diagnostic(d);
+      if (r.interrupt) {  // Ctrl-C stopped the arm where it was: say where
+        const auto& h = *r.interrupt;
+        out_ << fmt::format("motion halted at t = {:.6f} s, {:.1f} % of its path\njoints", h.time_s,
+                            100 * h.path_fraction);
+        for (Eigen::Index i = 0; i < h.joints.size(); ++i) out_ << fmt::format(" {:.3f}", h.joints[i]);
+        out_ << '\n';
+      }
+      return CommandStatus::failed;
     case RunStatus::collision: {
       const auto& c = r.collision;
       out_ << format_diagnostic(d)
@@ -659,6 +670,8 @@ CommandStatus Monitor::cmd_status() {
   std::string state = "idle";
   if (state_ == ExecState::completed) state = "completed";
   if (state_ == ExecState::interrupted) state = fmt::format("interrupted at step {}", state_step_);
+  if (state_ == ExecState::interrupted && halted_)
+    state += fmt::format(", motion of step {} halted at {:.1f} % of its path", halted_->tag, 100 * halted_->path_fraction);
   if (state_ == ExecState::paused) state = fmt::format("paused at step {}", state_step_);
   if (state_ == ExecState::halted) state = fmt::format("halted at step {}", state_step_);
   if (state_ == ExecState::error) state = fmt::format("stopped by error at step {}", state_step_);
@@ -704,6 +717,7 @@ CommandStatus Monitor::cmd_zero() {
   last_program_.clear();
   state_ = ExecState::idle;
   state_step_ = 0;
+  halted_.reset();
   return CommandStatus::ok;
 }
 

@@ -97,6 +97,17 @@ struct Simulator::Impl {
   std::optional<HandState> hand_request;
   RunAccuracy accuracy;
   RunTiming timing;
+  const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C (set_interrupt), read before each checked pose
+  std::function<void(double, const JointVector&)> pose_hook;
+  // The rest of a motion halted by the interrupt (halted_motion / resume_motion).
+  struct Rest {
+    JointVector to;            // joint target
+    bool straight = false;
+    Location target;           // location target (dest of the motion)
+    SpeedSettings speed;
+    double elapsed_s = 0;      // time the motion ran before it halted
+  } rest;
+  std::optional<InterruptReport> halted;
   std::vector<collision::BodyId> unprepared;  // engine bodies whose voxel grid is not built yet
   std::uint64_t query_ticks = 0, grid_ticks = 0;  // this motion's engine queries (ticks())
 
@@ -149,6 +160,7 @@ struct Simulator::Impl {
     Location base, tool;                         // program BASE / TOOL (line deviation)
     robots::Configuration config;
     Profile profile;
+    SpeedSettings speed;
     double t0 = 0;
     int tag = 0;
   } pending;
@@ -379,6 +391,7 @@ struct Simulator::Impl {
     if (tracing) trace.push_back({t, q, here_at(q)});
     if (!collides(q, report)) {
       last_free = engine && cell.collision.enabled;
+      if (pose_hook) pose_hook(t, q);
       return false;
     }
     report.time_s = report.time_free_s = t;
@@ -392,6 +405,21 @@ struct Simulator::Impl {
     ++accuracy.contacts;
     accuracy.contact_bracket_s = std::max(accuracy.contact_bracket_s, report.time_s - report.time_free_s);
     r.collision = std::move(report);
+    return r;
+  }
+
+  // Ctrl-C: one relaxed load per checked pose, no syscall.
+  bool interrupt_requested() const { return interrupt && interrupt->load(std::memory_order_relaxed); }
+
+  // Stops the pending motion at the current joints (the last checked pose, of time t_halt, at
+  // path parameter `fraction`) and keeps its rest for resume_motion.
+  MotionResult interrupt_halt(const Pending& p, double t_halt, double fraction) {
+    time = t_halt;
+    rest = Rest{p.to, p.straight, dest, p.speed, t_halt - p.t0};
+    halted = InterruptReport{t_halt, fraction, joints, p.tag};
+    MotionResult r;
+    r.status = MotionStatus::interrupted;
+    r.interrupt = *halted;
     return r;
   }
 
@@ -413,7 +441,9 @@ struct Simulator::Impl {
     pending.to = target;
     pending.intervals = joint_move_intervals(reach, joints, target, step(), moving_pairs);
     pending.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(robot.joint_count())), speed.duration_s);
+    pending.speed = speed;
     pending.t0 = time;
+    halted.reset();  // a new motion drops the rest of an interrupted one
     pending.tag = tag;
     dest = here_at(target);
     motion_started();
@@ -547,11 +577,35 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   s.pending.tool = s.tool;
   s.pending.config = current;
   s.pending.profile = profile;
+  s.pending.speed = speed;
   s.pending.t0 = s.time;
+  s.halted.reset();  // a new motion drops the rest of an interrupted one
   s.pending.tag = tag;
   s.dest = target;
   s.motion_started();
   return {};
+}
+
+void Simulator::set_interrupt(const std::atomic<bool>* flag) { impl_->interrupt = flag; }
+const std::optional<InterruptReport>& Simulator::halted_motion() const { return impl_->halted; }
+void Simulator::drop_halted_motion() { impl_->halted.reset(); }
+void Simulator::set_pose_hook(std::function<void(double, const robots::JointVector&)> hook) {
+  impl_->pose_hook = std::move(hook);
+}
+
+MotionResult Simulator::resume_motion(std::optional<double> monitor_speed) {
+  Impl& s = *impl_;
+  if (!s.halted) return error("*No motion to resume*");
+  const Impl::Rest rest = s.rest;
+  const int tag = s.halted->tag;
+  SpeedSettings speed = rest.speed;
+  if (monitor_speed) speed.monitor = *monitor_speed;
+  if (speed.duration_s > 0) speed.duration_s = std::max(0.0, speed.duration_s - rest.elapsed_s);
+  // The joints where it stopped lie on the planned path, so a new joint move to the same joint
+  // target (or a line from here to the same location) is the rest of the same path.
+  MotionResult r = rest.straight ? start_move(rest.target, true, speed, tag) : start_joint_move(rest.to, speed, tag);
+  if (r.status == MotionStatus::ok) s.dest = rest.target;
+  return r;
 }
 
 void Simulator::request_hand(HandState state) { impl_->hand_request = state; }
@@ -617,6 +671,7 @@ MotionResult Simulator::finish_motion() {
   if (p.straight) {
     const auto& samples = p.line.samples;
     for (std::size_t i = 0; i + 1 < samples.size();) {
+      if (s.interrupt_requested()) return s.interrupt_halt(p, t_prev, samples[i].s);
       // Next checked sample j: the next one, or with gap stepping the farthest the gaps allow.
       std::size_t j = i + 1;
       double bound = samples[j].bound_mm;
@@ -665,6 +720,7 @@ MotionResult Simulator::finish_motion() {
       for (std::size_t k = 0; k < s.gap_pairs.size(); ++k) s.pair_mm[k] = pair_displacement(s.reach, s.gap_pairs[k], step);
     }
     for (int i = 0; i < p.intervals;) {
+      if (s.interrupt_requested()) return s.interrupt_halt(p, t_prev, static_cast<double>(i) / p.intervals);
       int k = 1;
       if (gap) {
         s.update_gaps();

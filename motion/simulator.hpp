@@ -4,18 +4,25 @@
 // Forward processing (dialect §5): start_*() validates and plans a motion and returns at once;
 // the motion is carried out (clock advances, poses are checked) by finish_motion(), which the
 // interpreter calls before the next motion, at BREAK and at program end.
+//
+// Interruption (Ctrl-C): finish_motion polls an optional flag (set_interrupt) before each
+// checked pose; when it is set the arm stops at the last checked pose, the clock at that pose's
+// time, and the rest of the motion is kept (halted_motion) until resume_motion carries it on.
 #pragma once
 #include "collision/query.hpp"
 #include "motion/cell.hpp"
 #include "motion/sampler.hpp"
 #include "robots/configuration.hpp"
+#include <atomic>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace asimov::motion {
 
-enum class MotionStatus { ok, error, collision };
+enum class MotionStatus { ok, error, collision, interrupted };
 
 struct MotionError {
   std::string message;  // VAL text: "*Location out of reach*", "*Joint limit exceeded*", ...
@@ -39,6 +46,15 @@ struct CollisionReport {
   int tag = 0;                                      // step tag of the motion instruction
 };
 
+// Where an interrupted motion stopped: at its last checked pose (collision-free when checking
+// is on), which is also where the simulated clock stopped.
+struct InterruptReport {
+  double time_s = 0;         // time of the halting pose [s] (simulated clock)
+  double path_fraction = 0;  // path parameter there: 0 = start, 1 = target
+  robots::JointVector joints;  // display [deg]
+  int tag = 0;               // step tag of the motion instruction
+};
+
 struct TraceSample {
   double time_s = 0;
   robots::JointVector joints;   // display [deg]
@@ -49,6 +65,7 @@ struct MotionResult {
   MotionStatus status = MotionStatus::ok;
   MotionError error;            // when status == error
   CollisionReport collision;    // when status == collision
+  InterruptReport interrupt;    // when status == interrupted
 };
 
 struct SpeedSettings {
@@ -114,16 +131,34 @@ class Simulator {
   MotionResult start_joint_move(const robots::JointVector& target_display, SpeedSettings speed, int tag);
   MotionResult start_move(const Location& target, bool straight, SpeedSettings speed, int tag);
   MotionResult finish_motion();  // carries out the pending motion, if any
+
+  // Interruption. `flag` (null: none) is read (relaxed) before each checked pose of
+  // finish_motion; when it is true the motion stops there (status interrupted). The caller owns
+  // the flag and clears it; the simulator only reads it.
+  void set_interrupt(const std::atomic<bool>* flag);
+  // The interrupted motion whose rest is kept: where it stopped. Any new motion drops it.
+  const std::optional<InterruptReport>& halted_motion() const;
+  // Starts the rest of the halted motion from the current pose, accelerating from rest, with
+  // the same speeds and tag (DURATION: what was left of it): a joint move to the same joint
+  // target, a straight line to the same location. Without a halted motion: *No motion to resume*.
+  // `monitor_speed`: the monitor speed now in effect (default: the one the motion had).
+  MotionResult resume_motion(std::optional<double> monitor_speed = {});
+  void drop_halted_motion();
+  // Called at each checked pose found free (tests set the interrupt flag from here after N
+  // poses; empty: nothing is called).
+  void set_pose_hook(std::function<void(double time_s, const robots::JointVector& joints)> hook);
+
   // Hand. request_hand: OPEN/CLOSE/RELAX (pending until a motion starts; a later request
   // replaces it). hand_immediate: OPENI/CLOSEI/RELAXI: finishes the pending motion (its result
-  // is returned, the hand untouched, when it fails), sets the hand (dropping a pending request)
-  // and advances the clock by hand_time_s (negative: 0).
+  // is returned, the hand untouched, when it fails or is interrupted), sets the hand (dropping
+  // a pending request) and advances the clock by hand_time_s (negative: 0).
   void request_hand(HandState state);
   MotionResult hand_immediate(HandState state, double hand_time_s = kDefaultHandTime);
   HandState hand() const;
   bool hand_pending() const;
-  // WAIT / WAIT.EVENT: finishes the pending motion (its failure is returned, the clock then
-  // untouched), then advances the clock by `seconds` (negative: 0) without motion.
+  // WAIT / WAIT.EVENT: finishes the pending motion (its failure or interruption is returned,
+  // the clock then where the motion stopped), then advances the clock by `seconds` (negative:
+  // 0) without motion.
   MotionResult wait(double seconds);
   // ENABLE / DISABLE COLLISION and PARAMETER COLLISION.CLEARANCE at run time (dialect §6):
   // the cell's settings, applied from the next checked pose.
