@@ -122,7 +122,10 @@ async function main() {
   const hit = rep.collision;
   let marker = null;
   if (hit) {
-    marker = new THREE.Mesh(new THREE.SphereGeometry(12, 24, 16), new THREE.MeshBasicMaterial({ color: 0xffee00 }));
+    // Drawn over everything: the point lies on both surfaces, so half of it is inside a body.
+    marker = new THREE.Mesh(new THREE.SphereGeometry(10, 24, 16),
+                            new THREE.MeshBasicMaterial({ color: 0xffee00, depthTest: false, transparent: true, opacity: 0.9 }));
+    marker.renderOrder = 1;
     marker.position.fromArray(hit.point_mm);
     marker.visible = false;
     scene.add(marker);
@@ -137,7 +140,7 @@ async function main() {
   for (const m of meshes) box.expandByObject(m);
   const centre = box.getCenter(new THREE.Vector3()), radius = box.getSize(new THREE.Vector3()).length() / 2;
   controls.target.copy(centre);
-  camera.position.copy(centre).add(new THREE.Vector3(1.2, -1.6, 0.9).multiplyScalar(radius * 0.75));
+  camera.position.copy(centre).add(new THREE.Vector3(1.2, -1.6, 0.9).multiplyScalar(radius * 1.0));
   controls.update();
 
   // Bodies at simulated time t: frames interpolated (position linear, rotation slerp).
@@ -197,9 +200,10 @@ async function main() {
     controls.update();
     renderer.render(scene, camera);
   });
-  // ?t=SECONDS opens the page at that simulated time (used for screenshots).
-  const start = Number(new URLSearchParams(location.search).get('t'));
+  // ?t=SECONDS opens the page at that simulated time, ?play starts playing (screenshots, demos).
+  const params = new URLSearchParams(location.search), start = Number(params.get('t'));
   if (start > 0) { t = Math.min(end, start); slider.value = end > 0 ? Math.round((t / end) * 10000) : 0; }
+  if (params.has('play')) setPlaying(true);
   window.asimovReplay = { frames: F.count, end, ready: true };
 }
 
