@@ -408,10 +408,16 @@ struct Simulator::Impl {
     while (!replay.empty() && replay.back().time_s > t_free) replay.pop_back();
     replay_push(t_free, joints, false);
   }
-  // Straight line between its samples a and b at time tm: the path of the contact bisection
-  // (finish_motion's `at`) without its accuracy bookkeeping, seeded with the last replay joints.
-  JointVector replay_line(const Pending& p, const LineSample& a, const LineSample& b, double tm) const {
-    const double sigma = std::clamp(p.profile.sigma(tm - p.t0), a.s, b.s);
+  // Straight line at time tm between its checked samples i and j: the path of the contact
+  // bisection (finish_motion's `at`) without its accuracy bookkeeping, bracketed by the plan's
+  // nearest samples (gap stepping checks few of them), seeded with the last replay joints.
+  JointVector replay_line(const Pending& p, std::size_t i, std::size_t j, double tm) const {
+    const auto& samples = p.line.samples;
+    const double sigma = std::clamp(p.profile.sigma(tm - p.t0), samples[i].s, samples[j].s);
+    const auto next = std::upper_bound(samples.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                                       samples.begin() + static_cast<std::ptrdiff_t>(j), sigma,
+                                       [](double v, const LineSample& x) { return v < x.s; });
+    const LineSample &a = *(next - 1), &b = *next;
     const JointVector lin = interpolate_joints(a.joints, b.joints, b.s > a.s ? (sigma - a.s) / (b.s - a.s) : 1.0);
     const Location flange = p.base_inv * line_pose(p.path, sigma) * p.tool_inv;
     const robots::IkResult ik = robots::solve_ik(cell.robot, flange, replay.empty() ? a.joints : replay.back().joints, p.config, false);
@@ -668,7 +674,7 @@ MotionResult Simulator::finish_motion() {
       ++acc.line_intervals;
       const double t = p.t0 + p.profile.time_at(b.s);
       const bool was_free = s.last_free;
-      if (s.replay_grid > 0) s.replay_between(t_prev, t, [&s, &p, &a, &b](double tm) { return s.replay_line(p, a, b, tm); });
+      if (s.replay_grid > 0) s.replay_between(t_prev, t, [&s, &p, i, j](double tm) { return s.replay_line(p, i, j, tm); });
       if (s.visit(b.joints, t, report)) {
         // Between samples: the line's pose at sigma(t), IK in the motion's configuration seeded
         // with the nearest free joints, as plan_line solves its samples; where that fails or

@@ -11,6 +11,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 
 using namespace asimov;
 using test::run_cli;
@@ -252,4 +253,23 @@ TEST_CASE("replay recording: off by default, and on it leaves the run unchanged"
   CHECK(rep.back().tag == 3);
   CHECK(rep.back().time_s == on.time_s());
   CHECK(rep.size() > on.trace().size());
+
+  // The straight line (tag 2) is replayed on the line: its tool points, checked or on the grid,
+  // lie on the segment from where the joint move ended to where the line ended.
+  const auto tool_at = [&on](const robots::JointVector& q) {
+    return Eigen::Vector3d((on.base() * robots::flange_pose(on.robot(), q) * on.tool()).translation());
+  };
+  std::optional<Eigen::Vector3d> from, to;
+  std::vector<Eigen::Vector3d> line;
+  for (const auto& s : rep) {
+    if (s.tag == 1) from = tool_at(s.joints);
+    if (s.tag == 2) line.push_back(tool_at(s.joints)), to = line.back();
+  }
+  REQUIRE(from);
+  REQUIRE(line.size() > 10);
+  const Eigen::Vector3d u = (*to - *from).normalized();
+  CHECK((*to - *from).norm() == Approx(150).margin(1e-3));
+  double worst = 0;
+  for (const auto& x : line) worst = std::max(worst, ((x - *from) - (x - *from).dot(u) * u).norm());
+  CHECK(worst < 0.01);
 }
