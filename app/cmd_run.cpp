@@ -2,6 +2,7 @@
 #include "app/cell_loader.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "app/replay.hpp"
 #include "app/report.hpp"
 
 #include <fmt/format.h>
@@ -64,6 +65,11 @@ int check_command(const std::string& file, std::ostream& out, std::ostream& err)
 
 int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (!require_file(opt.file, err)) return kExitUsage;
+  ReplayAssets replay_assets;  // read before the run: a missing viewer is a usage error, not a late surprise
+  if (std::string why; !opt.replay.empty() && !load_replay_assets(replay_assets, why)) {
+    err << "*Cannot write replay*  " << why << '\n';
+    return kExitUsage;
+  }
   using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const Clock::time_point start = Clock::now();
@@ -73,6 +79,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   motion::Simulator sim(std::move(*cell));
   sim.add_preprocess_time(cell_s);
   sim.set_trace(!opt.trace.empty());
+  if (!opt.replay.empty()) sim.set_replay(kReplayGridS);
   val::Interpreter interp(sim, out);
   interp.set_input(std::cin, ::isatty(STDIN_FILENO) == 1);  // PROMPT asks again only at a terminal
   const Clock::time_point parse_start = Clock::now();
@@ -136,6 +143,11 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.trace()), err);
       w != kExitCompleted)
     return w;
+  if (std::string why; !opt.replay.empty() &&
+                       !write_text_file(opt.replay, replay_html(replay_assets, replay_data(opt.file, sim, summary.result)), why)) {
+    err << "*Cannot write file*  " << why << '\n';
+    return kExitUsage;
+  }
   return rc;
 }
 

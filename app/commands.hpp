@@ -12,6 +12,7 @@ struct RunOptions {
   std::string cell;         // CELL.yaml; empty: the built-in default cell
   std::string report;       // --report path, optional
   std::string trace;        // --trace path, optional
+  std::string replay;       // --replay path (HTML), optional
 };
 
 struct MonitorOptions {

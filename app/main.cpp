@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--cell", run.cell, "cell file (YAML); default: the built-in cell");
   run_cmd->add_option("--report", run.report, "write a JSON report of the run");
   run_cmd->add_option("--trace", run.trace, "write every checked pose as JSON");
+  run_cmd->add_option("--replay", run.replay, "write a self-contained HTML page replaying the run in 3D");
 
   std::string check_file;
   auto* check_cmd = cli.add_subcommand("check", "load and check FILE.v2; nothing runs");

@@ -84,6 +84,8 @@ struct Simulator::Impl {
   std::vector<collision::BodyPair> hit_pairs;  // bisection: pairs colliding at the first hit
   bool tracing = false;
   std::vector<TraceSample> trace;
+  double replay_grid = 0;                    // set_replay: > 0 records replay samples
+  std::vector<ReplaySample> replay;
   collision::StepCounts counts;
   std::optional<collision::Engine> engine;
   bool engine_built = false;                 // build_engine() ran (engine empty: no enabled pair)
@@ -382,6 +384,7 @@ struct Simulator::Impl {
     report.time_free_s = t_prev;
     last_free = was_free && bisect_contact(t_prev, joints, at, report);
     time = report.time_s;
+    if (replay_grid > 0) replay_halt(report.time_free_s);
     return collision_result(std::move(report), tag);
   }
 
@@ -389,6 +392,7 @@ struct Simulator::Impl {
   bool visit(const JointVector& q, double t, CollisionReport& report) {
     ++poses;
     if (tracing) trace.push_back({t, q, here_at(q)});
+    if (replay_grid > 0) replay_push(t, q, true);
     if (!collides(q, report)) {
       last_free = engine && cell.collision.enabled;
       if (pose_hook) pose_hook(t, q);
@@ -396,6 +400,42 @@ struct Simulator::Impl {
     }
     report.time_s = report.time_free_s = t;
     return true;
+  }
+
+  // Replay recording (set_replay). Only called when replay_grid > 0.
+  void replay_push(double t, const JointVector& q, bool checked) {
+    if (!replay.empty() && t <= replay.back().time_s) {
+      if (t < replay.back().time_s) return;
+      checked = checked || replay.back().checked;  // same instant (a zero-length motion)
+      replay.pop_back();
+    }
+    replay.push_back({t, q, pending.tag, checked});
+  }
+  // The grid instants strictly between two checked poses, joints from `path(t)`.
+  template <class PathAt>
+  void replay_between(double t_a, double t_b, PathAt&& path) {
+    for (double k = std::floor(t_a / replay_grid) + 1; k * replay_grid < t_b; ++k) replay_push(k * replay_grid, path(k * replay_grid), false);
+  }
+  // After a contact: the arm stands at `joints` (the halting pose) from time_free_s on.
+  void replay_halt(double t_free) {
+    while (!replay.empty() && replay.back().time_s > t_free) replay.pop_back();
+    replay_push(t_free, joints, false);
+  }
+  // Straight line at time tm between its checked samples i and j: the path of the contact
+  // bisection (finish_motion's `at`) without its accuracy bookkeeping, bracketed by the plan's
+  // nearest samples (gap stepping checks few of them), seeded with the last replay joints.
+  JointVector replay_line(const Pending& p, std::size_t i, std::size_t j, double tm) const {
+    const auto& samples = p.line.samples;
+    const double sigma = std::clamp(p.profile.sigma(tm - p.t0), samples[i].s, samples[j].s);
+    const auto next = std::upper_bound(samples.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                                       samples.begin() + static_cast<std::ptrdiff_t>(j), sigma,
+                                       [](double v, const LineSample& x) { return v < x.s; });
+    const LineSample &a = *(next - 1), &b = *next;
+    const JointVector lin = interpolate_joints(a.joints, b.joints, b.s > a.s ? (sigma - a.s) / (b.s - a.s) : 1.0);
+    const Location flange = p.base_inv * line_pose(p.path, sigma) * p.tool_inv;
+    const robots::IkResult ik = robots::solve_ik(cell.robot, flange, replay.empty() ? a.joints : replay.back().joints, p.config, false);
+    if (ik.status != robots::IkStatus::ok || (ik.joints - lin).cwiseAbs().maxCoeff() > kMaxJointJumpDeg) return lin;
+    return ik.joints;
   }
 
   MotionResult collision_result(CollisionReport report, int tag) {
@@ -472,6 +512,8 @@ std::uint64_t Simulator::poses_checked() const { return impl_->poses; }
 bool Simulator::motion_pending() const { return impl_->pending.active; }
 void Simulator::set_trace(bool on) { impl_->tracing = on; }
 const std::vector<TraceSample>& Simulator::trace() const { return impl_->trace; }
+void Simulator::set_replay(double grid_s) { impl_->replay_grid = grid_s > 0 ? grid_s : 0; }
+const std::vector<ReplaySample>& Simulator::replay() const { return impl_->replay; }
 const collision::StepCounts& Simulator::collision_counts() const { return impl_->counts; }
 bool Simulator::collision_engine_used() const { return impl_->engine.has_value(); }
 const RunAccuracy& Simulator::accuracy() const { return impl_->accuracy; }
@@ -687,6 +729,7 @@ MotionResult Simulator::finish_motion() {
       ++acc.line_intervals;
       const double t = p.t0 + p.profile.time_at(b.s);
       const bool was_free = s.last_free;
+      if (s.replay_grid > 0) s.replay_between(t_prev, t, [&s, &p, i, j](double tm) { return s.replay_line(p, i, j, tm); });
       if (s.visit(b.joints, t, report)) {
         // Between samples: the line's pose at sigma(t), IK in the motion's configuration seeded
         // with the nearest free joints, as plan_line solves its samples; where that fails or
@@ -732,6 +775,7 @@ MotionResult Simulator::finish_motion() {
       q = i == p.intervals ? p.to : interpolate_joints(p.from, p.to, sigma);
       const double t = p.t0 + p.profile.time_at(sigma);
       const bool was_free = s.last_free;
+      if (s.replay_grid > 0) s.replay_between(t_prev, t, [&at, &q](double tm) { return at(tm, q); });
       if (s.visit(q, t, report)) return s.halt(std::move(report), t_prev, was_free, at, p.tag);
       s.joints = q;
       t_prev = t;

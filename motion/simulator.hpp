@@ -61,6 +61,15 @@ struct TraceSample {
   Location tool;                // world pose of the tool point (BASE . FK . TOOL)
 };
 
+// One pose of the replay recording (set_replay; app/replay.*): the arm's joints at a simulated
+// instant, on the path the simulator carries out.
+struct ReplaySample {
+  double time_s = 0;
+  robots::JointVector joints;   // display [deg]
+  int tag = 0;                  // step tag of the motion it belongs to
+  bool checked = false;         // a checked pose (also in trace())
+};
+
 struct MotionResult {
   MotionStatus status = MotionStatus::ok;
   MotionError error;            // when status == error
@@ -174,6 +183,12 @@ class Simulator {
   // Every checked pose is appended here when tracing is on.
   void set_trace(bool on);
   const std::vector<TraceSample>& trace() const;
+  // Replay recording, off by default (then it costs one branch per checked pose). With
+  // grid_s > 0: every checked pose, the exact path at the simulated instants k * grid_s between
+  // them, and after a contact the halting pose at time_free_s (later samples dropped). Times
+  // strictly increase; a sample at the instant of the previous one replaces it.
+  void set_replay(double grid_s);
+  const std::vector<ReplaySample>& replay() const;
 
   // Collision counts summed over all engine queries (checked poses and contact-time bisection).
   const collision::StepCounts& collision_counts() const;

@@ -18,6 +18,34 @@ if [ "${ASIMOV_WITH_PLOTS:-1}" = 1 ]; then
   packages+=(python3-matplotlib)
 fi
 
+# The 3D replay page (`asimov run --replay`): node/npm fetch three.js from the npm registry into
+# app/replay/node_modules (npm ci, the versions of app/replay/package-lock.json). Debian's
+# nodejs and npm only when no npm is on the PATH (some nodejs packages bundle npm and conflict
+# with Debian's).
+if [ "${ASIMOV_WITH_REPLAY:-1}" = 1 ] && ! command -v npm >/dev/null 2>&1; then
+  packages+=(nodejs npm)
+fi
+
+# npm ci in app/replay, only when node_modules does not hold the locked three.js yet.
+replay_npm() {
+  [ "${ASIMOV_WITH_REPLAY:-1}" = 1 ] || return 0
+  local dir
+  dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/app/replay"
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "install-deps: npm not found; asimov run --replay will say its viewer files are missing"
+    return 0
+  fi
+  local want have
+  want="$(node -e 'console.log(require(process.argv[1]).packages["node_modules/three"].version)' "$dir/package-lock.json")"
+  have="$(node -e 'try{console.log(require(process.argv[1]).version)}catch(e){}' "$dir/node_modules/three/package.json")"
+  if [ "$want" = "$have" ]; then
+    echo "install-deps: three.js $have present in app/replay"
+    return 0
+  fi
+  echo "install-deps: npm ci in app/replay (three.js $want)"
+  (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+}
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
@@ -25,6 +53,7 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
+  replay_npm
   exit 0
 fi
 
@@ -34,3 +63,4 @@ sudo_cmd=()
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+replay_npm

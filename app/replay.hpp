@@ -1,0 +1,39 @@
+// `asimov run --replay run.html`: one self-contained HTML page that replays the run in 3D
+// (three.js + OrbitControls + app/replay/viewer.js inlined; the scene and the frames as JSON with
+// base64 typed arrays). Format and asset lookup: app/README.md.
+#pragma once
+#include "interpreter/interpreter.hpp"
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace asimov::app {
+
+// Simulated time between replay frames besides the checked poses [s] (Simulator::set_replay).
+constexpr double kReplayGridS = 1.0 / 30;
+
+// The viewer files inlined into the page: three.module.min.js, OrbitControls.js, viewer.js.
+struct ReplayAssets {
+  std::string three, orbit_controls, viewer;
+};
+
+// The folder the assets are read from: $ASIMOV_REPLAY_DIR when set, else the build tree's copy
+// (CMake configures its absolute path into the binary, app/replay/replay.cmake).
+std::string replay_asset_dir();
+// Reads the three files; false (with `why` naming the missing file and the fix) when one is missing.
+bool load_replay_assets(ReplayAssets& assets, std::string& why);
+
+// The page's data: bodies (meshes in their local frames), the frames (time, step, joints, world
+// pose of every moving body), the program lines of the steps and the contact, if any. `sim` is
+// the simulator after the run, with set_replay() on before it.
+nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const val::RunResult& result);
+
+// The HTML page: `data` in a JSON script element, three.js through an import map of data: URLs.
+std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data);
+
+// Writes `text` through a temporary file and a rename; false (and `why`) on failure.
+bool write_text_file(const std::string& path, const std::string& text, std::string& why);
+
+// Base64 (RFC 4648, with padding) of raw bytes; the page's typed arrays use it.
+std::string base64(const void* bytes, std::size_t size);
+
+}  // namespace asimov::app

@@ -1,0 +1,210 @@
+// asimov replay viewer: inlined by `asimov run --replay` into one HTML page next to the run's
+// data (<script id="asimov-replay-data">, format in app/README.md) and three.js (import map).
+// The decode functions are exported and touch neither the DOM nor WebGL, so node can check a
+// page's data with the same code the browser runs (tests/app/replay_decode.mjs).
+
+// --- data --------------------------------------------------------------------------------------
+
+// Base64 to bytes, in a buffer of its own (typed views need an aligned offset).
+export function decodeBytes(b64) {
+  if (typeof atob === 'function') {
+    const s = atob(b64);
+    const out = new Uint8Array(s.length);
+    for (let i = 0; i < s.length; ++i) out[i] = s.charCodeAt(i);
+    return out;
+  }
+  return new Uint8Array(Buffer.from(b64, 'base64'));  // node without atob
+}
+export const decodeFloat32 = (b64) => new Float32Array(decodeBytes(b64).buffer);
+export const decodeFloat64 = (b64) => new Float64Array(decodeBytes(b64).buffer);
+export const decodeUint32 = (b64) => new Uint32Array(decodeBytes(b64).buffer);
+export const decodeInt32 = (b64) => new Int32Array(decodeBytes(b64).buffer);
+
+// The page's JSON with every base64 array decoded.
+export function decodeReplay(data) {
+  const f = data.frames;
+  return {
+    ...data,
+    bodies: data.bodies.map((b) => ({ ...b, vertices: decodeFloat32(b.vertices), triangles: decodeUint32(b.triangles) })),
+    frames: {
+      count: f.count,
+      time: decodeFloat64(f.time_s),
+      step: decodeInt32(f.step),
+      checked: decodeBytes(f.checked),
+      joints: decodeFloat32(f.joints_deg),
+      poses: decodeFloat32(f.poses),
+    },
+  };
+}
+
+// Index of the last frame at or before simulated time t (0 before the first).
+export function frameAt(time, t) {
+  let lo = 0, hi = time.length - 1;
+  if (t >= time[hi]) return hi;
+  while (hi - lo > 1) {
+    const mid = (lo + hi) >> 1;
+    if (time[mid] <= t) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+
+// World pose [x, y, z, qx, qy, qz, qw] of the k-th moving body at frame i.
+export function movingPose(rep, i, k) {
+  const m = rep.moving.length, at = (i * m + k) * 7;
+  return Array.from(rep.frames.poses.subarray(at, at + 7));
+}
+
+// A point of a body's mesh (local frame) in the world at `pose`: q v q* + p.
+export function transformPoint(pose, v) {
+  const [px, py, pz, x, y, z, w] = pose;
+  const tx = 2 * (y * v[2] - z * v[1]), ty = 2 * (z * v[0] - x * v[2]), tz = 2 * (x * v[1] - y * v[0]);
+  return [v[0] + w * tx + (y * tz - z * ty) + px, v[1] + w * ty + (z * tx - x * tz) + py,
+          v[2] + w * tz + (x * ty - y * tx) + pz];
+}
+
+// --- page --------------------------------------------------------------------------------------
+
+const COLORS = { link: 0xd98c3a, tool: 0x8a8f98, object: 0x5b87b8 };
+const SPEEDS = [0.25, 0.5, 1, 2, 4];
+
+function el(tag, attrs, parent) {
+  const e = Object.assign(document.createElement(tag), attrs);
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+async function main() {
+  const THREE = await import('three');
+  const { OrbitControls } = await import('three/addons/controls/OrbitControls.js');
+  const rep = decodeReplay(JSON.parse(document.getElementById('asimov-replay-data').textContent));
+  const F = rep.frames, end = F.time[F.count - 1];
+
+  document.title = `asimov replay: ${rep.file}`;
+  el('style', { textContent: `body{margin:0;overflow:hidden;font:13px/1.4 monospace;background:#20242a;color:#e8e8e8}
+    #hud{position:absolute;top:8px;left:10px;white-space:pre;pointer-events:none;text-shadow:0 0 3px #000}
+    #bar{position:absolute;bottom:0;left:0;right:0;display:flex;gap:8px;align-items:center;padding:8px;background:#000a}
+    #bar input[type=range]{flex:1} button,select{font:inherit}` }, document.head);
+  const hud = el('div', { id: 'hud' }, document.body);
+  const bar = el('div', { id: 'bar' }, document.body);
+  const play = el('button', { textContent: 'play', title: 'space' }, bar);
+  const slider = el('input', { type: 'range', min: 0, max: 10000, value: 0, step: 1 }, bar);
+  const speed = el('select', {}, bar);
+  for (const s of SPEEDS) el('option', { value: s, textContent: `x${s}`, selected: s === 1 }, speed);
+
+  const renderer = new THREE.WebGLRenderer({ antialias: true });
+  renderer.setPixelRatio(window.devicePixelRatio);
+  document.body.appendChild(renderer.domElement);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0x20242a);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 1.6));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.8);
+  sun.position.set(1500, -1000, 3000);
+  scene.add(sun);
+
+  // One mesh per body; flat normals suit the boxes and cylinders of a cell.
+  const meshes = rep.bodies.map((b) => {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(b.vertices, 3));
+    g.setIndex(new THREE.BufferAttribute(b.triangles, 1));
+    const flat = g.toNonIndexed();
+    flat.computeVertexNormals();
+    const mat = new THREE.MeshStandardMaterial({ color: COLORS[b.kind], roughness: 0.6, metalness: 0.1 });
+    const mesh = new THREE.Mesh(flat, mat);
+    if (b.pose) setPose(mesh, b.pose);
+    scene.add(mesh);
+    return mesh;
+  });
+  function setPose(obj, p) {
+    obj.position.set(p[0], p[1], p[2]);
+    obj.quaternion.set(p[3], p[4], p[5], p[6]);
+  }
+
+  const hit = rep.collision;
+  let marker = null;
+  if (hit) {
+    // Drawn over everything: the point lies on both surfaces, so half of it is inside a body.
+    marker = new THREE.Mesh(new THREE.SphereGeometry(10, 24, 16),
+                            new THREE.MeshBasicMaterial({ color: 0xffee00, depthTest: false, transparent: true, opacity: 0.9 }));
+    marker.renderOrder = 1;
+    marker.position.fromArray(hit.point_mm);
+    marker.visible = false;
+    scene.add(marker);
+  }
+
+  const qa = new THREE.Quaternion(), qb = new THREE.Quaternion();  // poseAt's scratch
+  const camera = new THREE.PerspectiveCamera(45, 1, 1, 100000);
+  camera.up.set(0, 0, 1);  // the cell's Z is up
+  const controls = new OrbitControls(camera, renderer.domElement);
+  poseAt(0);
+  const box = new THREE.Box3();
+  for (const m of meshes) box.expandByObject(m);
+  const centre = box.getCenter(new THREE.Vector3()), radius = box.getSize(new THREE.Vector3()).length() / 2;
+  controls.target.copy(centre);
+  camera.position.copy(centre).add(new THREE.Vector3(1.2, -1.6, 0.9).multiplyScalar(radius * 1.0));
+  controls.update();
+
+  // Bodies at simulated time t: frames interpolated (position linear, rotation slerp).
+  function poseAt(t) {
+    const i = frameAt(F.time, t), j = Math.min(i + 1, F.count - 1);
+    const u = j > i ? Math.min(1, Math.max(0, (t - F.time[i]) / (F.time[j] - F.time[i]))) : 0;
+    rep.moving.forEach((b, k) => {
+      const a = movingPose(rep, i, k), c = movingPose(rep, j, k), m = meshes[b];
+      m.position.set(a[0] + (c[0] - a[0]) * u, a[1] + (c[1] - a[1]) * u, a[2] + (c[2] - a[2]) * u);
+      qa.fromArray(a, 3);
+      qb.fromArray(c, 3);
+      m.quaternion.slerpQuaternions(qa, qb, u);
+    });
+    const atEnd = t >= end;
+    if (hit) {  // the contact is shown at the halting pose, where the replay ends
+      marker.visible = atEnd;
+      hit.body_index.forEach((b, k) => {
+        if (b >= 0) meshes[b].material.color.setHex(atEnd ? 0xff2020 : COLORS[rep.bodies[b].kind]);
+      });
+    }
+    const s = F.step[i], line = rep.steps[String(s)];
+    const joints = Array.from(F.joints.subarray(i * rep.joint_count, (i + 1) * rep.joint_count), (v) => v.toFixed(2));
+    hud.textContent = [
+      `${rep.file}  ${rep.program}  (${rep.robot})  ${rep.status}`,
+      `t = ${t.toFixed(3)} s / ${end.toFixed(3)} s   frame ${i + 1}/${F.count}${F.checked[i] ? '  checked pose' : ''}`,
+      line ? `${line.program}, line ${line.line}: ${line.text}` : s > 0 ? `step ${s}` : '',
+      `joints [deg]  ${joints.join('  ')}`,
+      hit && atEnd ? `*Collision*  ${hit.bodies[0]} / ${hit.bodies[1]} at t = ${hit.time_s.toFixed(6)} s, ` +
+                     `point (${hit.point_mm.map((v) => v.toFixed(1)).join(', ')}) mm` : '',
+    ].join('\n');
+  }
+
+  let t = 0, playing = false, last = 0;
+  const setPlaying = (on) => { playing = on; play.textContent = on ? 'pause' : 'play'; };
+  play.onclick = () => {
+    if (!playing && t >= end) t = 0;  // play again from the start
+    setPlaying(!playing);
+  };
+  slider.oninput = () => { t = (slider.value / 10000) * end; setPlaying(false); };
+  window.addEventListener('keydown', (e) => { if (e.code === 'Space') { e.preventDefault(); play.onclick(); } });
+  function resize() {
+    renderer.setSize(window.innerWidth, window.innerHeight);
+    camera.aspect = window.innerWidth / window.innerHeight;
+    camera.updateProjectionMatrix();
+  }
+  window.addEventListener('resize', resize);
+  resize();
+  renderer.setAnimationLoop((now) => {
+    const dt = last ? (now - last) / 1000 : 0;
+    last = now;
+    if (playing) {
+      t = Math.min(end, t + dt * Number(speed.value));
+      if (t >= end) setPlaying(false);
+      slider.value = end > 0 ? Math.round((t / end) * 10000) : 10000;
+    }
+    poseAt(t);
+    controls.update();
+    renderer.render(scene, camera);
+  });
+  // ?t=SECONDS opens the page at that simulated time, ?play starts playing (screenshots, demos).
+  const params = new URLSearchParams(location.search), start = Number(params.get('t'));
+  if (start > 0) { t = Math.min(end, start); slider.value = end > 0 ? Math.round((t / end) * 10000) : 0; }
+  if (params.has('play')) setPlaying(true);
+  window.asimovReplay = { frames: F.count, end, ready: true };
+}
+
+if (typeof document !== 'undefined') main();

@@ -1,0 +1,275 @@
+// `asimov run --replay`: the simulator's replay recording and the page's embedded data
+// (app/README.md "Replay page"). The page is decoded in node as well: replay_decode.mjs.
+#include "app/cell_loader.hpp"
+#include "app/replay.hpp"
+#include "motion/scene.hpp"
+#include "motion/simulator.hpp"
+#include "support/run_cli.hpp"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+
+using namespace asimov;
+using test::run_cli;
+using test::source_path;
+
+namespace {
+
+std::vector<unsigned char> unbase64(const std::string& s) {
+  std::vector<unsigned char> out;
+  unsigned v = 0;
+  int bits = 0;
+  for (char c : s) {
+    int d = c >= 'A' && c <= 'Z' ? c - 'A' : c >= 'a' && c <= 'z' ? c - 'a' + 26 : c >= '0' && c <= '9' ? c - '0' + 52
+          : c == '+' ? 62 : c == '/' ? 63 : -1;
+    if (d < 0) continue;  // padding
+    v = (v << 6) | static_cast<unsigned>(d);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<unsigned char>((v >> bits) & 0xff));
+    }
+  }
+  return out;
+}
+
+template <class T>
+std::vector<T> typed(const nlohmann::json& b64) {
+  const auto bytes = unbase64(b64.get<std::string>());
+  REQUIRE(bytes.size() % sizeof(T) == 0);
+  std::vector<T> v(bytes.size() / sizeof(T));
+  std::memcpy(v.data(), bytes.data(), bytes.size());
+  return v;
+}
+
+// The JSON of <script id="asimov-replay-data"> (its "</" are written "<\/", valid JSON).
+nlohmann::json page_data(const std::string& html) {
+  const std::string open = "<script type=\"application/json\" id=\"asimov-replay-data\">";
+  const auto a = html.find(open);
+  REQUIRE(a != std::string::npos);
+  const auto b = html.find("</script>", a);
+  REQUIRE(b != std::string::npos);
+  return nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
+}
+
+struct Run {
+  test::CliResult cli;
+  std::string html;
+  nlohmann::json data, report, trace;
+};
+
+Run run_demo(const std::string& name) {
+  const auto dir = test::scratch_dir();
+  const auto html = dir / (name + ".html"), report = dir / (name + ".json"), trace = dir / (name + ".trace.json");
+  Run r;
+  r.cli = run_cli("run " + source_path("programs/demo/" + name + ".v2") + " --replay " + html.string() + " --report " +
+                  report.string() + " --trace " + trace.string());
+  r.html = test::slurp(html);
+  r.report = nlohmann::json::parse(test::slurp(report));
+  r.trace = nlohmann::json::parse(test::slurp(trace));
+  r.data = page_data(r.html);
+  return r;
+}
+
+// The page's frames against the run: times strictly increase and end at `end_s`; every checked
+// frame is a trace sample (same instant, same joints, bodies where FK puts them) and every
+// trace sample up to the end is a checked frame.
+void check_frames(const Run& r, double end_s) {
+  const auto& f = r.data["frames"];
+  const std::size_t count = f["count"];
+  const auto time = typed<double>(f["time_s"]);
+  const auto joints = typed<float>(f["joints_deg"]);
+  const auto poses = typed<float>(f["poses"]);
+  const auto checked = unbase64(f["checked"]);
+  const auto steps = typed<std::int32_t>(f["step"]);
+  const std::vector<std::size_t> moving = r.data["moving"];
+  const int n = r.data["joint_count"];
+  REQUIRE(time.size() == count);
+  REQUIRE(checked.size() == count);
+  REQUIRE(steps.size() == count);
+  REQUIRE(joints.size() == count * static_cast<std::size_t>(n));
+  REQUIRE(poses.size() == count * moving.size() * 7);
+  for (std::size_t i = 1; i < count; ++i) REQUIRE(time[i] > time[i - 1]);
+  CHECK(time.back() == end_s);
+
+  const motion::Cell cell = app::default_cell();
+  const motion::Scene scene = motion::scene_bodies(cell);
+  std::vector<collision::Pose> frames, world;
+  std::size_t k = 0, compared = 0;
+  for (const auto& s : r.trace["samples"]) {
+    const double t = s["t"];
+    if (t > end_s) break;  // the colliding checked pose, after the halting pose
+    while (k < count && time[k] < t) ++k;
+    REQUIRE(k < count);
+    REQUIRE(time[k] == t);
+    CHECK(checked[k] == 1);
+    robots::JointVector q(n);
+    for (int j = 0; j < n; ++j) {
+      q[j] = s["joints_deg"][static_cast<std::size_t>(j)];
+      REQUIRE(joints[k * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] == Approx(q[j]).margin(1e-4));
+    }
+    motion::scene_poses(cell, scene, q, frames, world);
+    for (std::size_t m = 0; m < moving.size(); ++m) {
+      const float* p = &poses[(k * moving.size() + m) * 7];
+      const collision::Pose& want = world[moving[m]];
+      for (int c = 0; c < 3; ++c) REQUIRE(p[c] == Approx(want.translation()[c]).margin(1e-3));
+      const Eigen::Quaterniond qw(want.rotation()), qp(p[6], p[3], p[4], p[5]);
+      REQUIRE(std::abs(qw.dot(qp)) == Approx(1).margin(1e-6));
+    }
+    ++compared;
+  }
+  CHECK(compared > 100);
+  std::size_t n_checked = 0;
+  for (auto c : checked) n_checked += c;
+  CHECK(n_checked == compared);
+  CHECK(count > compared);  // the 1/30 s grid between sparse checked poses
+}
+
+void check_page(const Run& r) {
+  CHECK(r.html.rfind("<!DOCTYPE html>", 0) == 0);
+  CHECK(r.html.find("<script type=\"importmap\">{\"imports\":{\"three\":\"data:text/javascript;base64,") != std::string::npos);
+  CHECK(r.html.find("id=\"asimov-replay-viewer\"") != std::string::npos);
+  CHECK(r.html.find("export function decodeReplay") != std::string::npos);
+  CHECK(r.html.find("http://") == std::string::npos);  // nothing is fetched: no address at all
+  CHECK(r.html.find("https://") == std::string::npos);
+  const std::size_t bodies = motion::scene_bodies(app::default_cell()).bodies.size();
+  REQUIRE(r.data["bodies"].size() == bodies);
+  std::size_t moving = 0;
+  for (const auto& b : r.data["bodies"]) {
+    const auto v = typed<float>(b["vertices"]);
+    const auto t = typed<std::uint32_t>(b["triangles"]);
+    CHECK(v.size() == 3 * b["vertex_count"].get<std::size_t>());
+    CHECK(t.size() == 3 * b["triangle_count"].get<std::size_t>());
+    CHECK(b["triangle_count"].get<std::size_t>() > 0);
+    moving += b["moving"].get<bool>() ? 1 : 0;
+    CHECK(b.contains("pose") != b["moving"].get<bool>());
+  }
+  CHECK(r.data["moving"].size() == moving);
+  CHECK(moving == 7);  // link1..link6 and the tool of the built-in cell
+}
+
+}  // namespace
+
+TEST_CASE("replay page of pick_place: exit 0, every body, frames up to the end of the run") {
+  const Run r = run_demo("pick_place");
+  INFO(r.cli.err);
+  REQUIRE(r.cli.exit_code == 0);
+  check_page(r);
+  CHECK(r.data["status"] == "completed");
+  CHECK(!r.data.contains("collision"));
+  check_frames(r, r.report["sim_time_s"].get<double>());
+  // Steps map to the motion lines of both programs (CALL transfer).
+  CHECK(r.data["steps"]["3"]["program"] == "transfer");
+  CHECK(r.data["steps"]["3"]["text"] == "MOVES src");
+  CHECK(r.data["steps"]["13"]["line"] == 14);
+}
+
+TEST_CASE("replay page of crash: exit 3, ends at the halting pose, the contact bodies named") {
+  const Run r = run_demo("crash");
+  INFO(r.cli.err);
+  REQUIRE(r.cli.exit_code == 3);
+  check_page(r);
+  CHECK(r.data["status"] == "collision");
+  const auto& c = r.report["collision"];
+  check_frames(r, c["time_free_s"].get<double>());
+  CHECK(r.data["end_time_s"] == c["time_free_s"]);
+  REQUIRE(r.data.contains("collision"));
+  CHECK(r.data["collision"]["bodies"] == c["bodies"]);
+  CHECK(r.data["collision"]["point_mm"] == c["point_mm"]);
+  for (int k = 0; k < 2; ++k) {
+    const int i = r.data["collision"]["body_index"][static_cast<std::size_t>(k)];
+    REQUIRE(i >= 0);
+    CHECK(r.data["bodies"][static_cast<std::size_t>(i)]["name"] == c["bodies"][static_cast<std::size_t>(k)]);
+  }
+}
+
+TEST_CASE("replay without its viewer files: exit 1 with the fix, nothing written") {
+  const auto html = test::scratch_dir() / "missing.html";
+  ::setenv("ASIMOV_REPLAY_DIR", (test::scratch_dir() / "no-such-dir").c_str(), 1);
+  const auto r = run_cli("run " + source_path("programs/demo/crash.v2") + " --replay " + html.string());
+  ::unsetenv("ASIMOV_REPLAY_DIR");
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("three.module.min.js is missing") != std::string::npos);
+  CHECK(r.err.find("install-deps.sh") != std::string::npos);
+  CHECK(r.out.empty());  // refused before the run
+  CHECK(!std::filesystem::exists(html));
+}
+
+TEST_CASE("replay to a folder that does not exist: exit 1, cannot write") {
+  const auto r = run_cli("run " + source_path("programs/demo/pick_place.v2") + " --replay " +
+                         (test::scratch_dir() / "no-dir" / "x.html").string());
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("*Cannot write file*") != std::string::npos);
+}
+
+TEST_CASE("replay recording: off by default, and on it leaves the run unchanged") {
+  const auto run = [](bool replay, motion::Simulator& sim) {
+    sim.set_trace(true);
+    if (replay) sim.set_replay(app::kReplayGridS);
+    motion::SpeedSettings speed;
+    robots::JointVector a = sim.joints(), b = sim.joints();
+    a[0] += 40, a[2] -= 30, a[4] += 30, b[0] -= 30, b[2] -= 20;
+    REQUIRE(sim.start_joint_move(a, speed, 1).status == motion::MotionStatus::ok);
+    const motion::MotionResult line = sim.start_move(sim.dest() * motion::trans(0, 0, -150, 0, 0, 0), true, speed, 2);
+    INFO(line.error.message << ' ' << line.error.detail);
+    REQUIRE(line.status == motion::MotionStatus::ok);
+    REQUIRE(sim.finish_motion().status == motion::MotionStatus::ok);  // the joint move (forward processing)
+    REQUIRE(sim.finish_motion().status == motion::MotionStatus::ok);  // the straight line
+    REQUIRE(sim.wait(0.5).status == motion::MotionStatus::ok);
+    REQUIRE(sim.start_joint_move(b, speed, 3).status == motion::MotionStatus::ok);
+    return sim.finish_motion().status;
+  };
+  motion::Simulator off(app::default_cell()), on(app::default_cell());
+  REQUIRE(run(false, off) == motion::MotionStatus::ok);
+  REQUIRE(run(true, on) == motion::MotionStatus::ok);
+  CHECK(off.replay().empty());
+  CHECK(on.poses_checked() == off.poses_checked());
+  CHECK(on.time_s() == off.time_s());
+  CHECK(on.accuracy().ik_solves == off.accuracy().ik_solves);
+  CHECK(on.accuracy().ik_residual.position_mm == off.accuracy().ik_residual.position_mm);
+  REQUIRE(on.trace().size() == off.trace().size());
+
+  // Every checked pose, in order, and the grid between them: no gap in a motion wider than
+  // the grid (the WAIT is the one longer gap: the arm stands still there).
+  const auto& rep = on.replay();
+  std::size_t k = 0, wide = 0;
+  for (std::size_t i = 0; i < rep.size(); ++i) {
+    if (i > 0) {
+      REQUIRE(rep[i].time_s > rep[i - 1].time_s);
+      if (rep[i].time_s - rep[i - 1].time_s > app::kReplayGridS + 1e-12) ++wide;
+    }
+    if (!rep[i].checked) continue;
+    REQUIRE(k < on.trace().size());
+    CHECK(rep[i].time_s == on.trace()[k].time_s);
+    CHECK(rep[i].joints == on.trace()[k].joints);
+    ++k;
+  }
+  CHECK(k == on.trace().size());
+  CHECK(wide == 1);
+  CHECK(rep.back().tag == 3);
+  CHECK(rep.back().time_s == on.time_s());
+  CHECK(rep.size() > on.trace().size());
+
+  // The straight line (tag 2) is replayed on the line: its tool points, checked or on the grid,
+  // lie on the segment from where the joint move ended to where the line ended.
+  const auto tool_at = [&on](const robots::JointVector& q) {
+    return Eigen::Vector3d((on.base() * robots::flange_pose(on.robot(), q) * on.tool()).translation());
+  };
+  std::optional<Eigen::Vector3d> from, to;
+  std::vector<Eigen::Vector3d> line;
+  for (const auto& s : rep) {
+    if (s.tag == 1) from = tool_at(s.joints);
+    if (s.tag == 2) line.push_back(tool_at(s.joints)), to = line.back();
+  }
+  REQUIRE(from);
+  REQUIRE(line.size() > 10);
+  const Eigen::Vector3d u = (*to - *from).normalized();
+  CHECK((*to - *from).norm() == Approx(150).margin(1e-3));
+  double worst = 0;
+  for (const auto& x : line) worst = std::max(worst, ((x - *from) - (x - *from).dot(u) * u).norm());
+  CHECK(worst < 0.01);
+}
