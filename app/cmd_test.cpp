@@ -179,8 +179,8 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
   fs::remove_all(scratch, ec);
 
   const double total_s = std::chrono::duration<double>(Clock::now() - start).count();
-  out << fmt::format("{} passed, {} failed, {} cases in {:.2f} s\n", cases.size() - failed, failed, cases.size(),
-                     total_s);
+  out << fmt::format("{} passed, {} failed, {} case{} in {:.2f} s\n", cases.size() - failed, failed, cases.size(),
+                     cases.size() == 1 ? "" : "s", total_s);
   if (!opt.junit.empty()) {
     std::string why;
     if (!suite::write_file_atomically(opt.junit, junit_document(cases, outcomes, failed, total_s), why)) {

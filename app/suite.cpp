@@ -95,10 +95,10 @@ bool is_range(const json& expected) {
 
 std::optional<Expectation> load_json_expectation(const Case& c, std::string& why) {
   const fs::path file = c.file(kExpectSuffix);
-  const std::string where = file.generic_string();
+  const std::string where = file.lexically_normal().generic_string();
   if (is_file(c.file(".out"))) {
     why = fmt::format("{}: {} is there too; a case has one kind of expected file", where,
-                      c.file(".out").generic_string());
+                      c.file(".out").lexically_normal().generic_string());
     return std::nullopt;
   }
   const auto text = read_text(file);
@@ -157,7 +157,7 @@ std::optional<Expectation> load_json_expectation(const Case& c, std::string& why
 std::optional<Expectation> load_out_expectation(const Case& c, const std::string& source, std::string& why) {
   const auto out = read_text(c.file(".out"));
   if (!out) {
-    why = c.file(".out").generic_string() + ": file not found (a NAME.err case needs its NAME.out)";
+    why = c.file(".out").lexically_normal().generic_string() + ": file not found (a NAME.err case needs its NAME.out)";
     return std::nullopt;
   }
   Expectation e;
@@ -198,9 +198,9 @@ Discovery discover(const std::vector<std::string>& paths) {
       // A .v2 without expected results (e.g. one a monitor session loads) is no case, unless named.
       if (named)
         d.errors.push_back(session ? fmt::format("*Not a test case*  {}: {}.txt makes it a monitor session",
-                                                 file.generic_string(), stem)
+                                                 file.lexically_normal().generic_string(), stem)
                                    : fmt::format("*Not a test case*  {}: no {}{} or {}.out beside it",
-                                                 file.generic_string(), stem, kExpectSuffix, stem));
+                                                 file.lexically_normal().generic_string(), stem, kExpectSuffix, stem));
       return named;
     }
     c.kind = has_json ? CaseKind::expect_json : CaseKind::out_files;
@@ -243,7 +243,7 @@ std::optional<Expectation> load_expectation(const Case& c, std::string& why) {
   const fs::path program = c.file(".v2");
   const auto source = read_text(program);
   if (!is_file(program) || !source) {
-    why = program.generic_string() + ": file not found (every expected file needs its program)";
+    why = program.lexically_normal().generic_string() + ": file not found (every expected file needs its program)";
     return std::nullopt;
   }
   return c.kind == CaseKind::expect_json ? load_json_expectation(c, why) : load_out_expectation(c, *source, why);
@@ -442,7 +442,7 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
   std::vector<std::string> notes;
   const auto write = [&](const fs::path& p, const std::string& text) {
     std::string why;
-    notes.push_back(write_file_atomically(p, text, why) ? "wrote " + p.generic_string() : "not updated: " + why);
+    notes.push_back(write_file_atomically(p, text, why) ? "wrote " + p.lexically_normal().generic_string() : "not updated: " + why);
   };
   if (c.kind == CaseKind::out_files) {
     const bool completed = a.exit_code == 0 && a.err.rfind("Program completed: ", 0) == 0 &&
@@ -453,7 +453,7 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
     if (a.out != e.stdout_text.value_or("")) write(c.file(".out"), a.out);
     if (a.exit_code == 2 && (e.exit != 2 || a.err != e.stderr_text.value_or(""))) write(c.file(".err"), a.err);
     std::error_code ec;
-    if (completed && fs::remove(c.file(".err"), ec)) notes.push_back("removed " + c.file(".err").generic_string());
+    if (completed && fs::remove(c.file(".err"), ec)) notes.push_back("removed " + c.file(".err").lexically_normal().generic_string());
     return notes;
   }
   const fs::path file = c.file(kExpectSuffix);
@@ -461,7 +461,7 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
   try {
     doc = ordered_json::parse(read_text(file).value_or(""));
   } catch (const json::parse_error&) {
-    return {"not updated: " + file.generic_string() + " is malformed"};
+    return {"not updated: " + file.lexically_normal().generic_string() + " is malformed"};
   }
   const ordered_json before = doc;
   doc["exit"] = a.exit_code;
