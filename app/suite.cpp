@@ -388,8 +388,8 @@ void match_report(const json& expected, const json& actual, const std::string& p
 
 std::vector<std::string> compare(const Expectation& e, const Actual& a) {
   std::vector<std::string> diffs;
-  if (!a.exit_note.empty()) diffs.push_back("run: " + a.exit_note);
-  else if (a.exit_code != e.exit) diffs.push_back(fmt::format("exit code: expected {}, got {}", e.exit, a.exit_code));
+  if (!a.exit_note.empty()) return {"run: " + a.exit_note};  // its outputs are cut short: no use comparing
+  if (a.exit_code != e.exit) diffs.push_back(fmt::format("exit code: expected {}, got {}", e.exit, a.exit_code));
   if (e.stdout_text)
     if (auto d = first_line_difference("stdout", *e.stdout_text, a.out)) diffs.push_back(*d);
   if (e.stderr_text)

@@ -282,6 +282,20 @@ TEST_CASE("asimov test: usage and file errors exit 1") {
   CHECK(r.exit_code == 1);
 }
 
+TEST_CASE("asimov test: a case running past --timeout is stopped and FAILs") {
+  const fs::path dir = suite_dir("timeout");
+  write(dir / "spin.v2", ".PROGRAM spin()\n    WHILE TRUE DO\n        x = 1\n    END\n.END\n");
+  write(dir / "spin.out", "");
+  write(dir / "quick.v2", kHello);
+  write(dir / "quick.out", "hi\n42\n");
+  const auto r = run_cli("test --timeout 1 " + quoted(dir.string()));
+  INFO(r.out << r.err);
+  CHECK(r.exit_code == 4);
+  CHECK(r.out.find("FAIL " + (dir / "spin").string()) != std::string::npos);
+  CHECK(r.out.find("       run: timed out after 1 s\n") != std::string::npos);
+  CHECK(r.out.find("PASS " + (dir / "quick").string()) != std::string::npos);
+}
+
 TEST_CASE("asimov test --update rewrites the expected files of failed cases") {
   const fs::path dir = suite_dir("update");
   write(dir / "hello.v2", kHello);
