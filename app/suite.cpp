@@ -215,11 +215,12 @@ Discovery discover(const std::vector<std::string>& paths) {
       auto it = fs::recursive_directory_iterator(path, fs::directory_options::skip_permission_denied, ec);
       for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
         const std::string filename = it->path().filename().string();
-        if (it->is_directory(ec) && !filename.empty() && filename[0] == '.') {
+        std::error_code entry_ec;  // a dangling link is no case, not a folder error
+        if (it->is_directory(entry_ec) && !filename.empty() && filename[0] == '.') {
           it.disable_recursion_pending();  // .git, editor folders
           continue;
         }
-        if (it->is_regular_file(ec)) consider(it->path(), false);
+        if (it->is_regular_file(entry_ec)) consider(it->path(), false);
       }
       if (ec) d.errors.push_back(fmt::format("*Cannot read folder*  {}: {}", p, ec.message()));
     } else if (is_file(path)) {
