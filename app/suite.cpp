@@ -194,13 +194,16 @@ Discovery discover(const std::vector<std::string>& paths) {
     const bool has_json = is_file(c.file(kExpectSuffix));
     // NAME.txt + NAME.out is a monitor session (tests/app/test_monitor_sessions.cpp), no case.
     const bool session = !has_json && is_file(c.file(".txt"));
-    if (session || (!has_json && !is_file(c.file(".out")) && !is_file(c.file(".err")))) {
+    // NAME.out/.err make a case only beside NAME.v2 (a compiler's a.out is none).
+    const bool out_case = is_file(c.file(".v2")) && (is_file(c.file(".out")) || is_file(c.file(".err")));
+    if (session || (!has_json && !out_case)) {
       // A .v2 without expected results (e.g. one a monitor session loads) is no case, unless named.
       if (named)
         d.errors.push_back(session ? fmt::format("*Not a test case*  {}: {}.txt makes it a monitor session",
                                                  file.lexically_normal().generic_string(), stem)
-                                   : fmt::format("*Not a test case*  {}: no {}{} or {}.out beside it",
-                                                 file.lexically_normal().generic_string(), stem, kExpectSuffix, stem));
+                                   : fmt::format("*Not a test case*  {}: no {}.v2 with {}{} or {}.out beside it",
+                                                 file.lexically_normal().generic_string(), stem, stem, kExpectSuffix,
+                                                 stem));
       return named;
     }
     c.kind = has_json ? CaseKind::expect_json : CaseKind::out_files;

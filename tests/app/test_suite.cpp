@@ -172,6 +172,7 @@ TEST_CASE("discovery: cases under folders and named files, sessions and bare pro
   write(dir / ".hidden" / "c.v2", kHello);
   write(dir / ".hidden" / "c.out", "");
   write(dir / "orphan.expect.json", R"({"exit": 0})");     // a case without its program: FAIL later
+  write(dir / "prog.out", "\x7f" "ELF");                   // a compiler's output, no case
 
   auto d = suite::discover({dir.string()});
   CHECK(d.errors.empty());
@@ -185,8 +186,11 @@ TEST_CASE("discovery: cases under folders and named files, sessions and bare pro
   CHECK(d.errors.empty());
   CHECK(d.cases.size() == 2);
 
-  d = suite::discover({(dir / "missing").string(), (dir / "lonely.v2").string(), (dir / "session.out").string()});
-  REQUIRE(d.errors.size() == 3);
+  d = suite::discover({(dir / "missing").string(), (dir / "lonely.v2").string(), (dir / "session.out").string(),
+                       (dir / "prog.out").string()});
+  REQUIRE(d.errors.size() == 4);
+  CHECK(d.errors[3] == "*Not a test case*  " + (dir / "prog.out").generic_string() +
+                           ": no prog.v2 with prog.expect.json or prog.out beside it");
   CHECK(d.errors[0] == "*File not found*  " + (dir / "missing").string());
   CHECK(d.errors[1].rfind("*Not a test case*  ", 0) == 0);
   CHECK(d.errors[2].find("monitor session") != std::string::npos);
@@ -284,8 +288,11 @@ TEST_CASE("asimov test: usage and file errors exit 1") {
 
 TEST_CASE("asimov test: a case running past --timeout is stopped and FAILs") {
   const fs::path dir = suite_dir("timeout");
-  write(dir / "spin.v2", ".PROGRAM spin()\n    WHILE TRUE DO\n        x = 1\n    END\n.END\n");
-  write(dir / "spin.out", "");
+  // Moves back and forth without end (plain statements would meet the statement limit first).
+  write(dir / "spin.v2", ".PROGRAM spin()\n    MOVE TRANS(500, 100, 100, 0, 180, 0)\n    WHILE TRUE DO\n"
+                         "        DRAW 1, 0.5, -0.25\n        DRAW -1, -0.5, 0.25\n    END\n.END\n");
+  write(dir / "spin.yaml", "robot: puma560\ntool: [0, 0, 200, 0, 0, 0]\ncollision: {enabled: false}\n");
+  write(dir / "spin.expect.json", R"({"cell": "spin.yaml", "exit": 0})");
   write(dir / "quick.v2", kHello);
   write(dir / "quick.out", "hi\n42\n");
   const auto r = run_cli("test --timeout 1 " + quoted(dir.string()));
