@@ -29,6 +29,16 @@ struct PairsOptions {
   int samples = 10000;      // --samples N: random poses for NEVER
 };
 
+struct TestOptions {
+  std::vector<std::string> paths;   // folders or case files; empty: the current folder
+  std::string filter;               // --filter: substring of the case name, or a glob with * ? [
+  std::string junit;                // --junit FILE: JUnit XML of the results
+  int jobs = 1;                     // -j N: cases run at once
+  int timeout_s = 600;              // --timeout S: a case running longer fails
+  bool update = false;              // --update: rewrite the expected files of failed cases
+  std::string executable;           // the asimov executable to run; empty: this process's own
+};
+
 // True when `path` is a regular file; otherwise prints "*File not found*  path" to `err`.
 bool require_file(const std::string& path, std::ostream& err);
 
@@ -38,5 +48,8 @@ int check_command(const std::string& file, std::ostream& out, std::ostream& err)
 int monitor_command(const MonitorOptions& options, std::istream& in, std::ostream& out, std::ostream& err);
 // The generated participation matrix of a cell (cmd_pairs.cpp), cached next to the cell file.
 int pairs_command(const PairsOptions& options, std::ostream& out, std::ostream& err);
+// Suites of sample programs with expected results (cmd_test.cpp, app/suite.hpp): exit 0 when
+// every case passed, 4 when one failed, 1 for usage/file errors.
+int test_command(const TestOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace asimov::app

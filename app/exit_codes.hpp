@@ -8,6 +8,7 @@ enum ExitCode : int {
   kExitUsage = 1,         // usage, file or cell error: nothing ran
   kExitProgramError = 2,  // syntax, runtime, out of reach, joint limit
   kExitCollision = 3,     // halted by collision
+  kExitTestFailed = 4,    // `asimov test`: at least one case failed
 };
 
 }  // namespace asimov::app

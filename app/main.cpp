@@ -1,5 +1,5 @@
 // asimov: runs VAL II programs in simulation and halts them the instant the arm touches
-// something. Subcommands: run, check, pairs, monitor; no subcommand starts the monitor (README.md
+// something. Subcommands: run, check, pairs, monitor, test; no subcommand starts the monitor (README.md
 // has the contract).
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
@@ -40,6 +40,16 @@ int main(int argc, char** argv) {
   monitor_cmd->add_option("--cell", monitor.cell, "cell file (YAML); default: the built-in cell");
   monitor_cmd->add_flag("--strict", monitor.strict, "the first failed command ends the session with exit code 2");
 
+  TestOptions test;
+  auto* test_cmd = cli.add_subcommand("test", "run the sample-program cases under PATHs against their expected results");
+  test_cmd->add_option("paths", test.paths, "folders (searched recursively) or case files; default: .");
+  test_cmd->add_option("--filter", test.filter, "only cases whose name contains PATTERN (a glob if it has * ? [)");
+  test_cmd->add_option("--junit", test.junit, "write the results as JUnit XML to FILE");
+  test_cmd->add_option("-j,--jobs", test.jobs, "cases run at once (default 1)")->check(CLI::Range(1, 64));
+  test_cmd->add_option("--timeout", test.timeout_s, "seconds before a case is stopped and fails (default 600)")
+      ->check(CLI::Range(1, 86400));
+  test_cmd->add_flag("--update", test.update, "maintainers: rewrite the expected files of failed cases");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -53,6 +63,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run, std::cout, std::cerr);
     if (*check_cmd) return check_command(check_file, std::cout, std::cerr);
     if (*pairs_cmd) return pairs_command(pairs, std::cout, std::cerr);
+    if (*test_cmd) return test_command(test, std::cout, std::cerr);
     return monitor_command(monitor, std::cin, std::cout, std::cerr);  // `monitor` or no subcommand
   } catch (const std::exception& e) {
     // The layers report problems as values; anything reaching here is a defect, still no crash.
