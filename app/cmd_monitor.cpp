@@ -5,14 +5,13 @@
 #include "app/cell_loader.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "app/sigint.hpp"
 #include "interpreter/monitor.hpp"
 
 #include <fmt/format.h>
 #include <histedit.h>
 
-#include <atomic>
 #include <cerrno>
-#include <csignal>
 #include <cstdlib>
 #include <cwchar>
 #include <filesystem>
@@ -23,21 +22,6 @@
 
 namespace asimov::app {
 namespace {
-
-// Set by SIGINT. At the prompt it clears the line; while a program runs (Limits::interrupt) the
-// evaluator polls it between steps and the simulator before each checked pose of a motion, so
-// the program stops and the arm stops where it is.
-std::atomic<bool> g_interrupted{false};
-
-extern "C" void on_sigint(int) { g_interrupted.store(true); }
-
-void install_sigint() {
-  struct sigaction sa {};
-  sa.sa_handler = on_sigint;
-  sigemptyset(&sa.sa_mask);
-  sa.sa_flags = 0;  // no SA_RESTART: a read at the prompt returns EINTR
-  sigaction(SIGINT, &sa, nullptr);
-}
 
 // stdin one byte at a time, as libedit reads it: PROMPT replies and Y/N answers read through
 // it never swallow a command typed ahead.
@@ -75,7 +59,7 @@ const char* prompt(EditLine* el) {
 // outside the read itself is not lost.
 int read_char(EditLine*, wchar_t* c) {
   for (;;) {
-    if (g_interrupted.load()) {
+    if (sigint_flag().load()) {
       *c = L'\n';
       return 1;
     }
@@ -159,10 +143,10 @@ int interactive(val::Monitor& monitor, bool strict) {
 
   int rc = kExitCompleted;
   for (;;) {
-    g_interrupted.store(false);
+    sigint_flag().store(false);
     int count = 0;
     const char* got = el_gets(el, &count);
-    if (g_interrupted.load()) {  // Ctrl-C at the prompt: the line is dropped
+    if (sigint_flag().load()) {  // Ctrl-C at the prompt: the line is dropped
       if (monitor.entering_program()) std::cout << "(the program being entered is kept; end it with .END)\n";
       continue;
     }
@@ -194,7 +178,7 @@ int interactive(val::Monitor& monitor, bool strict) {
 int scripted(val::Monitor& monitor, std::istream& in, std::ostream& out, bool strict) {
   std::string line;
   while (std::getline(in, line)) {
-    g_interrupted.store(false);
+    sigint_flag().store(false);
     const val::CommandStatus s = monitor.execute(line);
     out.flush();
     if (s == val::CommandStatus::quit) break;
@@ -215,14 +199,14 @@ int monitor_command(const MonitorOptions& opt, std::istream& in, std::ostream& o
   motion::Simulator sim(std::move(*cell));
   val::Interpreter interp(sim, out);
   val::Monitor monitor(interp, sim, out);
-  interp.limits().interrupt = &g_interrupted;
+  interp.limits().interrupt = &sigint_flag();
   const bool tty = ::isatty(STDIN_FILENO) == 1 && &in == &std::cin;
   UnbufferedStdin tty_buffer;
   std::istream tty_in(&tty_buffer);
   interp.set_input(tty ? tty_in : in, tty);  // PROMPT reads the next line of the session
   if (tty) {
     monitor.confirm = ask;
-    install_sigint();  // scripted sessions keep the default: Ctrl-C ends them
+    install_sigint(false);  // scripted sessions keep the default: Ctrl-C ends them
   }
 
   for (const std::string& f : opt.files)  // as LOAD f

@@ -4,12 +4,14 @@
 #include "app/exit_codes.hpp"
 #include "app/replay.hpp"
 #include "app/report.hpp"
+#include "app/sigint.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <ostream>
@@ -106,9 +108,15 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
     return kExitUsage;
   }
 
+  // Ctrl-C stops the program where it is (the arm at its last checked pose) and the report and
+  // trace are still written; a second Ctrl-C ends the process at once.
+  sigint_flag().store(false);
+  interp.limits().interrupt = &sigint_flag();
+  install_sigint(true);
   RunSummary summary;
   summary.file = opt.file;
   summary.result = interp.run(main);
+  signal(SIGINT, SIG_DFL);
   out.flush();
   summary.sim_time_s = sim.time_s();
   summary.poses_checked = sim.poses_checked();
@@ -127,8 +135,8 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       err << fmt::format("Program completed: {}\n", main);
       break;
     case val::RunStatus::error:
-      err << val::format_diagnostic(summary.result.error);
-      rc = kExitProgramError;
+      err << val::format_diagnostic(summary.result.error) << val::format_interrupt(summary.result);
+      rc = val::is_interrupt(summary.result.error) ? kExitInterrupted : kExitProgramError;
       break;
     case val::RunStatus::paused:  // PAUSE / HALT end a batch run: nobody can PROCEED here
     case val::RunStatus::halted:

@@ -9,6 +9,7 @@ enum ExitCode : int {
   kExitProgramError = 2,  // syntax, runtime, out of reach, joint limit
   kExitCollision = 3,     // halted by collision
   kExitTestFailed = 4,    // `asimov test`: at least one case failed
+  kExitInterrupted = 130, // `asimov run` stopped by Ctrl-C (128 + SIGINT, as shells report it)
 };
 
 }  // namespace asimov::app

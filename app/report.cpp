@@ -44,7 +44,8 @@ nlohmann::json load_error_report(const std::string& file, const val::Diagnostic&
 
 nlohmann::json run_report(const RunSummary& s) {
   const auto& r = s.result;
-  nlohmann::json doc = {{"status", status_name(r.status)},
+  const bool interrupted = r.status == val::RunStatus::error && val::is_interrupt(r.error);
+  nlohmann::json doc = {{"status", interrupted ? "interrupted" : status_name(r.status)},
                         {"file", s.file},
                         {"program", r.program},
                         {"line", r.line},
@@ -62,6 +63,10 @@ nlohmann::json run_report(const RunSummary& s) {
                         {"faces", {c.face_a, c.face_b}}};
   }
   if (r.status == val::RunStatus::error) doc["error"] = error_object(r.error);
+  if (r.interrupt)  // Ctrl-C inside a motion: where the arm stopped
+    doc["interrupt"] = {{"time_s", r.interrupt->time_s},
+                        {"path_fraction", r.interrupt->path_fraction},
+                        {"joints_deg", joints(r.interrupt->joints)}};
   if (!r.warnings.empty()) {
     auto warnings = nlohmann::json::array();
     for (const auto& w : r.warnings) warnings.push_back(error_object(w));

@@ -44,6 +44,17 @@ std::string format_pause(const RunResult& r) {
                      r.step);
 }
 
+bool is_interrupt(const Diagnostic& d) { return d.message == error_message(ErrorKind::interrupted); }
+
+std::string format_interrupt(const RunResult& r) {
+  if (!r.interrupt) return {};
+  const auto& h = *r.interrupt;
+  std::string out = fmt::format("motion halted at t = {:.6f} s, {:.1f} % of its path\njoints", h.time_s,
+                                100 * h.path_fraction);
+  for (Eigen::Index i = 0; i < h.joints.size(); ++i) out += fmt::format(" {:.3f}", h.joints[i]);
+  return out + '\n';
+}
+
 // The report of dialect §10 (declared in interpreter.hpp, the public face).
 std::string format_diagnostic(const Diagnostic& d) {
   std::string out = d.message;

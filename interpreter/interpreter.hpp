@@ -33,6 +33,11 @@ struct RunResult;
 // "Program paused: name, step n" / "Program halted: name, step n" (no newline) for a run
 // that ended in PAUSE or HALT; empty for any other status.
 std::string format_pause(const RunResult& r);
+// "motion halted at t = ... s, ... % of its path" and a "joints ..." line (newline-terminated)
+// when Ctrl-C stopped the arm inside a motion; empty otherwise.
+std::string format_interrupt(const RunResult& r);
+// True for the *Program interrupted* stop of Ctrl-C (Limits::interrupt).
+bool is_interrupt(const Diagnostic& d);
 
 // paused: PAUSE (PROCEED continues with the next step); halted: HALT (cannot be resumed).
 enum class RunStatus { completed, error, collision, paused, halted };

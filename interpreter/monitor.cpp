@@ -62,7 +62,6 @@ constexpr std::array<std::string_view, 24> kNotForDo = {
 constexpr const char* kDoProgram = "do.tmp";      // DO runs as this one-statement program
 constexpr const char* kExecProgram = "exec.tmp";  // EXECUTE prog(args) calls prog from this one
 constexpr const char* kTypedFile = "monitor";     // file name of programs typed at the prompt
-constexpr const char* kInterruptMessage = "*Program interrupted*";  // the evaluator's stop on Ctrl-C
 
 std::string trim(std::string_view s) {
   const auto b = s.find_first_not_of(" \t\r\n");
@@ -326,7 +325,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
            : r.status == RunStatus::collision     ? ExecState::collision
            : r.status == RunStatus::paused        ? ExecState::paused
            : r.status == RunStatus::halted        ? ExecState::halted
-           : r.error.message == kInterruptMessage ? ExecState::interrupted
+           : is_interrupt(r.error)                ? ExecState::interrupted
                                                   : ExecState::error;
     state_step_ = r.step;
     halted_ = r.interrupt;
@@ -338,14 +337,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
     case RunStatus::paused:  // PAUSE (PROCEED continues) and HALT are not failures
     case RunStatus::halted: out_ << format_pause(r) << '\n'; return CommandStatus::ok;
     case RunStatus::error:
-      out_ << format_diagnostic(d);
-      if (r.interrupt) {  // Ctrl-C stopped the arm where it was: say where
-        const auto& h = *r.interrupt;
-        out_ << fmt::format("motion halted at t = {:.6f} s, {:.1f} % of its path\njoints", h.time_s,
-                            100 * h.path_fraction);
-        for (Eigen::Index i = 0; i < h.joints.size(); ++i) out_ << fmt::format(" {:.3f}", h.joints[i]);
-        out_ << '\n';
-      }
+      out_ << format_diagnostic(d) << format_interrupt(r);  // Ctrl-C in a motion: where the arm stopped
       return CommandStatus::failed;
     case RunStatus::collision: {
       const auto& c = r.collision;

@@ -1,0 +1,92 @@
+// Ctrl-C during `asimov run`: the program stops where it is (the arm at its last checked pose),
+// the report and trace are still written, exit 130. The signal is sent once the process has
+// installed its handler (read from /proc/PID/status), so the test does not depend on timing.
+#include "../support/run_cli.hpp"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+using asimov::test::scratch_dir;
+using json = nlohmann::json;
+
+// True once `pid` catches SIGINT (SigCgt mask of /proc/PID/status).
+bool catches_sigint(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1;
+  return false;
+}
+
+// Starts `asimov args...` with stdout and stderr to files; SIGINT once the handler is in place.
+int run_and_interrupt(const std::vector<std::string>& args, const std::string& out_file) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, STDOUT_FILENO);
+    ::dup2(fd, STDERR_FILENO);
+    std::vector<char*> argv{const_cast<char*>(ASIMOV_BINARY)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(ASIMOV_BINARY, argv.data());
+    ::_exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!catches_sigint(pid) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // let it move a while
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
+}
+
+}  // namespace
+
+TEST_CASE("Ctrl-C in asimov run stops the arm inside a motion, writes the report and exits 130") {
+  const auto dir = scratch_dir();
+  const auto program = dir / "spin.v2", report = dir / "spin.json", trace = dir / "spin_trace.json",
+             output = dir / "spin.txt";
+  std::ofstream(program) << ".PROGRAM spin()\n"
+                            "  WHILE TRUE DO\n"
+                            "    MOVE #PPOINT(-60, -90, 90, 0, 0, 0)\n"
+                            "    MOVE #PPOINT(60, -90, 90, 0, 0, 0)\n"
+                            "  END\n"
+                            ".END\n";
+  const int rc = run_and_interrupt({"run", program.string(), "--report", report.string(), "--trace", trace.string()},
+                                   output.string());
+  const std::string text = asimov::test::slurp(output);
+  INFO(text);
+  CHECK(rc == 130);
+  CHECK(text.find("*Program interrupted*") != std::string::npos);
+
+  const json doc = json::parse(asimov::test::slurp(report));
+  CHECK(doc["status"] == "interrupted");
+  CHECK(doc["error"]["message"] == "*Program interrupted*");
+  CHECK(doc["sim_time_s"].get<double>() > 0);
+  // The endless program only stops inside a motion or between the two MOVEs; a stop inside a
+  // motion says where the arm is, between its start and its target on J1.
+  if (doc.contains("interrupt")) {
+    CHECK(text.find("motion halted at t = ") != std::string::npos);
+    const double f = doc["interrupt"]["path_fraction"].get<double>();
+    CHECK(f >= 0);
+    CHECK(f <= 1);
+    const double j1 = doc["interrupt"]["joints_deg"][0].get<double>();
+    CHECK(j1 >= -60);
+    CHECK(j1 <= 60);
+    CHECK(doc["interrupt"]["time_s"].get<double>() == Approx(doc["sim_time_s"].get<double>()));
+  }
+  const json tr = json::parse(asimov::test::slurp(trace));
+  CHECK(tr["samples"].size() > 2);
+}
