@@ -25,7 +25,8 @@ namespace {
 struct WorldFace {
   TriangleVerts t;  // world vertices (transform_vertex of the local ones)
   Vec3 lo, hi;      // their bounding box
-  FacePlane plane;  // for the plane prefilter (face_plane.hpp)
+  FacePlane plane;  // for the plane prefilter (face_plane.hpp), valid when
+  bool has_plane;   //   has_plane: computed on first use in this pose (most faces never need it)
 };
 
 // Face pairs already tested in the current body pair [ours]: a face spans many voxels, so one
@@ -104,7 +105,7 @@ struct Engine::Impl {
   // A faces of the current voxel pair (index, world face), reused (no allocation per pose).
   struct Kept {
     std::uint32_t f;
-    const WorldFace* w;
+    WorldFace* w;
   };
   std::vector<Kept> a_faces;
   TestedPairs tested;
@@ -147,13 +148,20 @@ struct Engine::Impl {
     const Triangle& t = b.def.mesh.triangles[f];
     return {world_vertex(b, t[0]), world_vertex(b, t[1]), world_vertex(b, t[2])};
   }
-  static const WorldFace& world_face(Body& b, std::uint32_t f) {
+  static const FacePlane& plane_of(WorldFace& w) {
+    if (!w.has_plane) {
+      w.plane = face_plane(w.t);
+      w.has_plane = true;
+    }
+    return w.plane;
+  }
+  static WorldFace& world_face(Body& b, std::uint32_t f) {
     WorldFace& w = b.faces[f];
     if (b.face_version[f] != b.version) {
       w.t = world_triangle(b, f);
       w.lo = w.t[0].cwiseMin(w.t[1]).cwiseMin(w.t[2]);
       w.hi = w.t[0].cwiseMax(w.t[1]).cwiseMax(w.t[2]);
-      w.plane = face_plane(w.t);
+      w.has_plane = false;
       b.face_version[f] = b.version;
     }
     return w;
@@ -259,7 +267,7 @@ struct Engine::Impl {
     const auto pas = ga.face_parts_in(va);
     for (std::size_t n = 0; n < fas.size(); ++n)
       if (!misses(pas[n], p.y_centre_a, p.y_reach_a)) {
-        const WorldFace& wa = world_face(a, fas[n]);
+        WorldFace& wa = world_face(a, fas[n]);
         a_faces.push_back({fas[n], &wa});
         ulo = ulo.cwiseMin(wa.lo);
         uhi = uhi.cwiseMax(wa.hi);
@@ -271,17 +279,17 @@ struct Engine::Impl {
       if (misses(pbs[n], p.x_centre_b, p.x_reach_b)) continue;
       const std::uint32_t fb = fbs[n];
       res.counts.face_pairs += a_faces.size();
-      const WorldFace& wb = world_face(b, fb);
+      WorldFace& wb = world_face(b, fb);
       // Missing the union box, it misses every kept A face's box (exact min/max): a bounding-
       // box rejection of all its pairs at once.
       if (boxes_disjoint(ulo, uhi, wb.lo, wb.hi, pad)) continue;
       for (const Kept& k : a_faces) {
-        const WorldFace& wa = *k.w;
+        WorldFace& wa = *k.w;
         // Disjoint bounding boxes: triangles_intersect would say no (min/max are exact).
         if (boxes_disjoint(wa.lo, wa.hi, wb.lo, wb.hi, pad)) continue;
         if (tested.seen_or_insert(k.f, fb)) continue;
         // Planes: strictly one side of the other's plane, exactly; triangles_intersect says no.
-        const bool apart = plane_separates(wb.plane, wb.t, wa.t) || plane_separates(wa.plane, wa.t, wb.t);
+        const bool apart = plane_separates(plane_of(wb), wb.t, wa.t) || plane_separates(plane_of(wa), wa.t, wb.t);
         if (!apart && triangles_intersect(wa.t, wb.t)) {
           res.collided = true;
           res.contact = Contact{.body_a = ia, .body_b = ib, .face_a = k.f, .face_b = fb,
