@@ -22,11 +22,13 @@
 namespace asimov::collision {
 namespace {
 
-struct WorldFace {
+// One face in world coordinates, valid when version == its body's version (step 4 cache).
+// Two cache lines with its version: at 50,000 faces the cache is far larger than L2, and a
+// separate version array cost a third miss per face.
+struct alignas(64) WorldFace {
   TriangleVerts t;  // world vertices (transform_vertex of the local ones)
   Vec3 lo, hi;      // their bounding box
-  FacePlane plane;  // for the plane prefilter (face_plane.hpp), valid when
-  bool has_plane;   //   has_plane: computed on first use in this pose (most faces never need it)
+  std::uint64_t version = 0;
 };
 
 // Face pairs already tested in the current body pair [ours]: a face spans many voxels, so one
@@ -76,8 +78,7 @@ struct Body {
   std::vector<Vec3> world;          // world vertices: all valid when world_version == version,
   std::uint64_t world_version = 0;  //   else vertex i valid when vertex_version[i] == version
   std::vector<std::uint64_t> vertex_version;
-  std::vector<WorldFace> faces;     // world triangle + box of face f, valid when
-  std::vector<std::uint64_t> face_version;  //   face_version[f] == version (step 4 cache)
+  std::vector<WorldFace> faces;     // world triangle + box of face f (step 4 cache)
   int halvings = 9;                 // M in use (resolved from def.halvings, kAutoHalvings = cost model)
   Box box;                          // world minimax box, valid when box_version == version
   std::uint64_t box_version = 0;
@@ -103,9 +104,13 @@ struct Engine::Impl {
   std::vector<std::uint32_t> pair_count;  // enabled pairs per body (step 2 test order)
   double clearance = 0;
   // A faces of the current voxel pair (index, world face), reused (no allocation per pose).
+  // Its plane (face_plane.hpp) is computed here on first use: most kept faces never reach the
+  // prefilter, and a plane per cached face made the cache a third larger.
   struct Kept {
     std::uint32_t f;
-    WorldFace* w;
+    const WorldFace* w;
+    bool has_plane;
+    FacePlane plane;
   };
   std::vector<Kept> a_faces;
   TestedPairs tested;
@@ -148,21 +153,13 @@ struct Engine::Impl {
     const Triangle& t = b.def.mesh.triangles[f];
     return {world_vertex(b, t[0]), world_vertex(b, t[1]), world_vertex(b, t[2])};
   }
-  static const FacePlane& plane_of(WorldFace& w) {
-    if (!w.has_plane) {
-      w.plane = face_plane(w.t);
-      w.has_plane = true;
-    }
-    return w.plane;
-  }
-  static WorldFace& world_face(Body& b, std::uint32_t f) {
+  static const WorldFace& world_face(Body& b, std::uint32_t f) {
     WorldFace& w = b.faces[f];
-    if (b.face_version[f] != b.version) {
+    if (w.version != b.version) {
       w.t = world_triangle(b, f);
       w.lo = w.t[0].cwiseMin(w.t[1]).cwiseMin(w.t[2]);
       w.hi = w.t[0].cwiseMax(w.t[1]).cwiseMax(w.t[2]);
-      w.has_plane = false;
-      b.face_version[f] = b.version;
+      w.version = b.version;
     }
     return w;
   }
@@ -183,7 +180,6 @@ struct Engine::Impl {
   static void preprocess(Body& b) {
     if (b.grid) return;
     b.faces.resize(b.def.mesh.triangles.size());
-    b.face_version.assign(b.def.mesh.triangles.size(), 0);
     b.grid = build_voxel_grid(b.def.mesh, b.halvings);
     b.shells = shell_samples(b.def.mesh, kShellSamples);
   }
@@ -267,8 +263,11 @@ struct Engine::Impl {
     const auto pas = ga.face_parts_in(va);
     for (std::size_t n = 0; n < fas.size(); ++n)
       if (!misses(pas[n], p.y_centre_a, p.y_reach_a)) {
-        WorldFace& wa = world_face(a, fas[n]);
-        a_faces.push_back({fas[n], &wa});
+        const WorldFace& wa = world_face(a, fas[n]);
+        Kept& k = a_faces.emplace_back();
+        k.f = fas[n];
+        k.w = &wa;
+        k.has_plane = false;
         ulo = ulo.cwiseMin(wa.lo);
         uhi = uhi.cwiseMax(wa.hi);
       }
@@ -279,17 +278,30 @@ struct Engine::Impl {
       if (misses(pbs[n], p.x_centre_b, p.x_reach_b)) continue;
       const std::uint32_t fb = fbs[n];
       res.counts.face_pairs += a_faces.size();
-      WorldFace& wb = world_face(b, fb);
+      const WorldFace& wb = world_face(b, fb);
       // Missing the union box, it misses every kept A face's box (exact min/max): a bounding-
       // box rejection of all its pairs at once.
       if (boxes_disjoint(ulo, uhi, wb.lo, wb.hi, pad)) continue;
-      for (const Kept& k : a_faces) {
-        WorldFace& wa = *k.w;
+      bool b_has_plane = false;
+      FacePlane b_plane{Vec3::Zero(), Vec3::Zero()};
+      for (Kept& k : a_faces) {
+        const WorldFace& wa = *k.w;
         // Disjoint bounding boxes: triangles_intersect would say no (min/max are exact).
         if (boxes_disjoint(wa.lo, wa.hi, wb.lo, wb.hi, pad)) continue;
         if (tested.seen_or_insert(k.f, fb)) continue;
         // Planes: strictly one side of the other's plane, exactly; triangles_intersect says no.
-        const bool apart = plane_separates(plane_of(wb), wb.t, wa.t) || plane_separates(plane_of(wa), wa.t, wb.t);
+        if (!b_has_plane) {
+          b_plane = face_plane(wb.t);
+          b_has_plane = true;
+        }
+        bool apart = plane_separates(b_plane, wb.t, wa.t);
+        if (!apart) {
+          if (!k.has_plane) {
+            k.plane = face_plane(wa.t);
+            k.has_plane = true;
+          }
+          apart = plane_separates(k.plane, wa.t, wb.t);
+        }
         if (!apart && triangles_intersect(wa.t, wb.t)) {
           res.collided = true;
           res.contact = Contact{.body_a = ia, .body_b = ib, .face_a = k.f, .face_b = fb,
