@@ -89,6 +89,7 @@ struct Row {
   // Filter profile (four-step.md §8): where each of our queries ended, with its median time.
   std::array<std::size_t, 4> ended{};      // step 2, step 3, step 4 free, contact
   std::array<double, 4> ended_median_us{};
+  std::array<double, 4> ended_share_us{};  // each class's part of the mean (sum = ours.mean)
   Stats ours{}, peer{};
   double ours_prep_ms = 0, peer_prep_ms = 0;
   double ours_colliding = 0, peer_colliding = 0;
@@ -108,6 +109,7 @@ void profile(const std::vector<collision::QueryResult>& results, const std::vect
   for (std::size_t k = 0; k < 4; ++k) {
     row.ended[k] = by[k].size();
     row.ended_median_us[k] = by[k].empty() ? 0 : stats(by[k]).median;
+    row.ended_share_us[k] = std::accumulate(by[k].begin(), by[k].end(), 0.0) / static_cast<double>(results.size());
   }
 }
 
@@ -343,9 +345,10 @@ void print(const Row& r) {
               r.peer.mean, r.ratio(), r.mean_ratio(), 100 * r.ours_colliding, 100 * r.peer_colliding, r.agreement(), r.dis.touching,
               r.dis.containment, r.dis.other, r.ours_prep_ms, r.peer_prep_ms, r.m.c_str(), r.after_minimax, r.voxel_pairs, r.face_pairs);
   std::printf("    ours ended at: step 2 %zu (median %.2f us), step 3 %zu (%.2f us), step 4 free %zu (%.2f us), "
-              "contact %zu (%.2f us)\n",
+              "contact %zu (%.2f us); share of the mean %.2f / %.2f / %.2f / %.2f us\n",
               r.ended[0], r.ended_median_us[0], r.ended[1], r.ended_median_us[1], r.ended[2], r.ended_median_us[2],
-              r.ended[3], r.ended_median_us[3]);
+              r.ended[3], r.ended_median_us[3], r.ended_share_us[0], r.ended_share_us[1], r.ended_share_us[2],
+              r.ended_share_us[3]);
   std::fflush(stdout);
 }
 
@@ -400,7 +403,9 @@ int main(int argc, char** argv) {
                  {"ended_step2", r.ended[0]}, {"ended_step3", r.ended[1]}, {"ended_step4_free", r.ended[2]},
                  {"ended_contact", r.ended[3]}, {"ended_step2_median_us", r.ended_median_us[0]},
                  {"ended_step3_median_us", r.ended_median_us[1]}, {"ended_step4_free_median_us", r.ended_median_us[2]},
-                 {"ended_contact_median_us", r.ended_median_us[3]}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
+                 {"ended_contact_median_us", r.ended_median_us[3]},
+                 {"ended_step2_mean_share_us", r.ended_share_us[0]}, {"ended_step3_mean_share_us", r.ended_share_us[1]},
+                 {"ended_step4_free_mean_share_us", r.ended_share_us[2]}, {"ended_contact_mean_share_us", r.ended_share_us[3]}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
   if (!only.empty()) out += ".partial";  // a partial run never overwrites the committed results
   std::ofstream(out) << j.dump(2) << "\n";
   std::printf("wrote %s\n", out.c_str());

@@ -167,8 +167,8 @@ struct Engine::Impl {
   // rejection triangles_intersect starts with (min/max do not round); with a clearance c,
   // pad = 2c + margin, so no pair within c of each other is dropped.
   static bool boxes_disjoint(const Vec3& xlo, const Vec3& xhi, const Vec3& ylo, const Vec3& yhi, double pad) {
-    return xlo.x() > yhi.x() + pad || ylo.x() > xhi.x() + pad || xlo.y() > yhi.y() + pad ||
-           ylo.y() > xhi.y() + pad || xlo.z() > yhi.z() + pad || ylo.z() > xhi.z() + pad;
+    return static_cast<bool>((xlo.x() > yhi.x() + pad) | (ylo.x() > xhi.x() + pad) | (xlo.y() > yhi.y() + pad) |
+                             (ylo.y() > xhi.y() + pad) | (xlo.z() > yhi.z() + pad) | (ylo.z() > xhi.z() + pad));
   }
   void count_pairs() {
     pair_count.assign(bodies.size(), 0);
@@ -249,20 +249,33 @@ struct Engine::Impl {
     const VoxelGrid& ga = *a.grid;
     const VoxelGrid& gb = *b.grid;
     if (res.counts.voxel_pairs++ == 0) ++res.counts.pairs_after_voxels;
-    // The float centre, reach and grow of the descent: conservative (tree_descent.hpp).
-    auto misses = [grow](const Box& part, const float* centre, const float* reach) {
+    // The float centre, reach and grow of the descent: conservative (tree_descent.hpp). The
+    // other voxel's interval per axis is computed once per voxel pair, and the six comparisons
+    // per face are combined without branches (the outcome is data-dependent: a branch per
+    // comparison mispredicted often).
+    struct Window {
+      double lo[3], hi[3];
+    };
+    auto window = [grow](const float* centre, const float* reach) {
+      Window w;
       for (int k = 0; k < 3; ++k) {
         const double c = centre[k], r = static_cast<double>(reach[k]) + grow;
-        if (part.lo[k] > c + r || part.hi[k] < c - r) return true;
+        w.lo[k] = c - r;
+        w.hi[k] = c + r;
       }
-      return false;
+      return w;
     };
+    auto misses = [](const Box& part, const Window& w) {
+      return static_cast<bool>((part.lo[0] > w.hi[0]) | (part.hi[0] < w.lo[0]) | (part.lo[1] > w.hi[1]) |
+                               (part.hi[1] < w.lo[1]) | (part.lo[2] > w.hi[2]) | (part.hi[2] < w.lo[2]));
+    };
+    const Window in_a = window(p.y_centre_a, p.y_reach_a), in_b = window(p.x_centre_b, p.x_reach_b);
     a_faces.clear();
     Vec3 ulo = Vec3::Constant(INFINITY), uhi = Vec3::Constant(-INFINITY);  // union of kept A boxes
     const auto fas = ga.faces_in(va);
     const auto pas = ga.face_parts_in(va);
     for (std::size_t n = 0; n < fas.size(); ++n)
-      if (!misses(pas[n], p.y_centre_a, p.y_reach_a)) {
+      if (!misses(pas[n], in_a)) {
         const WorldFace& wa = world_face(a, fas[n]);
         Kept& k = a_faces.emplace_back();
         k.f = fas[n];
@@ -275,7 +288,7 @@ struct Engine::Impl {
     const auto fbs = gb.faces_in(vb);
     const auto pbs = gb.face_parts_in(vb);
     for (std::size_t n = 0; n < fbs.size(); ++n) {
-      if (misses(pbs[n], p.x_centre_b, p.x_reach_b)) continue;
+      if (misses(pbs[n], in_b)) continue;
       const std::uint32_t fb = fbs[n];
       res.counts.face_pairs += a_faces.size();
       const WorldFace& wb = world_face(b, fb);
