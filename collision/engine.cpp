@@ -153,6 +153,11 @@ struct Engine::Impl {
     const Triangle& t = b.def.mesh.triangles[f];
     return {world_vertex(b, t[0]), world_vertex(b, t[1]), world_vertex(b, t[2])};
   }
+  static void prefetch_face(const Body& b, std::uint32_t f) {
+    const char* w = reinterpret_cast<const char*>(&b.faces[f]);
+    __builtin_prefetch(w);
+    __builtin_prefetch(w + 64);
+  }
   static const WorldFace& world_face(Body& b, std::uint32_t f) {
     WorldFace& w = b.faces[f];
     if (w.version != b.version) {
@@ -274,17 +279,21 @@ struct Engine::Impl {
     Vec3 ulo = Vec3::Constant(INFINITY), uhi = Vec3::Constant(-INFINITY);  // union of kept A boxes
     const auto fas = ga.faces_in(va);
     const auto pas = ga.face_parts_in(va);
+    // Two passes: the kept faces first, their cached world faces prefetched (at 50,000 faces
+    // the cache is far larger than L2, and the misses now overlap), then the world faces.
     for (std::size_t n = 0; n < fas.size(); ++n)
       if (!misses(pas[n], in_a)) {
-        const WorldFace& wa = world_face(a, fas[n]);
         Kept& k = a_faces.emplace_back();
         k.f = fas[n];
-        k.w = &wa;
         k.has_plane = false;
-        ulo = ulo.cwiseMin(wa.lo);
-        uhi = uhi.cwiseMax(wa.hi);
+        prefetch_face(a, k.f);
       }
     if (a_faces.empty()) return false;
+    for (Kept& k : a_faces) {
+      k.w = &world_face(a, k.f);
+      ulo = ulo.cwiseMin(k.w->lo);
+      uhi = uhi.cwiseMax(k.w->hi);
+    }
     const auto fbs = gb.faces_in(vb);
     const auto pbs = gb.face_parts_in(vb);
     for (std::size_t n = 0; n < fbs.size(); ++n) {
