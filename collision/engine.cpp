@@ -362,7 +362,15 @@ struct Engine::Impl {
     if (containers_separated(a.container, b.container, a_from_b, grow)) return false;
     if (box_alone && separated(world_box(a), world_box(b), grow)) return false;
     ++res.counts.pairs_after_minimax;
+    return steps_3_4(ia, ib, a_from_b, margin, grow, res);
+  }
 
+  // Out of line: most pairs end in step 2, and with steps 3-4 inlined test_pair carried their
+  // frame and saved registers on every call.
+  [[gnu::noinline]] bool steps_3_4(BodyId ia, BodyId ib, const Pose& a_from_b, double margin, double grow,
+                                   QueryResult& res) {
+    Body& a = bodies[ia];
+    Body& b = bodies[ib];
     preprocess(a);
     preprocess(b);
     const double pad = clearance > 0 ? 2 * clearance + margin : 0.0;
