@@ -10,6 +10,15 @@
 #include <cfloat>
 #include <cmath>
 
+// Not exact_fp.hpp: its optimize pragma would split engine.cpp's functions into two option sets
+// (and stop inlining between them); CMake's -ffp-contract=off covers engine.cpp.
+#if defined(__FAST_MATH__)
+#error "the plane prefilter's error bound needs IEEE arithmetic: no fast-math"
+#endif
+#if !defined(FLT_EVAL_METHOD) || FLT_EVAL_METHOD != 0
+#error "the plane prefilter needs FLT_EVAL_METHOD == 0 (SSE2 doubles)"
+#endif
+
 namespace asimov::collision {
 
 struct FacePlane {
