@@ -1,7 +1,7 @@
 // The four-step engine against FCL 0.7 (BVHModel<OBBRSS>) on the same meshes and poses, in one
 // run: (a) Coal's env/rob method (2,000 vs 200 faces, 10,000 random poses), (b) pairs of 50 to
 // 50,000 faces, (c) the PUMA default cell along a recorded trajectory (FCL: DynamicAABBTree
-// broadphase). Prints median / p95 / mean us per query, ratio ours/FCL (of medians) and
+// broadphase). Prints median / p95 / mean us per query, ratio ours/FCL (of medians; of means too) and
 // agreement, classifies every disagreement (touching, containment, other) and writes
 // bench/results/collision_fcl.json. Run: bench_collision_fcl [--quick] [--out FILE].
 #include "bench/scenes.hpp"
@@ -89,11 +89,13 @@ struct Row {
   // Filter profile (four-step.md §8): where each of our queries ended, with its median time.
   std::array<std::size_t, 4> ended{};      // step 2, step 3, step 4 free, contact
   std::array<double, 4> ended_median_us{};
+  std::array<double, 4> ended_share_us{};  // each class's part of the mean (sum = ours.mean)
   Stats ours{}, peer{};
   double ours_prep_ms = 0, peer_prep_ms = 0;
   double ours_colliding = 0, peer_colliding = 0;
   Disagreements dis{};
   double ratio() const { return ours.median / peer.median; }
+  double mean_ratio() const { return ours.mean / peer.mean; }  // the tail: interlocked poses, late contacts
   double agreement() const { return 1.0 - static_cast<double>(dis.total()) / static_cast<double>(queries); }
 };
 
@@ -107,6 +109,7 @@ void profile(const std::vector<collision::QueryResult>& results, const std::vect
   for (std::size_t k = 0; k < 4; ++k) {
     row.ended[k] = by[k].size();
     row.ended_median_us[k] = by[k].empty() ? 0 : stats(by[k]).median;
+    row.ended_share_us[k] = std::accumulate(by[k].begin(), by[k].end(), 0.0) / static_cast<double>(results.size());
   }
 }
 
@@ -336,15 +339,16 @@ Row puma_row(const std::string& name, int moves, int samples) {
 }
 
 void print(const Row& r) {
-  std::printf("%-48s %6zu  ours %8.2f %8.2f %8.2f  fcl %8.2f %8.2f %8.2f  ratio %5.2f  coll %4.1f%%/%4.1f%%  "
+  std::printf("%-48s %6zu  ours %8.2f %8.2f %8.2f  fcl %8.2f %8.2f %8.2f  ratio %5.2f (mean %4.2f)  coll %4.1f%%/%4.1f%%  "
               "agree %.5f (touch %d, contain %d, other %d)  prep %.1f/%.1f ms  %s  minimax %.2f vp %.0f fp %.0f\n",
               r.name.c_str(), r.queries, r.ours.median, r.ours.p95, r.ours.mean, r.peer.median, r.peer.p95,
-              r.peer.mean, r.ratio(), 100 * r.ours_colliding, 100 * r.peer_colliding, r.agreement(), r.dis.touching,
+              r.peer.mean, r.ratio(), r.mean_ratio(), 100 * r.ours_colliding, 100 * r.peer_colliding, r.agreement(), r.dis.touching,
               r.dis.containment, r.dis.other, r.ours_prep_ms, r.peer_prep_ms, r.m.c_str(), r.after_minimax, r.voxel_pairs, r.face_pairs);
   std::printf("    ours ended at: step 2 %zu (median %.2f us), step 3 %zu (%.2f us), step 4 free %zu (%.2f us), "
-              "contact %zu (%.2f us)\n",
+              "contact %zu (%.2f us); share of the mean %.2f / %.2f / %.2f / %.2f us\n",
               r.ended[0], r.ended_median_us[0], r.ended[1], r.ended_median_us[1], r.ended[2], r.ended_median_us[2],
-              r.ended[3], r.ended_median_us[3]);
+              r.ended[3], r.ended_median_us[3], r.ended_share_us[0], r.ended_share_us[1], r.ended_share_us[2],
+              r.ended_share_us[3]);
   std::fflush(stdout);
 }
 
@@ -391,6 +395,7 @@ int main(int argc, char** argv) {
     j.push_back({{"name", r.name}, {"ours_us", r.ours.median}, {"peer", "fcl"}, {"peer_us", r.peer.median},
                  {"ratio", r.ratio()}, {"agreement", r.agreement()}, {"ours_p95_us", r.ours.p95},
                  {"ours_mean_us", r.ours.mean}, {"peer_p95_us", r.peer.p95}, {"peer_mean_us", r.peer.mean},
+                 {"mean_ratio", r.mean_ratio()},
                  {"queries", r.queries}, {"colliding", r.ours_colliding}, {"peer_colliding", r.peer_colliding},
                  {"disagree_touching", r.dis.touching}, {"disagree_containment", r.dis.containment},
                  {"disagree_other", r.dis.other}, {"halvings", r.m}, {"mean_voxel_pairs", r.voxel_pairs}, {"mean_face_pairs", r.face_pairs},
@@ -398,7 +403,9 @@ int main(int argc, char** argv) {
                  {"ended_step2", r.ended[0]}, {"ended_step3", r.ended[1]}, {"ended_step4_free", r.ended[2]},
                  {"ended_contact", r.ended[3]}, {"ended_step2_median_us", r.ended_median_us[0]},
                  {"ended_step3_median_us", r.ended_median_us[1]}, {"ended_step4_free_median_us", r.ended_median_us[2]},
-                 {"ended_contact_median_us", r.ended_median_us[3]}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
+                 {"ended_contact_median_us", r.ended_median_us[3]},
+                 {"ended_step2_mean_share_us", r.ended_share_us[0]}, {"ended_step3_mean_share_us", r.ended_share_us[1]},
+                 {"ended_step4_free_mean_share_us", r.ended_share_us[2]}, {"ended_contact_mean_share_us", r.ended_share_us[3]}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
   if (!only.empty()) out += ".partial";  // a partial run never overwrites the committed results
   std::ofstream(out) << j.dump(2) << "\n";
   std::printf("wrote %s\n", out.c_str());

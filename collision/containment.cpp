@@ -22,7 +22,10 @@ bool is_closed(const Polyhedron& mesh) {
   return true;
 }
 
-std::vector<std::uint32_t> shell_vertices(const Polyhedron& mesh) {
+namespace {
+
+// Shell root of every used vertex (the smallest vertex index of its shell), unused ones -1.
+std::vector<std::int64_t> shell_roots(const Polyhedron& mesh) {
   std::vector<std::uint32_t> parent(mesh.vertices.size());
   std::iota(parent.begin(), parent.end(), 0u);
   auto find = [&](std::uint32_t x) {
@@ -36,10 +39,41 @@ std::vector<std::uint32_t> shell_vertices(const Polyhedron& mesh) {
       const std::uint32_t a = find(t[i]), b = find(t[(i + 1) % 3]);
       if (a != b) parent[std::max(a, b)] = std::min(a, b);
     }
-  std::vector<std::uint32_t> roots;
+  std::vector<std::int64_t> root(mesh.vertices.size(), -1);
   for (std::uint32_t v = 0; v < parent.size(); ++v)
-    if (used[v] && find(v) == v) roots.push_back(v);
+    if (used[v]) root[v] = find(v);
+  return root;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> shell_vertices(const Polyhedron& mesh) {
+  const std::vector<std::int64_t> root = shell_roots(mesh);
+  std::vector<std::uint32_t> roots;
+  for (std::uint32_t v = 0; v < root.size(); ++v)
+    if (root[v] == v) roots.push_back(v);
   return roots;
+}
+
+std::vector<std::vector<std::uint32_t>> shell_samples(const Polyhedron& mesh, std::size_t per_shell) {
+  const std::vector<std::int64_t> root = shell_roots(mesh);
+  std::vector<std::uint32_t> shell_of(root.size(), 0);
+  std::vector<std::vector<std::uint32_t>> members;
+  for (std::uint32_t v = 0; v < root.size(); ++v) {
+    if (root[v] < 0) continue;
+    if (root[v] == v) {
+      shell_of[v] = static_cast<std::uint32_t>(members.size());
+      members.emplace_back();
+    }
+    members[shell_of[static_cast<std::size_t>(root[v])]].push_back(v);  // the root comes first
+  }
+  std::vector<std::vector<std::uint32_t>> out(members.size());
+  for (std::size_t s = 0; s < members.size(); ++s) {
+    const auto& m = members[s];
+    const std::size_t k = std::min(std::max<std::size_t>(per_shell, 1), m.size());
+    for (std::size_t i = 0; i < k; ++i) out[s].push_back(m[i * m.size() / k]);
+  }
+  return out;
 }
 
 PointClass point_in_solid(const Vec3& p, const std::vector<Vec3>& vertices, const std::vector<Triangle>& triangles) {

@@ -14,6 +14,12 @@ bool is_closed(const Polyhedron& mesh);
 // One vertex index per connected component (shell) of the triangles, in increasing order.
 std::vector<std::uint32_t> shell_vertices(const Polyhedron& mesh);
 
+// Per shell (in the order of shell_vertices), up to `per_shell` of its vertices spread over its
+// vertex list, the shell_vertices one first. Any of them stands for the whole shell once no
+// face of the shell meets the other body's surface (a connected set that does not cross a
+// closed surface lies on one side of it), so the engine may use whichever is cheapest to decide.
+std::vector<std::vector<std::uint32_t>> shell_samples(const Polyhedron& mesh, std::size_t per_shell);
+
 enum class PointClass { outside, on_surface, inside };
 
 // Parity of crossings of a ray from p, decided with exact orientation signs; a ray that
