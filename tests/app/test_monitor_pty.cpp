@@ -124,6 +124,7 @@ TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C, confirmati
     REQUIRE(s.expect("Program completed: twice"));
 
     // Ctrl-P recalls the previous line (history).
+    REQUIRE(s.expect(". "));
     s.send("\x10\r");
     REQUIRE(s.expect("Program completed: twice"));
 
@@ -155,6 +156,7 @@ TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C, confirmati
     REQUIRE(s.expect(". "));
     s.send("STATUS\r");
     REQUIRE(s.expect("State: interrupted at step"));
+    REQUIRE(s.expect(". "));
     s.send("ABORT\r");
     REQUIRE(s.expect(". "));
     s.send("PROCEED\r");
@@ -172,6 +174,9 @@ TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C, confirmati
     s.send("ZERO\r");
     REQUIRE(s.expect("Are you sure (Y/N)?"));
     s.send("n\r");
+    // Wait for the prompt: libedit switches the tty mode back when it reads the next line and
+    // may drop keys typed ahead of that (one CI-like run timed out here).
+    REQUIRE(s.expect(". "));
     s.send("DIRECTORY\r");
     REQUIRE(s.expect("spin()"));
 
