@@ -1,4 +1,5 @@
 // `asimov run` and `asimov check`: load a .v2 file into the interpreter, check it, run it.
+#include "app/atomic_file.hpp"
 #include "app/cell_loader.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
@@ -152,7 +153,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       w != kExitCompleted)
     return w;
   if (std::string why; !opt.replay.empty() &&
-                       !write_text_file(opt.replay, replay_html(replay_assets, replay_data(opt.file, sim, summary.result)), why)) {
+                       !write_file_atomically(opt.replay, replay_html(replay_assets, replay_data(opt.file, sim, summary.result)), why)) {
     err << "*Cannot write file*  " << why << '\n';
     return kExitUsage;
   }

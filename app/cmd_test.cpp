@@ -1,5 +1,6 @@
 // `asimov test [PATH...]`: runs every sample-program case under the paths as `asimov run` would
 // and compares with the expected files (app/suite.hpp; formats in programs/README.md).
+#include "app/atomic_file.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/suite.hpp"
@@ -183,7 +184,7 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
                      cases.size() == 1 ? "" : "s", total_s);
   if (!opt.junit.empty()) {
     std::string why;
-    if (!suite::write_file_atomically(opt.junit, junit_document(cases, outcomes, failed, total_s), why)) {
+    if (!write_file_atomically(opt.junit, junit_document(cases, outcomes, failed, total_s), why)) {
       err << "*Cannot write file*  " << why << '\n';
       return kExitUsage;
     }

@@ -260,30 +260,4 @@ std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data) 
   return html;
 }
 
-bool write_text_file(const std::string& path, const std::string& text, std::string& why) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      why = fmt::format("cannot write {}", tmp);
-      return false;
-    }
-    out << text;
-    out.flush();
-    if (!out) {
-      why = fmt::format("error while writing {}", tmp);
-      std::remove(tmp.c_str());
-      return false;
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    why = fmt::format("cannot rename {} to {}: {}", tmp, path, ec.message());
-    std::remove(tmp.c_str());
-    return false;
-  }
-  return true;
-}
-
 }  // namespace asimov::app

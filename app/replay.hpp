@@ -30,9 +30,6 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
 // The HTML page: `data` in a JSON script element, three.js through an import map of data: URLs.
 std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data);
 
-// Writes `text` through a temporary file and a rename; false (and `why`) on failure.
-bool write_text_file(const std::string& path, const std::string& text, std::string& why);
-
 // Base64 (RFC 4648, with padding) of raw bytes; the page's typed arrays use it.
 std::string base64(const void* bytes, std::size_t size);
 

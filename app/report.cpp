@@ -1,5 +1,7 @@
 #include "app/report.hpp"
 
+#include "app/atomic_file.hpp"
+
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -118,29 +120,7 @@ nlohmann::json trace_document(const std::string& program, const robots::Robot& r
 }
 
 bool write_json_file(const std::string& path, const nlohmann::json& doc, std::string& why) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      why = fmt::format("cannot write {}", tmp);
-      return false;
-    }
-    out << doc.dump(2) << '\n';
-    out.flush();
-    if (!out) {
-      why = fmt::format("error while writing {}", tmp);
-      std::remove(tmp.c_str());
-      return false;
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    why = fmt::format("cannot rename {} to {}: {}", tmp, path, ec.message());
-    std::remove(tmp.c_str());
-    return false;
-  }
-  return true;
+  return write_file_atomically(path, doc.dump(2) + "\n", why);
 }
 
 std::string collision_lines(const motion::CollisionReport& c) {

@@ -1,6 +1,8 @@
 // Suites of sample programs (app/suite.hpp): discovery, expected files, one run, the matcher.
 #include "app/suite.hpp"
 
+#include "app/atomic_file.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -446,7 +448,7 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
   std::vector<std::string> notes;
   const auto write = [&](const fs::path& p, const std::string& text) {
     std::string why;
-    notes.push_back(write_file_atomically(p, text, why) ? "wrote " + p.lexically_normal().generic_string() : "not updated: " + why);
+    notes.push_back(write_file_atomically(p.string(), text, why) ? "wrote " + p.lexically_normal().generic_string() : "not updated: " + why);
   };
   if (c.kind == CaseKind::out_files) {
     const bool completed = a.exit_code == 0 && a.err.rfind("Program completed: ", 0) == 0 &&
@@ -478,28 +480,6 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
   }
   if (doc != before) write(file, doc.dump(2) + "\n");
   return notes;
-}
-
-bool write_file_atomically(const fs::path& path, const std::string& text, std::string& why) {
-  const fs::path tmp = path.string() + fmt::format(".tmp{}", ::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (f) f << text;
-    if (!f || !f.flush()) {
-      why = path.string() + ": cannot write";
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    why = fmt::format("{}: {}", path.string(), ec.message());
-    fs::remove(tmp, ec);
-    return false;
-  }
-  return true;
 }
 
 }  // namespace asimov::app::suite

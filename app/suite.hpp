@@ -85,7 +85,5 @@ std::optional<std::string> first_line_difference(const std::string& label, const
 // format allows. Returns what it did or could not do, one line each.
 std::vector<std::string> update_expectation(const Case& c, const Expectation& e, const Actual& a);
 
-// Writes `text` to `path` through a temporary file and a rename. False (and `why`) on failure.
-bool write_file_atomically(const std::filesystem::path& path, const std::string& text, std::string& why);
 
 }  // namespace asimov::app::suite
