@@ -1,6 +1,7 @@
 // A PUMA 560 cell without objects, an interpreter writing TYPE output to a string.
 #pragma once
 #include "interpreter/interpreter.hpp"
+#include "interpreter/monitor.hpp"
 #include "robots/puma560.hpp"
 
 #include <catch2/catch.hpp>
@@ -40,6 +41,16 @@ struct InterpreterFixture {
 
   bool loaded = false;
   std::string load_report;
+};
+
+// The same with a monitor over it; run() executes one command line and returns its output.
+struct MonitorFixture : InterpreterFixture {
+  val::Monitor monitor{interp, sim, out};
+  std::string run(const std::string& line) {
+    out.str("");
+    monitor.execute(line);
+    return out.str();
+  }
 };
 
 // Loads `programs`, runs `main`, requires that it completes and returns its TYPE output.

@@ -167,16 +167,7 @@ TEST_CASE("Ctrl-C between steps stops a started motion at its start and PROCEED 
   CHECK(buf.str() == "x\ny\n");
 }
 
-namespace {
-struct MonitorFixture : InterpreterFixture {
-  val::Monitor monitor{interp, sim, out};
-  std::string run(const std::string& line) {
-    out.str("");
-    monitor.execute(line);
-    return out.str();
-  }
-};
-}  // namespace
+using asimov::test::MonitorFixture;
 
 TEST_CASE("monitor: Ctrl-C in a motion reports where the arm stopped, then STATUS and PROCEED", "[monitor][interrupt]") {
   const int poses = first_motion_poses();

@@ -29,14 +29,7 @@ std::string slurp(const std::filesystem::path& p) {
   return s.str();
 }
 
-struct MonitorFixture : test::InterpreterFixture {
-  val::Monitor monitor{interp, sim, out};
-  std::string run(const std::string& line) {
-    out.str("");
-    monitor.execute(line);
-    return out.str();
-  }
-};
+using test::MonitorFixture;
 
 }  // namespace
 
