@@ -1,5 +1,7 @@
 #include "app/replay.hpp"
 
+#include "app/report.hpp"
+
 #include "motion/scene.hpp"
 
 #include <fmt/format.h>
@@ -99,17 +101,6 @@ nlohmann::json step_lines(const std::string& file, const std::vector<int>& tags)
     out[std::to_string(tag)] = {{"program", hit->name}, {"line", hit->line + tag}, {"text", src}};
   }
   return out;
-}
-
-const char* status_text(val::RunStatus s) {
-  switch (s) {
-    case val::RunStatus::completed: return "completed";
-    case val::RunStatus::collision: return "collision";
-    case val::RunStatus::error: return "error";
-    case val::RunStatus::paused: return "paused";
-    case val::RunStatus::halted: return "halted";
-  }
-  return "error";
 }
 
 // "</script" inside an inlined script would end it early.
@@ -215,7 +206,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
       {"file", file},
       {"program", result.program},
       {"robot", cell.robot.name},
-      {"status", status_text(result.status)},
+      {"status", status_name(result)},
       {"units", {{"length", "mm"}, {"time", "s"}, {"joints", "deg"}, {"pose", "x y z qx qy qz qw"}}},
       {"joint_count", n},
       {"tool_xyzoat", motion::decompose(cell.tool)},

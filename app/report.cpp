@@ -25,18 +25,19 @@ nlohmann::json error_object(const val::Diagnostic& d) {
           {"step", d.step}};
 }
 
-const char* status_name(val::RunStatus s) {
-  switch (s) {
+
+}  // namespace
+
+const char* status_name(const val::RunResult& r) {
+  switch (r.status) {
     case val::RunStatus::completed: return "completed";
     case val::RunStatus::collision: return "collision";
-    case val::RunStatus::error: return "error";
+    case val::RunStatus::error: return val::is_interrupt(r.error) ? "interrupted" : "error";
     case val::RunStatus::paused: return "paused";
     case val::RunStatus::halted: return "halted";
   }
   return "error";
 }
-
-}  // namespace
 
 nlohmann::json load_error_report(const std::string& file, const val::Diagnostic& first_error) {
   return {{"status", "error"},     {"file", file},       {"program", first_error.program},
@@ -46,8 +47,7 @@ nlohmann::json load_error_report(const std::string& file, const val::Diagnostic&
 
 nlohmann::json run_report(const RunSummary& s) {
   const auto& r = s.result;
-  const bool interrupted = r.status == val::RunStatus::error && val::is_interrupt(r.error);
-  nlohmann::json doc = {{"status", interrupted ? "interrupted" : status_name(r.status)},
+  nlohmann::json doc = {{"status", status_name(r)},
                         {"file", s.file},
                         {"program", r.program},
                         {"line", r.line},

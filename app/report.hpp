@@ -27,6 +27,9 @@ nlohmann::json timing_json(const motion::RunTiming& timing, double wall_s);
 // Report for a run that could not start (load errors): status "error".
 nlohmann::json load_error_report(const std::string& file, const val::Diagnostic& first_error);
 nlohmann::json run_report(const RunSummary& summary);
+
+// The report's "status": completed, collision, error, interrupted (Ctrl-C), paused, halted.
+const char* status_name(const val::RunResult& r);
 nlohmann::json trace_document(const std::string& program, const robots::Robot& robot,
                               const std::vector<motion::TraceSample>& samples);
 
