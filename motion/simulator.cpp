@@ -421,21 +421,32 @@ struct Simulator::Impl {
     while (!replay.empty() && replay.back().time_s > t_free) replay.pop_back();
     replay_push(t_free, joints, false);
   }
-  // Straight line at time tm between its checked samples i and j: the path of the contact
-  // bisection (finish_motion's `at`) without its accuracy bookkeeping, bracketed by the plan's
-  // nearest samples (gap stepping checks few of them), seeded with the last replay joints.
+  // A straight line's joints at time tm between its samples a and b: the line's pose at sigma(tm),
+  // IK in the motion's configuration seeded with `seed`, as plan_line solves its samples; where
+  // that fails or jumps, the joints interpolated between a and b (ik_used false).
+  struct LinePoint {
+    JointVector joints;
+    Location flange;  // the line's flange pose at sigma(tm)
+    bool ik_used = false;
+  };
+  LinePoint line_joints(const Pending& p, const LineSample& a, const LineSample& b, double tm,
+                        const JointVector& seed) const {
+    const double sigma = std::clamp(p.profile.sigma(tm - p.t0), a.s, b.s);
+    const JointVector lin = interpolate_joints(a.joints, b.joints, b.s > a.s ? (sigma - a.s) / (b.s - a.s) : 1.0);
+    const Location flange = p.base_inv * line_pose(p.path, sigma) * p.tool_inv;
+    const robots::IkResult ik = robots::solve_ik(cell.robot, flange, seed, p.config, false);
+    const bool ik_used = ik.status == robots::IkStatus::ok && (ik.joints - lin).cwiseAbs().maxCoeff() <= kMaxJointJumpDeg;
+    return {ik_used ? ik.joints : lin, flange, ik_used};
+  }
+  // The same for the replay between checked samples i and j (gap stepping checks few of the
+  // plan's samples: bracket tm by the nearest ones), seeded with the last replay joints.
   JointVector replay_line(const Pending& p, std::size_t i, std::size_t j, double tm) const {
     const auto& samples = p.line.samples;
     const double sigma = std::clamp(p.profile.sigma(tm - p.t0), samples[i].s, samples[j].s);
     const auto next = std::upper_bound(samples.begin() + static_cast<std::ptrdiff_t>(i) + 1,
                                        samples.begin() + static_cast<std::ptrdiff_t>(j), sigma,
                                        [](double v, const LineSample& x) { return v < x.s; });
-    const LineSample &a = *(next - 1), &b = *next;
-    const JointVector lin = interpolate_joints(a.joints, b.joints, b.s > a.s ? (sigma - a.s) / (b.s - a.s) : 1.0);
-    const Location flange = p.base_inv * line_pose(p.path, sigma) * p.tool_inv;
-    const robots::IkResult ik = robots::solve_ik(cell.robot, flange, replay.empty() ? a.joints : replay.back().joints, p.config, false);
-    if (ik.status != robots::IkStatus::ok || (ik.joints - lin).cwiseAbs().maxCoeff() > kMaxJointJumpDeg) return lin;
-    return ik.joints;
+    return line_joints(p, *(next - 1), *next, tm, replay.empty() ? (next - 1)->joints : replay.back().joints).joints;
   }
 
   MotionResult collision_result(CollisionReport report, int tag) {
@@ -735,14 +746,12 @@ MotionResult Simulator::finish_motion() {
         // with the nearest free joints, as plan_line solves its samples; where that fails or
         // jumps, the joints interpolated between the two samples.
         const auto at = [&s, &p, &a, &b](double tm, const JointVector& ref) {
-          const double sigma = std::clamp(p.profile.sigma(tm - p.t0), a.s, b.s);
-          const JointVector lin = interpolate_joints(a.joints, b.joints, b.s > a.s ? (sigma - a.s) / (b.s - a.s) : 1.0);
-          const Location flange = p.base_inv * line_pose(p.path, sigma) * p.tool_inv;
-          const robots::IkResult ik = robots::solve_ik(s.cell.robot, flange, ref, p.config, false);
-          if (ik.status != robots::IkStatus::ok || (ik.joints - lin).cwiseAbs().maxCoeff() > kMaxJointJumpDeg) return lin;
-          s.accuracy.ik_residual.merge(pose_error(robots::flange_pose(s.cell.robot, ik.joints), flange));
-          ++s.accuracy.ik_solves;
-          return ik.joints;
+          const Impl::LinePoint lp = s.line_joints(p, a, b, tm, ref);
+          if (lp.ik_used) {
+            s.accuracy.ik_residual.merge(pose_error(robots::flange_pose(s.cell.robot, lp.joints), lp.flange));
+            ++s.accuracy.ik_solves;
+          }
+          return lp.joints;
         };
         return s.halt(std::move(report), t_prev, was_free, at, p.tag);
       }
