@@ -2,11 +2,11 @@
 // robot and cell of `asimov run`. Interactive when stdin is a terminal (libedit: prompt ". ",
 // history in ~/.asimov_history, tab completion, Ctrl-C); otherwise commands are read line by
 // line with no prompt, so sessions can be piped in.
-#include "app/cell_loader.hpp"
+#include "asimov/cell/cell_loader.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/sigint.hpp"
-#include "interpreter/monitor.hpp"
+#include "asimov/interpreter/monitor.hpp"
 
 #include <fmt/format.h>
 #include <histedit.h>
@@ -47,7 +47,7 @@ const char* prompt(EditLine* el) {
   static std::string text;
   void* data = nullptr;
   el_get(el, EL_CLIENTDATA, &data);
-  const auto* monitor = static_cast<const val::Monitor*>(data);
+  const auto* monitor = static_cast<const interpreter::Monitor*>(data);
   if (!monitor || !monitor->entering_program()) return ". ";
   text = fmt::format("{:>4}  ", monitor->entry_step());
   return text.c_str();
@@ -83,7 +83,7 @@ int read_char(EditLine*, wchar_t* c) {
 unsigned char complete(EditLine* el, int) {
   void* data = nullptr;
   el_get(el, EL_CLIENTDATA, &data);
-  const auto* monitor = static_cast<const val::Monitor*>(data);
+  const auto* monitor = static_cast<const interpreter::Monitor*>(data);
   const LineInfo* li = el_line(el);
   const std::string line(li->buffer, li->cursor);
   std::size_t start = line.size();
@@ -124,7 +124,7 @@ bool ask(const std::string& question) {
 }
 
 // Runs the monitor on lines from libedit until QUIT or Ctrl-D.
-int interactive(val::Monitor& monitor, bool strict) {
+int interactive(interpreter::Monitor& monitor, bool strict) {
   EditLine* el = el_init("asimov", stdin, stdout, stderr);
   History* hist = history_init();
   HistEvent ev;
@@ -152,7 +152,7 @@ int interactive(val::Monitor& monitor, bool strict) {
     }
     if (!got || count <= 0) {  // Ctrl-D on an empty line
       std::cout << '\n';
-      if (monitor.end_of_input() == val::CommandStatus::failed && strict) rc = kExitProgramError;
+      if (monitor.end_of_input() == interpreter::CommandStatus::failed && strict) rc = kExitProgramError;
       break;
     }
     std::string line(got);
@@ -161,10 +161,10 @@ int interactive(val::Monitor& monitor, bool strict) {
       history(hist, &ev, H_ENTER, line.c_str());
       if (!hist_file.empty()) history(hist, &ev, H_SAVE, hist_file.c_str());
     }
-    const val::CommandStatus s = monitor.execute(line);
+    const interpreter::CommandStatus s = monitor.execute(line);
     std::cout << std::flush;
-    if (s == val::CommandStatus::quit) break;
-    if (s == val::CommandStatus::failed && strict) {
+    if (s == interpreter::CommandStatus::quit) break;
+    if (s == interpreter::CommandStatus::failed && strict) {
       rc = kExitProgramError;
       break;
     }
@@ -175,16 +175,16 @@ int interactive(val::Monitor& monitor, bool strict) {
 }
 
 // Scripted mode: one command per line from stdin, no prompt, no confirmation.
-int scripted(val::Monitor& monitor, std::istream& in, std::ostream& out, bool strict) {
+int scripted(interpreter::Monitor& monitor, std::istream& in, std::ostream& out, bool strict) {
   std::string line;
   while (std::getline(in, line)) {
     sigint_flag().store(false);
-    const val::CommandStatus s = monitor.execute(line);
+    const interpreter::CommandStatus s = monitor.execute(line);
     out.flush();
-    if (s == val::CommandStatus::quit) break;
-    if (s == val::CommandStatus::failed && strict) return kExitProgramError;
+    if (s == interpreter::CommandStatus::quit) break;
+    if (s == interpreter::CommandStatus::failed && strict) return kExitProgramError;
   }
-  if (monitor.end_of_input() == val::CommandStatus::failed && strict) return kExitProgramError;
+  if (monitor.end_of_input() == interpreter::CommandStatus::failed && strict) return kExitProgramError;
   out.flush();
   return kExitCompleted;
 }
@@ -194,11 +194,11 @@ int scripted(val::Monitor& monitor, std::istream& in, std::ostream& out, bool st
 int monitor_command(const MonitorOptions& opt, std::istream& in, std::ostream& out, std::ostream& err) {
   for (const std::string& f : opt.files)
     if (!require_file(f, err)) return kExitUsage;
-  auto cell = load_cell_for_command(opt.cell, err);
+  auto cell = cell::load_cell_for_command(opt.cell, err);
   if (!cell) return kExitUsage;
   motion::Simulator sim(std::move(*cell));
-  val::Interpreter interp(sim, out);
-  val::Monitor monitor(interp, sim, out);
+  interpreter::Interpreter interp(sim, out);
+  interpreter::Monitor monitor(interp, sim, out);
   interp.limits().interrupt = &sigint_flag();
   const bool tty = ::isatty(STDIN_FILENO) == 1 && &in == &std::cin;
   UnbufferedStdin tty_buffer;
@@ -210,7 +210,7 @@ int monitor_command(const MonitorOptions& opt, std::istream& in, std::ostream& o
   }
 
   for (const std::string& f : opt.files)  // as LOAD f
-    if (monitor.execute("LOAD " + f) == val::CommandStatus::failed && opt.strict) return kExitProgramError;
+    if (monitor.execute("LOAD " + f) == interpreter::CommandStatus::failed && opt.strict) return kExitProgramError;
   return tty ? interactive(monitor, opt.strict) : scripted(monitor, in, out, opt.strict);
 }
 

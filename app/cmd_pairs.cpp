@@ -1,11 +1,11 @@
 // `asimov pairs [CELL.yaml]`: the participation matrix generated for a cell as MoveIt's setup
-// assistant does (four-step.md §1, collision/auto_pairs.hpp), with the reason for each pair.
+// assistant does (docs/collision-method.md §1, collision/auto_pairs.hpp), with the reason for each pair.
 // The bodies, groups and joined pairs come from motion::scene_bodies, as in the simulator.
-#include "app/cell_loader.hpp"
+#include "asimov/cell/cell_loader.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
-#include "collision/auto_pairs.hpp"
-#include "motion/scene.hpp"
+#include "asimov/collision/auto_pairs.hpp"
+#include "asimov/motion/scene.hpp"
 
 #include <cstdlib>
 #include <filesystem>
@@ -27,7 +27,7 @@ std::string default_cell_cache() {
 }  // namespace
 
 int pairs_command(const PairsOptions& opt, std::ostream& out, std::ostream& err) {
-  const auto loaded = load_cell_for_command(opt.cell, err);
+  const auto loaded = cell::load_cell_for_command(opt.cell, err);
   if (!loaded) return kExitUsage;
   const motion::Cell& cell = *loaded;
   const motion::Scene scene = motion::scene_bodies(cell);

@@ -1,6 +1,6 @@
 // `asimov run` and `asimov check`: load a .v2 file into the interpreter, check it, run it.
 #include "app/atomic_file.hpp"
-#include "app/cell_loader.hpp"
+#include "asimov/cell/cell_loader.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/replay.hpp"
@@ -23,16 +23,16 @@ namespace asimov::app {
 namespace {
 
 // Prints every diagnostic; returns true when one of them is an error (not a warning).
-bool print_diagnostics(const std::vector<val::Diagnostic>& diags, std::ostream& err) {
+bool print_diagnostics(const std::vector<interpreter::Diagnostic>& diags, std::ostream& err) {
   bool any_error = false;
   for (const auto& d : diags) {
-    err << (d.warning ? "Warning: " : "") << val::format_diagnostic(d);
+    err << (d.warning ? "Warning: " : "") << interpreter::format_diagnostic(d);
     any_error = any_error || !d.warning;
   }
   return any_error;
 }
 
-const val::Diagnostic* first_error(const std::vector<val::Diagnostic>& diags) {
+const interpreter::Diagnostic* first_error(const std::vector<interpreter::Diagnostic>& diags) {
   for (const auto& d : diags)
     if (!d.warning) return &d;
   return nullptr;
@@ -58,8 +58,8 @@ bool require_file(const std::string& path, std::ostream& err) {
 
 int check_command(const std::string& file, std::ostream& out, std::ostream& err) {
   if (!require_file(file, err)) return kExitUsage;
-  motion::Simulator sim(default_cell());
-  val::Interpreter interp(sim, out);
+  motion::Simulator sim(cell::default_cell());
+  interpreter::Interpreter interp(sim, out);
   const auto diags = interp.load_file(file);
   if (print_diagnostics(diags, err)) return kExitProgramError;
   err << fmt::format("{}: {} program(s), no errors\n", file, interp.program_names().size());
@@ -76,14 +76,14 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const Clock::time_point start = Clock::now();
-  auto cell = load_cell_for_command(opt.cell, err);
+  auto cell = cell::load_cell_for_command(opt.cell, err);
   if (!cell) return kExitUsage;
   const double cell_s = since(start);
   motion::Simulator sim(std::move(*cell));
   sim.add_preprocess_time(cell_s);
   sim.set_trace(!opt.trace.empty());
   if (!opt.replay.empty()) sim.set_replay(kReplayGridS);
-  val::Interpreter interp(sim, out);
+  interpreter::Interpreter interp(sim, out);
   interp.set_input(std::cin, ::isatty(STDIN_FILENO) == 1);  // PROMPT asks again only at a terminal
   const Clock::time_point parse_start = Clock::now();
   const auto diags = interp.load_file(opt.file);
@@ -129,22 +129,22 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   summary.timing = sim.timing();
   summary.wall_s = since(start);
 
-  for (const auto& w : summary.result.warnings) err << "Warning: " << val::format_diagnostic(w);
+  for (const auto& w : summary.result.warnings) err << "Warning: " << interpreter::format_diagnostic(w);
   int rc = kExitCompleted;
   switch (summary.result.status) {
-    case val::RunStatus::completed:
+    case interpreter::RunStatus::completed:
       err << fmt::format("Program completed: {}\n", main);
       break;
-    case val::RunStatus::error:
-      err << val::format_diagnostic(summary.result.error) << val::format_interrupt(summary.result);
-      rc = val::is_interrupt(summary.result.error) ? kExitInterrupted : kExitProgramError;
+    case interpreter::RunStatus::error:
+      err << interpreter::format_diagnostic(summary.result.error) << interpreter::format_interrupt(summary.result);
+      rc = interpreter::is_interrupt(summary.result.error) ? kExitInterrupted : kExitProgramError;
       break;
-    case val::RunStatus::paused:  // PAUSE / HALT end a batch run: nobody can PROCEED here
-    case val::RunStatus::halted:
-      err << val::format_pause(summary.result) << '\n';
+    case interpreter::RunStatus::paused:  // PAUSE / HALT end a batch run: nobody can PROCEED here
+    case interpreter::RunStatus::halted:
+      err << interpreter::format_pause(summary.result) << '\n';
       break;
-    case val::RunStatus::collision:
-      err << val::format_diagnostic(summary.result.error) << collision_lines(summary.result.collision);
+    case interpreter::RunStatus::collision:
+      err << interpreter::format_diagnostic(summary.result.error) << collision_lines(summary.result.collision);
       rc = kExitCollision;
       break;
   }

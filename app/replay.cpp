@@ -2,7 +2,7 @@
 
 #include "app/report.hpp"
 
-#include "motion/scene.hpp"
+#include "asimov/motion/scene.hpp"
 
 #include <fmt/format.h>
 
@@ -147,7 +147,7 @@ bool load_replay_assets(ReplayAssets& assets, std::string& why) {
   return true;
 }
 
-nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const val::RunResult& result) {
+nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result) {
   const motion::Cell& cell = sim.cell();
   const motion::Scene scene = motion::scene_bodies(cell);
   const int n = cell.robot.joint_count();
@@ -155,7 +155,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   std::vector<motion::ReplaySample> samples = sim.replay();
   // The arm stands still after its last motion (WAIT, hand, a motionless program): one frame
   // at the end of the run shows that, except after a contact, where the halting pose ends it.
-  const double end_s = result.status == val::RunStatus::collision ? result.collision.time_free_s : sim.time_s();
+  const double end_s = result.status == interpreter::RunStatus::collision ? result.collision.time_free_s : sim.time_s();
   if (samples.empty() || samples.back().time_s < end_s)
     samples.push_back({end_s, sim.joints(), samples.empty() ? 0 : samples.back().tag, false});
 
@@ -220,7 +220,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
                   {"poses", b64(world)}}},         // Float32, count x moving x 7
       {"steps", step_lines(file, tags)},
       {"end_time_s", samples.back().time_s}};
-  if (result.status == val::RunStatus::collision) {
+  if (result.status == interpreter::RunStatus::collision) {
     const motion::CollisionReport& c = result.collision;
     const auto body = [&index_of](const std::string& name) { return index_of.count(name) ? index_of[name] : -1; };
     doc["collision"] = {{"bodies", {c.body_a, c.body_b}},

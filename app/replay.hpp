@@ -2,7 +2,7 @@
 // (three.js + OrbitControls + app/replay/viewer.js inlined; the scene and the frames as JSON with
 // base64 typed arrays). Format and asset lookup: app/README.md.
 #pragma once
-#include "interpreter/interpreter.hpp"
+#include "asimov/interpreter/interpreter.hpp"
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -25,7 +25,7 @@ bool load_replay_assets(ReplayAssets& assets, std::string& why);
 // The page's data: bodies (meshes in their local frames), the frames (time, step, joints, world
 // pose of every moving body), the program lines of the steps and the contact, if any. `sim` is
 // the simulator after the run, with set_replay() on before it.
-nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const val::RunResult& result);
+nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result);
 
 // The HTML page: `data` in a JSON script element, three.js through an import map of data: URLs.
 std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data);

@@ -19,7 +19,7 @@ nlohmann::json joints(const robots::JointVector& q) {
   return out;
 }
 
-nlohmann::json error_object(const val::Diagnostic& d) {
+nlohmann::json error_object(const interpreter::Diagnostic& d) {
   return {{"message", d.message}, {"detail", d.detail}, {"file", d.file},
           {"line", d.line},       {"column", d.column}, {"program", d.program},
           {"step", d.step}};
@@ -28,18 +28,18 @@ nlohmann::json error_object(const val::Diagnostic& d) {
 
 }  // namespace
 
-const char* status_name(const val::RunResult& r) {
+const char* status_name(const interpreter::RunResult& r) {
   switch (r.status) {
-    case val::RunStatus::completed: return "completed";
-    case val::RunStatus::collision: return "collision";
-    case val::RunStatus::error: return val::is_interrupt(r.error) ? "interrupted" : "error";
-    case val::RunStatus::paused: return "paused";
-    case val::RunStatus::halted: return "halted";
+    case interpreter::RunStatus::completed: return "completed";
+    case interpreter::RunStatus::collision: return "collision";
+    case interpreter::RunStatus::error: return interpreter::is_interrupt(r.error) ? "interrupted" : "error";
+    case interpreter::RunStatus::paused: return "paused";
+    case interpreter::RunStatus::halted: return "halted";
   }
   return "error";
 }
 
-nlohmann::json load_error_report(const std::string& file, const val::Diagnostic& first_error) {
+nlohmann::json load_error_report(const std::string& file, const interpreter::Diagnostic& first_error) {
   return {{"status", "error"},     {"file", file},       {"program", first_error.program},
           {"line", first_error.line}, {"step", first_error.step}, {"sim_time_s", 0.0},
           {"poses_checked", 0},    {"error", error_object(first_error)}};
@@ -54,7 +54,7 @@ nlohmann::json run_report(const RunSummary& s) {
                         {"step", r.step},
                         {"sim_time_s", s.sim_time_s},
                         {"poses_checked", s.poses_checked}};
-  if (r.status == val::RunStatus::collision) {
+  if (r.status == interpreter::RunStatus::collision) {
     const auto& c = r.collision;
     doc["collision"] = {{"bodies", {c.body_a, c.body_b}},
                         {"point_mm", vec(c.point)},
@@ -64,7 +64,7 @@ nlohmann::json run_report(const RunSummary& s) {
                         {"toc_bracket_s", c.time_s - c.time_free_s},
                         {"faces", {c.face_a, c.face_b}}};
   }
-  if (r.status == val::RunStatus::error) doc["error"] = error_object(r.error);
+  if (r.status == interpreter::RunStatus::error) doc["error"] = error_object(r.error);
   if (r.interrupt)  // Ctrl-C inside a motion: where the arm stopped
     doc["interrupt"] = {{"time_s", r.interrupt->time_s},
                         {"path_fraction", r.interrupt->path_fraction},

@@ -1,6 +1,6 @@
 // The --report and --trace JSON documents of `asimov run` (schema in README.md).
 #pragma once
-#include "interpreter/interpreter.hpp"
+#include "asimov/interpreter/interpreter.hpp"
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -8,7 +8,7 @@ namespace asimov::app {
 
 struct RunSummary {
   std::string file;                 // the .v2 file run
-  val::RunResult result;
+  interpreter::RunResult result;
   double sim_time_s = 0;
   std::uint64_t poses_checked = 0;
   collision::StepCounts counts;     // summed over every checked pose
@@ -25,11 +25,11 @@ nlohmann::json accuracy_json(const RunSummary& summary);
 nlohmann::json timing_json(const motion::RunTiming& timing, double wall_s);
 
 // Report for a run that could not start (load errors): status "error".
-nlohmann::json load_error_report(const std::string& file, const val::Diagnostic& first_error);
+nlohmann::json load_error_report(const std::string& file, const interpreter::Diagnostic& first_error);
 nlohmann::json run_report(const RunSummary& summary);
 
 // The report's "status": completed, collision, error, interrupted (Ctrl-C), paused, halted.
-const char* status_name(const val::RunResult& r);
+const char* status_name(const interpreter::RunResult& r);
 nlohmann::json trace_document(const std::string& program, const robots::Robot& robot,
                               const std::vector<motion::TraceSample>& samples);
 

@@ -9,14 +9,14 @@
 // with steady_clock around the measured call only (simulator construction excluded).
 #include "bench_accuracy_scenes.hpp"
 
-#include "motion/interpolation.hpp"
-#include "motion/sampler.hpp"
-#include "robots/configuration.hpp"
-#include "robots/displacement_bound.hpp"
-#include "robots/ik.hpp"
-#include "robots/ik_numeric.hpp"
-#include "robots/ik_puma.hpp"
-#include "robots/urdf_loader.hpp"
+#include "asimov/motion/interpolation.hpp"
+#include "asimov/motion/sampler.hpp"
+#include "asimov/robots/configuration.hpp"
+#include "asimov/robots/displacement_bound.hpp"
+#include "asimov/robots/ik.hpp"
+#include "asimov/robots/ik_numeric.hpp"
+#include "asimov/robots/ik_puma.hpp"
+#include "asimov/robots/urdf_loader.hpp"
 
 #include <nlohmann/json.hpp>
 

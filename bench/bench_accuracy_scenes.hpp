@@ -12,10 +12,10 @@
 // The instant is t* = profile.time_at(sigma*) of the motion's trapezoid. For the straight lines
 // the translation axis must set the profile (checked by straight_line_duration_matches()).
 #pragma once
-#include "motion/cell.hpp"
-#include "motion/profile.hpp"
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/motion/cell.hpp"
+#include "asimov/motion/profile.hpp"
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>

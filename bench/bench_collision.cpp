@@ -2,7 +2,7 @@
 // (2,000 faces) and a coarser cylinder (200 faces) under fixed-seed random poses.
 // Run: bench_collision [--benchmark_filter=...]. Counters: colliding fraction, mean face pairs.
 #include "bench/scenes.hpp"
-#include "collision/engine.hpp"
+#include "asimov/collision/engine.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -5,8 +5,8 @@
 // agreement, classifies every disagreement (touching, containment, other) and writes
 // bench/results/collision_fcl.json. Run: bench_collision_fcl [--quick] [--out FILE].
 #include "bench/scenes.hpp"
-#include "collision/engine.hpp"
-#include "robots/robot.hpp"
+#include "asimov/collision/engine.hpp"
+#include "asimov/robots/robot.hpp"
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -86,7 +86,7 @@ struct Row {
   std::size_t queries = 0;
   std::string m{};  // halvings chosen per body
   double voxel_pairs = 0, face_pairs = 0, after_minimax = 0;  // means per query (ours)
-  // Filter profile (four-step.md §8): where each of our queries ended, with its median time.
+  // Filter profile (docs/collision-method.md §8): where each of our queries ended, with its median time.
   std::array<std::size_t, 4> ended{};      // step 2, step 3, step 4 free, contact
   std::array<double, 4> ended_median_us{};
   std::array<double, 4> ended_share_us{};  // each class's part of the mean (sum = ours.mean)

@@ -21,12 +21,12 @@
 // peer_us (the goal for the closed form is <= 0.01). `agreement` = fraction of the poses where
 // both solvers succeed (each within its tolerance; the peer's is 1e-2 mm / 1e-5 rad).
 // Writes bench/results/ik.json (or argv[1]).
-#include "robots/configuration.hpp"
-#include "robots/ik.hpp"
-#include "robots/ik_numeric.hpp"
-#include "robots/ik_puma.hpp"
-#include "robots/puma560.hpp"
-#include "robots/urdf_loader.hpp"
+#include "asimov/robots/configuration.hpp"
+#include "asimov/robots/ik.hpp"
+#include "asimov/robots/ik_numeric.hpp"
+#include "asimov/robots/ik_puma.hpp"
+#include "asimov/robots/puma560.hpp"
+#include "asimov/robots/urdf_loader.hpp"
 
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>

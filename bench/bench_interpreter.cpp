@@ -10,8 +10,8 @@
 // 2. LOAD (parse + check) of a generated 100,000-line program (programs of 100 lines with
 //    assignments, IF blocks, FOR loops and CALLs): CPU time, median of 3.
 // Writes bench/results/interpreter.json (or argv[1]) and prints a table.
-#include "interpreter/interpreter.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/interpreter/interpreter.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include <fmt/format.h>
 
@@ -118,12 +118,12 @@ motion::Cell puma_cell() {
 std::pair<std::string, double> run_val() {
   motion::Simulator sim(puma_cell());
   std::ostringstream out;
-  val::Interpreter interp(sim, out);
+  interpreter::Interpreter interp(sim, out);
   if (!interp.load_source(kValProgram, "bench.v2").empty()) throw std::runtime_error("bench.v2 does not load");
   const double t0 = cpu_us();
-  const val::RunResult r = interp.run("bench");
+  const interpreter::RunResult r = interp.run("bench");
   const double t1 = cpu_us();
-  if (r.status != val::RunStatus::completed) throw std::runtime_error(val::format_diagnostic(r.error));
+  if (r.status != interpreter::RunStatus::completed) throw std::runtime_error(interpreter::format_diagnostic(r.error));
   std::string text = out.str();
   if (!text.empty() && text.back() == '\n') text.pop_back();
   return {text, t1 - t0};
@@ -203,13 +203,13 @@ int main(int argc, char** argv) {
   for (int i = 0; i < 3; ++i) {
     motion::Simulator sim(puma_cell());
     std::ostringstream out;
-    val::Interpreter interp(sim, out);
+    interpreter::Interpreter interp(sim, out);
     const double t0 = cpu_us();
     const auto diags = interp.load_source(source, "generated.v2");
     const double t1 = cpu_us();
     for (const auto& d : diags)
       if (!d.warning) {
-        std::cerr << val::format_diagnostic(d);
+        std::cerr << interpreter::format_diagnostic(d);
         return 1;
       }
     parse.push_back(t1 - t0);

@@ -1,4 +1,4 @@
-// The thesis' M = 9 claim (four-step.md §3, §8): M = 3..14 halvings over pairs of bodies of
+// The thesis' M = 9 claim (docs/collision-method.md §3, §8): M = 3..14 halvings over pairs of bodies of
 // 50 to 1,400 faces (the thesis' range), plus larger bodies (5,000 - 50,000 faces, M up to 18)
 // for the per-body cost model. Per (faces, M): us per query (median, mean over fixed-seed
 // random poses; best of three runs), preprocessing time and memory of one grid. Writes bench/results/m_sweep.json
@@ -6,8 +6,8 @@
 // this M beats the thesis' choice) plus the measured details.
 // Run: bench_m_sweep [--quick] [--out FILE].
 #include "bench/scenes.hpp"
-#include "collision/engine.hpp"
-#include "collision/voxel_grid.hpp"
+#include "asimov/collision/engine.hpp"
+#include "collision/src/voxel_grid.hpp"
 
 #include <nlohmann/json.hpp>
 

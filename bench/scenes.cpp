@@ -1,6 +1,6 @@
 #include "bench/scenes.hpp"
 
-#include "app/cell_loader.hpp"
+#include "asimov/cell/cell_loader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -58,7 +58,7 @@ std::vector<Pose> random_poses(std::size_t n, double reach, std::uint64_t seed) 
 }
 
 PumaScene make_puma_scene(int moves, int samples, std::uint64_t seed) {
-  PumaScene s{app::default_cell(), {}};
+  PumaScene s{cell::default_cell(), {}};
   const auto& robot = s.cell.robot;
   const int n = robot.joint_count();
   std::mt19937_64 rng(seed);

@@ -2,8 +2,8 @@
 // meshes of stated face counts, fixed-seed random poses, and the PUMA default cell with a
 // recorded joint trajectory. Fixed seeds everywhere, so every run sees the same inputs.
 #pragma once
-#include "collision/polyhedron.hpp"
-#include "motion/cell.hpp"
+#include "asimov/collision/polyhedron.hpp"
+#include "asimov/motion/cell.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -29,7 +29,7 @@ Polyhedron make_rob_mesh();
 // Uniform random rotations (normalised Gaussian quaternions) and translations in +-reach.
 std::vector<Pose> random_poses(std::size_t n, double reach, std::uint64_t seed);
 
-// The built-in default cell (app::default_cell()) and a recorded trajectory: `moves` joint
+// The built-in default cell (cell::default_cell()) and a recorded trajectory: `moves` joint
 // moves between random configurations within the joint limits, each sampled at `samples`
 // evenly spaced poses (display joint values [deg]).
 struct PumaScene {

@@ -1,17 +1,18 @@
-#include "app/cell_loader.hpp"
+#include "asimov/cell/cell_loader.hpp"
+#include "asimov/collision/engine.hpp"
 
-#include "collision/voxel_grid.hpp"
+#include "collision/src/voxel_grid.hpp"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 
 using namespace asimov;
-using app::CellError;
-using app::load_cell_text;
+using cell::CellError;
+using cell::load_cell_text;
 
 TEST_CASE("the default cell has the PUMA, a table, a box and a tool body") {
-  const auto cell = app::default_cell();
+  const auto cell = cell::default_cell();
   CHECK(cell.robot.name == "puma560");
   REQUIRE(cell.objects.size() == 2);
   CHECK(cell.objects[0].name == "table");
@@ -109,7 +110,7 @@ TEST_CASE("bad cells are rejected with file, line and column") {
 }
 
 TEST_CASE("robot: a URDF file relative to the cell file") {
-  const auto cell = app::load_cell_file(std::string(ASIMOV_SOURCE_DIR) + "/programs/cells/generic6_cell.yaml");
+  const auto cell = cell::load_cell_file(std::string(ASIMOV_SOURCE_DIR) + "/programs/cells/generic6_cell.yaml");
   CHECK(cell.robot.is_chain());
   CHECK(cell.robot.joint_count() == 6);
   CHECK(cell.objects.size() == 2);
@@ -196,7 +197,7 @@ TEST_CASE("collision keys: contact-time tolerance, generated pairs with a cache 
   const auto dir = std::filesystem::temp_directory_path() / "asimov-cell-tests";
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "gen.yaml") << "collision: {pairs: generated}\n";
-  cell = app::load_cell_file((dir / "gen.yaml").string());
+  cell = cell::load_cell_file((dir / "gen.yaml").string());
   CHECK(cell.collision.pairs_cache == (dir / "gen.yaml").string() + ".pairs");
 
   auto e = error_of("collision: {pairs: sometimes}\n");
@@ -206,7 +207,7 @@ TEST_CASE("collision keys: contact-time tolerance, generated pairs with a cache 
 }
 
 TEST_CASE("collision.stepping: gap by default, fixed or gap, anything else is a cell error") {
-  CHECK(app::default_cell().collision.stepping == motion::Stepping::gap);
+  CHECK(cell::default_cell().collision.stepping == motion::Stepping::gap);
   CHECK(load_cell_text("{}", "c.yaml").collision.stepping == motion::Stepping::gap);
   CHECK(load_cell_text("collision: {stepping: fixed}\n", "c.yaml").collision.stepping == motion::Stepping::fixed);
   CHECK(load_cell_text("collision: {stepping: gap}\n", "c.yaml").collision.stepping == motion::Stepping::gap);

@@ -1,5 +1,5 @@
 // End-to-end: the asimov executable as users and suites call it (README "Command line").
-#include "app/cell_loader.hpp"
+#include "asimov/cell/cell_loader.hpp"
 #include "support/cell_bodies.hpp"
 #include "support/geometry.hpp"
 #include "support/run_cli.hpp"
@@ -60,7 +60,7 @@ TEST_CASE("crash demo halts with exit 3; the contact point lies on both bodies")
   CHECK(doc["collision_engine"]["bisection_checks"].get<std::uint64_t>() > 0);
   CHECK(doc["collision"]["faces"].size() == 2);
 
-  const auto cell = app::default_cell();
+  const auto cell = cell::default_cell();
   robots::JointVector q(cell.robot.joint_count());
   for (int i = 0; i < q.size(); ++i) q[i] = doc["collision"]["joints_deg"][static_cast<std::size_t>(i)];
   const auto p = doc["collision"]["point_mm"];

@@ -2,7 +2,7 @@
 // `asimov monitor` in a scratch folder holding the sample programs; stdout must equal
 // NAME.out, the exit code the session's "; exit: n" line. "; args: ..." adds arguments
 // (@SOURCE@ is the source tree).
-#include "interpreter/monitor.hpp"
+#include "asimov/interpreter/monitor.hpp"
 #include "support/run_cli.hpp"
 
 #include <catch2/catch.hpp>
@@ -102,7 +102,7 @@ TEST_CASE("monitor sessions of programs/monitor print their .out", "[monitor]") 
 }
 
 TEST_CASE("the monitor sessions use every command of the table", "[monitor]") {
-  std::set<asimov::val::Command> used;
+  std::set<asimov::interpreter::Command> used;
   bool program_entry = false;
   for (const fs::path& txt : sessions()) {
     std::istringstream in(slurp(txt));
@@ -110,14 +110,14 @@ TEST_CASE("the monitor sessions use every command of the table", "[monitor]") {
     while (std::getline(in, line)) {
       std::size_t end = 0;
       while (end < line.size() && std::isalpha(static_cast<unsigned char>(line[end]))) ++end;
-      const auto m = asimov::val::match_command(line.substr(0, end));
-      if (m.match == asimov::val::Match::found) used.insert(m.command);
+      const auto m = asimov::interpreter::match_command(line.substr(0, end));
+      if (m.match == asimov::interpreter::Match::found) used.insert(m.command);
       program_entry = program_entry || line.rfind(".PROGRAM", 0) == 0;
     }
   }
-  for (int c = 0; c < static_cast<int>(asimov::val::Command::count); ++c) {
-    INFO(asimov::val::command_info(static_cast<asimov::val::Command>(c)).name);
-    CHECK(used.count(static_cast<asimov::val::Command>(c)) == 1);
+  for (int c = 0; c < static_cast<int>(asimov::interpreter::Command::count); ++c) {
+    INFO(asimov::interpreter::command_info(static_cast<asimov::interpreter::Command>(c)).name);
+    CHECK(used.count(static_cast<asimov::interpreter::Command>(c)) == 1);
   }
   CHECK(program_entry);
 }

@@ -1,9 +1,9 @@
 // `asimov run --replay`: the simulator's replay recording and the page's embedded data
 // (app/README.md "Replay page"). The page is decoded in node as well: replay_decode.mjs.
-#include "app/cell_loader.hpp"
+#include "asimov/cell/cell_loader.hpp"
 #include "app/replay.hpp"
-#include "motion/scene.hpp"
-#include "motion/simulator.hpp"
+#include "asimov/motion/scene.hpp"
+#include "asimov/motion/simulator.hpp"
 #include "support/run_cli.hpp"
 
 #include <catch2/catch.hpp>
@@ -96,7 +96,7 @@ void check_frames(const Run& r, double end_s) {
   for (std::size_t i = 1; i < count; ++i) REQUIRE(time[i] > time[i - 1]);
   CHECK(time.back() == end_s);
 
-  const motion::Cell cell = app::default_cell();
+  const motion::Cell cell = cell::default_cell();
   const motion::Scene scene = motion::scene_bodies(cell);
   std::vector<collision::Pose> frames, world;
   std::size_t k = 0, compared = 0;
@@ -136,7 +136,7 @@ void check_page(const Run& r) {
   CHECK(r.html.find("export function decodeReplay") != std::string::npos);
   CHECK(r.html.find("http://") == std::string::npos);  // nothing is fetched: no address at all
   CHECK(r.html.find("https://") == std::string::npos);
-  const std::size_t bodies = motion::scene_bodies(app::default_cell()).bodies.size();
+  const std::size_t bodies = motion::scene_bodies(cell::default_cell()).bodies.size();
   REQUIRE(r.data["bodies"].size() == bodies);
   std::size_t moving = 0;
   for (const auto& b : r.data["bodies"]) {
@@ -223,7 +223,7 @@ TEST_CASE("replay recording: off by default, and on it leaves the run unchanged"
     REQUIRE(sim.start_joint_move(b, speed, 3).status == motion::MotionStatus::ok);
     return sim.finish_motion().status;
   };
-  motion::Simulator off(app::default_cell()), on(app::default_cell());
+  motion::Simulator off(cell::default_cell()), on(cell::default_cell());
   REQUIRE(run(false, off) == motion::MotionStatus::ok);
   REQUIRE(run(true, on) == motion::MotionStatus::ok);
   CHECK(off.replay().empty());

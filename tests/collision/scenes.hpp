@@ -1,6 +1,6 @@
 // Shared meshes and random poses for the collision tests (fixed seeds everywhere).
 #pragma once
-#include "collision/polyhedron.hpp"
+#include "asimov/collision/polyhedron.hpp"
 
 #include <cmath>
 #include <random>

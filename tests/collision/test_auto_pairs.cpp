@@ -1,6 +1,6 @@
 // Step 1 generated automatically: every reason on a synthetic scene of boxes whose poses a
 // callback draws, user overrides, the cache keyed by content, and the text for `asimov pairs`.
-#include "collision/auto_pairs.hpp"
+#include "asimov/collision/auto_pairs.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,7 +1,7 @@
-// container_gap (gap stepping, four-step.md §6.3): a lower bound on the distance of two bodies.
-#include "collision/container_gap.hpp"
-#include "collision/face_distance.hpp"
-#include "collision/polyhedron.hpp"
+// container_gap (gap stepping, docs/collision-method.md §6.3): a lower bound on the distance of two bodies.
+#include "asimov/collision/container_gap.hpp"
+#include "collision/src/face_distance.hpp"
+#include "asimov/collision/polyhedron.hpp"
 
 #include <catch2/catch.hpp>
 #include <random>

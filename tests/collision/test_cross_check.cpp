@@ -1,8 +1,8 @@
-// The whole-engine check (four-step.md §5): over random poses, Engine::check() must give the
+// The whole-engine check (docs/collision-method.md §5): over random poses, Engine::check() must give the
 // same answer as brute force over all face pairs with the same exact predicate, including
 // poses within an ulp of touching. Zero disagreements are allowed.
-#include "collision/engine.hpp"
-#include "collision/face_distance.hpp"
+#include "asimov/collision/engine.hpp"
+#include "collision/src/face_distance.hpp"
 #include "scenes.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,7 +1,8 @@
 // The engine: participation (step 1), per-step counts, contact reports, static bodies,
 // clearance, containment and the allocation-free per-pose path.
-#include "collision/engine.hpp"
-#include "collision/face_distance.hpp"
+#include "asimov/collision/engine.hpp"
+#include "collision/src/voxel_grid.hpp"
+#include "collision/src/face_distance.hpp"
 #include "scenes.hpp"
 
 #include <catch2/catch.hpp>

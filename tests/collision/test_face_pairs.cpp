@@ -1,7 +1,7 @@
 // Step 4 list: the stamp-based iteration yields exactly the sorted unique keys of the naive
 // "every face of vA times every face of vB" list.
-#include "collision/face_pairs.hpp"
-#include "collision/interference.hpp"
+#include "collision/src/face_pairs.hpp"
+#include "collision/src/interference.hpp"
 #include "scenes.hpp"
 
 #include <catch2/catch.hpp>

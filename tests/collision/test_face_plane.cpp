@@ -1,8 +1,8 @@
 // The plane prefilter of step 4 (face_plane.hpp) may only say "separated" when the exact
 // orientation signs agree, and the shell samples used by containment stay in their shell.
-#include "collision/containment.hpp"
-#include "collision/face_plane.hpp"
-#include "collision/predicates.hpp"
+#include "collision/src/containment.hpp"
+#include "collision/src/face_plane.hpp"
+#include "collision/src/predicates.hpp"
 #include "scenes.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,8 +1,8 @@
-// The exact face-face test: degenerate catalogue of four-step.md §5, all 36 vertex orders and
+// The exact face-face test: degenerate catalogue of docs/collision-method.md §5, all 36 vertex orders and
 // swapped arguments, exact scalings, a fuzz against an independent edge-by-edge oracle, and
 // the contact point.
-#include "collision/face_distance.hpp"
-#include "collision/face_test.hpp"
+#include "collision/src/face_distance.hpp"
+#include "collision/src/face_test.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,8 +1,8 @@
 // Mesh input: STL (ASCII, binary), OBJ (polygons, negative indices), scale, tessellated
 // primitives, and validation messages naming file and face. Files are written to a temp dir.
-#include "collision/containment.hpp"
-#include "collision/engine.hpp"
-#include "collision/mesh_io.hpp"
+#include "collision/src/containment.hpp"
+#include "asimov/collision/engine.hpp"
+#include "asimov/collision/mesh_io.hpp"
 
 #include <catch2/catch.hpp>
 

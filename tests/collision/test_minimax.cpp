@@ -1,5 +1,5 @@
 // Step 2: containers and minimax boxes.
-#include "collision/minimax.hpp"
+#include "asimov/collision/minimax.hpp"
 #include "scenes.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // Primitive builders: closed, outward, consistent.
-#include "collision/containment.hpp"
-#include "collision/polyhedron.hpp"
+#include "collision/src/containment.hpp"
+#include "asimov/collision/polyhedron.hpp"
 #include "scenes.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // Exact orientation signs: near-degenerate grids where naive doubles fail, exact zeros,
 // scaling invariance and agreement between the filter and the exact fallback.
-#include "collision/predicates.hpp"
+#include "collision/src/predicates.hpp"
 
 #include <catch2/catch.hpp>
 

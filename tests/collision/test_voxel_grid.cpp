@@ -1,9 +1,9 @@
 // Step 3: halvings, conservative face lists (checked by sampling), voxel classes, and the
 // interference sub-matrices / voxel-pair buffer, the halvings tree and its descent.
-#include "collision/containment.hpp"
-#include "collision/interference.hpp"
-#include "collision/tree_descent.hpp"
-#include "collision/voxel_grid.hpp"
+#include "collision/src/containment.hpp"
+#include "collision/src/interference.hpp"
+#include "collision/src/tree_descent.hpp"
+#include "collision/src/voxel_grid.hpp"
 #include "scenes.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,8 +1,8 @@
 // A PUMA 560 cell without objects, an interpreter writing TYPE output to a string.
 #pragma once
-#include "interpreter/interpreter.hpp"
-#include "interpreter/monitor.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/interpreter/interpreter.hpp"
+#include "asimov/interpreter/monitor.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include <catch2/catch.hpp>
 #include <sstream>
@@ -22,17 +22,17 @@ inline motion::Cell empty_puma_cell() {
 struct InterpreterFixture {
   motion::Simulator sim{empty_puma_cell()};
   std::ostringstream out;
-  val::Interpreter interp{sim, out};
+  interpreter::Interpreter interp{sim, out};
 
   // Loads `text` as "test.v2"; returns the diagnostics.
-  std::vector<val::Diagnostic> load(const std::string& text) { return interp.load_source(text, "test.v2"); }
+  std::vector<interpreter::Diagnostic> load(const std::string& text) { return interp.load_source(text, "test.v2"); }
 
   // Loads and runs `main`; a load error (not a warning) fails the test through `loaded`.
-  val::RunResult run(const std::string& text, const std::string& main = "main") {
+  interpreter::RunResult run(const std::string& text, const std::string& main = "main") {
     const auto diags = load(text);
     loaded = true;
     for (const auto& d : diags) {
-      load_report += val::format_diagnostic(d);
+      load_report += interpreter::format_diagnostic(d);
       loaded = loaded && d.warning;
     }
     if (!loaded) return {};
@@ -45,7 +45,7 @@ struct InterpreterFixture {
 
 // The same with a monitor over it; run() executes one command line and returns its output.
 struct MonitorFixture : InterpreterFixture {
-  val::Monitor monitor{interp, sim, out};
+  interpreter::Monitor monitor{interp, sim, out};
   std::string run(const std::string& line) {
     out.str("");
     monitor.execute(line);
@@ -59,8 +59,8 @@ inline std::string output_of_programs(const std::string& programs) {
   const auto r = f.run(programs);
   INFO(f.load_report);
   REQUIRE(f.loaded);
-  INFO(val::format_diagnostic(r.error));
-  REQUIRE(r.status == val::RunStatus::completed);
+  INFO(interpreter::format_diagnostic(r.error));
+  REQUIRE(r.status == interpreter::RunStatus::completed);
   return f.out.str();
 }
 

@@ -1,9 +1,9 @@
 // Stage 2: load-time checks (programs, blocks, labels, functions) and the precedence table.
-#include "interpreter/checker.hpp"
+#include "interpreter/src/checker.hpp"
 
 #include <catch2/catch.hpp>
 
-using namespace asimov::val;
+using namespace asimov::interpreter;
 
 namespace {
 

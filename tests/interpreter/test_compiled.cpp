@@ -6,7 +6,7 @@
 #include <catch2/catch.hpp>
 
 using asimov::test::InterpreterFixture;
-using asimov::val::RunStatus;
+using asimov::interpreter::RunStatus;
 
 TEST_CASE("compiled MOD and arithmetic agree with the generic path", "[evaluator][compiled]") {
   // ABS(0) forces the generic path; the numbers cover signs, zero results, non-integers and

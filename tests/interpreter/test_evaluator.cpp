@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 
 using asimov::test::InterpreterFixture;
-using asimov::val::RunStatus;
+using asimov::interpreter::RunStatus;
 
 namespace {
 
@@ -121,7 +121,7 @@ TEST_CASE("CALL by reference and by value", "[evaluator][call]") {
   TYPE v[2]
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "10 1\n50\n10\n-1 0 -1\n7\n");
 }
@@ -141,7 +141,7 @@ TEST_CASE("recursion", "[evaluator][call]") {
   result = n * sub
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "120\n");
 }
@@ -165,7 +165,7 @@ TEST_CASE("runtime errors name the program, step and line", "[evaluator][errors]
   CHECK(r.error.step == 3);
   CHECK(r.error.source_line == "  TYPE a + zz");
   CHECK(r.step == 3);
-  CHECK(asimov::val::format_diagnostic(r.error) ==
+  CHECK(asimov::interpreter::format_diagnostic(r.error) ==
         "*Undefined value*  zz\n main, step 3 (test.v2:5)\n      TYPE a + zz\n");
 }
 
@@ -269,7 +269,7 @@ TEST_CASE("AUTO gives each call its own copy, LOCAL is per program", "[evaluator
   TYPE count
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "55\n1\n2\n3\n100\n");
 }
@@ -354,7 +354,7 @@ TEST_CASE("timers follow the simulated clock", "[evaluator][io]") {
   TYPE TIMER(2) > 10
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "10\n-1\n");
   InterpreterFixture g;

@@ -6,7 +6,7 @@
 #include <atomic>
 
 using asimov::test::InterpreterFixture;
-using asimov::val::RunStatus;
+using asimov::interpreter::RunStatus;
 
 TEST_CASE("a load with any error loads nothing and reports everything", "[interpreter]") {
   InterpreterFixture f;
@@ -20,7 +20,7 @@ TEST_CASE("a load with any error loads nothing and reports everything", "[interp
   CHECK(d[1].line == 7);
   CHECK(d[1].column == 3);
   CHECK(d[2].detail == "undefined label 77");
-  CHECK(asimov::val::format_diagnostic(d[0]) ==
+  CHECK(asimov::interpreter::format_diagnostic(d[0]) ==
         "*Syntax error*  expected \")\"\n test.v2:6:21  (pick, step 2)\n      total = (n + 2 * k\n                        ^\n");
   CHECK_FALSE(f.interp.has_program("good"));
   CHECK(f.interp.program_names().empty());
@@ -109,7 +109,7 @@ $greeting "Hello; world"
   TYPE DX(pal[2]), DZ(pal[2])
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "3 -25 Hello; world\n300 200 50 180\n180\n450 12.5\n");
 }

@@ -2,7 +2,7 @@
 // the run stops with *Program interrupted* at the motion instruction, the arm where it was;
 // PROCEED / RETRY carry out the rest of the motion, then re-run the step that waited for it.
 // The flag is set from the simulator's pose hook after N checked poses (deterministic).
-#include "interpreter/monitor.hpp"
+#include "asimov/interpreter/monitor.hpp"
 #include "interpreter_fixture.hpp"
 
 #include <catch2/catch.hpp>
@@ -12,7 +12,7 @@
 #include <streambuf>
 
 using namespace asimov;
-using val::RunStatus;
+using interpreter::RunStatus;
 using test::InterpreterFixture;
 
 namespace {
@@ -21,7 +21,7 @@ namespace {
 struct FlagAfter {
   std::atomic<bool> flag{false};
   int n = 0, seen = 0;
-  void attach(motion::Simulator& sim, val::Interpreter& interp) {
+  void attach(motion::Simulator& sim, interpreter::Interpreter& interp) {
     interp.limits().interrupt = &flag;
     sim.set_pose_hook([this](double, const robots::JointVector&) {
       if (++seen == n) flag.store(true, std::memory_order_relaxed);
@@ -99,7 +99,7 @@ TEST_CASE("Ctrl-C inside a motion halts the arm there and PROCEED finishes the m
     stop.flag = false;
     const double t_halt = f.sim.time_s();
     r = retry ? f.interp.retry() : f.interp.proceed();
-    INFO(val::format_diagnostic(r.error));
+    INFO(interpreter::format_diagnostic(r.error));
     CHECK(r.status == RunStatus::completed);
     CHECK_FALSE(r.interrupt.has_value());
     // The first motion reached its target, then the second ran; TYPE "after" did not run again.
@@ -148,7 +148,7 @@ TEST_CASE("Ctrl-C between steps stops a started motion at its start and PROCEED 
   buf.flag = &flag;
   buf.trigger = "x";
   std::ostream out(&buf);
-  val::Interpreter interp(sim, out);
+  interpreter::Interpreter interp(sim, out);
   interp.limits().interrupt = &flag;
   REQUIRE(interp.load_source(".PROGRAM main()\n  MOVE #PPOINT(60, -45, 150, 20, 40, 30)\n  TYPE \"x\"\n  TYPE \"y\"\n.END\n",
                              "t.v2").empty());

@@ -1,8 +1,8 @@
 // The monitor's command table, the WHERE and LISTL formats of dialect §9, completion, and
 // the STORE writer (storage.hpp): shortest round-trip numbers, atomic replacement.
-#include "interpreter/evaluator.hpp"
-#include "interpreter/monitor.hpp"
-#include "interpreter/storage.hpp"
+#include "interpreter/src/evaluator.hpp"
+#include "asimov/interpreter/monitor.hpp"
+#include "asimov/interpreter/storage.hpp"
 #include "interpreter_fixture.hpp"
 
 #include <catch2/catch.hpp>
@@ -16,9 +16,9 @@
 #include <unistd.h>
 
 using namespace asimov;
-using val::Command;
-using val::Match;
-using val::match_command;
+using interpreter::Command;
+using interpreter::Match;
+using interpreter::match_command;
 
 namespace {
 
@@ -52,14 +52,14 @@ TEST_CASE("command words: unique prefixes, any case, an exact name wins", "[moni
   // Every command by its full name, and by every prefix that is unique.
   for (int i = 0; i < static_cast<int>(Command::count); ++i) {
     const auto c = static_cast<Command>(i);
-    const std::string name(val::command_info(c).name);
+    const std::string name(interpreter::command_info(c).name);
     CHECK(match_command(name).command == c);
     int unique_prefixes = 0;
     for (std::size_t n = 1; n <= name.size(); ++n) {
       const std::string prefix = name.substr(0, n);
       const auto m = match_command(prefix);
       if (m.match != Match::found) continue;
-      if (val::command_info(m.command).name == prefix && n < name.size()) continue;  // STORE in STOREL
+      if (interpreter::command_info(m.command).name == prefix && n < name.size()) continue;  // STORE in STOREL
       CHECK(m.command == c);
       ++unique_prefixes;
     }
@@ -69,14 +69,14 @@ TEST_CASE("command words: unique prefixes, any case, an exact name wins", "[moni
 
 TEST_CASE("WHERE prints the dialect's table at READY", "[monitor]") {
   test::InterpreterFixture f;  // PUMA 560 at READY, no tool
-  CHECK(val::format_where(f.sim.here(), f.sim.joints()) ==
+  CHECK(interpreter::format_where(f.sim.here(), f.sim.joints()) ==
         "          X          Y          Z          O          A          T\n"
         "     20.300   -150.050    863.600      0.000      0.000      0.000\n"
         "         J1         J2         J3         J4         J5         J6\n"
         "      0.000    -90.000     90.000      0.000      0.000      0.000\n");
   robots::JointVector q(6);
   q << -0.0001, -90, 90, 0, 0, 0;  // -0.000 prints as 0.000
-  CHECK(val::format_where(motion::trans(-0.0004, 1, 2, 0, 0, 0), q).find("-0.000") == std::string::npos);
+  CHECK(interpreter::format_where(motion::trans(-0.0004, 1, 2, 0, 0, 0), q).find("-0.000") == std::string::npos);
 }
 
 TEST_CASE("LISTL prints the dialect's table: transformations, then precision points, by name", "[monitor]") {
@@ -110,16 +110,16 @@ TEST_CASE("LISTP numbers the steps, DIRECTORY lists name(params) alphabetically"
 
 TEST_CASE("a program typed at the prompt is loaded at its .END", "[monitor]") {
   MonitorFixture f;
-  CHECK(f.monitor.execute(".PROGRAM t(n)") == val::CommandStatus::ok);
+  CHECK(f.monitor.execute(".PROGRAM t(n)") == interpreter::CommandStatus::ok);
   CHECK(f.monitor.entering_program());
-  CHECK(f.monitor.execute("  WHERE") == val::CommandStatus::ok);  // a line, not a command
+  CHECK(f.monitor.execute("  WHERE") == interpreter::CommandStatus::ok);  // a line, not a command
   f.monitor.execute("  TYPE n * 2");
   f.monitor.execute(".END");
   CHECK_FALSE(f.monitor.entering_program());
   CHECK(f.interp.has_program("t") == false);  // WHERE is not a statement: nothing loaded
   f.monitor.execute(".PROGRAM t(n)");
   f.monitor.execute("  TYPE n * 2");
-  CHECK(f.monitor.execute(".end") == val::CommandStatus::ok);
+  CHECK(f.monitor.execute(".end") == interpreter::CommandStatus::ok);
   CHECK(f.run("EXECUTE t(21)") == "42\nProgram completed: t\n");
 }
 
@@ -138,16 +138,16 @@ TEST_CASE("completion offers commands, instructions, programs and variables", "[
 }
 
 TEST_CASE("format_real is the shortest text that reads back bit-equal", "[monitor][storage]") {
-  CHECK(val::format_real(0.1) == "0.1");
-  CHECK(val::format_real(300) == "300");
-  CHECK(val::format_real(-0.0) == "0");
-  CHECK(val::format_real(1e-7) == "1e-07");
+  CHECK(interpreter::format_real(0.1) == "0.1");
+  CHECK(interpreter::format_real(300) == "300");
+  CHECK(interpreter::format_real(-0.0) == "0");
+  CHECK(interpreter::format_real(1e-7) == "1e-07");
   std::mt19937_64 rng(20261128);
   std::uniform_real_distribution<double> mantissa(-1, 1);
   std::uniform_int_distribution<int> exponent(-300, 300);
   for (int i = 0; i < 20000; ++i) {
     const double x = std::ldexp(mantissa(rng), exponent(rng));
-    const std::string s = val::format_real(x);
+    const std::string s = interpreter::format_real(x);
     INFO(s);
     CHECK(std::strtod(s.c_str(), nullptr) == x);
   }
@@ -161,14 +161,14 @@ TEST_CASE("STORE text loads back: reals bit-equal, transformations within 1e-12"
   f.run("DO $s = \"a b\"");
   f.run("POINT t = TRANS(1.25, -3.5, 7, 33.3, 77.7, -121.1)");
   f.run("POINT #j = #PPOINT(1, 2, 3, 4, 5, 6)");
-  const std::string text = val::store_text(f.interp.memory(), {"p"}, false);
+  const std::string text = interpreter::store_text(f.interp.memory(), {"p"}, false);
   CHECK(text.find(".PROGRAM p(a)\n    TYPE a ; kept as loaded\n.END\n") == 0);
   MonitorFixture g;
   const auto diags = g.load(text);
   INFO(text);
   REQUIRE(diags.empty());
-  CHECK(val::store_text(g.interp.memory(), {"p"}, false).substr(text.find(".REALS")) == text.substr(text.find(".REALS")));
-  const auto a = val::global_entries(f.interp.memory()), b = val::global_entries(g.interp.memory());
+  CHECK(interpreter::store_text(g.interp.memory(), {"p"}, false).substr(text.find(".REALS")) == text.substr(text.find(".REALS")));
+  const auto a = interpreter::global_entries(f.interp.memory()), b = interpreter::global_entries(g.interp.memory());
   REQUIRE(a.size() == b.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
     CHECK(a[i].name == b[i].name);
@@ -177,7 +177,7 @@ TEST_CASE("STORE text loads back: reals bit-equal, transformations within 1e-12"
     else if (const auto* r = std::get_if<double>(a[i].value))
       CHECK(*r == std::get<double>(*b[i].value));
   }
-  CHECK(val::store_text(f.interp.memory(), {}, true).find(".REALS") == std::string::npos);  // STOREL
+  CHECK(interpreter::store_text(f.interp.memory(), {}, true).find(".REALS") == std::string::npos);  // STOREL
 }
 
 TEST_CASE("write_file_atomic replaces whole files and leaves nothing on failure", "[monitor][storage]") {
@@ -186,13 +186,13 @@ TEST_CASE("write_file_atomic replaces whole files and leaves nothing on failure"
   fs::create_directories(dir);
   const std::string path = (dir / "f.v2").string();
   std::string why;
-  REQUIRE(val::write_file_atomic(path, "old\n", why));
-  REQUIRE(val::write_file_atomic(path, "new\n", why));
+  REQUIRE(interpreter::write_file_atomic(path, "old\n", why));
+  REQUIRE(interpreter::write_file_atomic(path, "new\n", why));
   CHECK(slurp(path) == "new\n");
   fs::create_directories(dir / "taken.v2");  // rename onto a folder fails
-  CHECK_FALSE(val::write_file_atomic((dir / "taken.v2").string(), "x\n", why));
+  CHECK_FALSE(interpreter::write_file_atomic((dir / "taken.v2").string(), "x\n", why));
   CHECK(why.find("rename failed") != std::string::npos);
-  CHECK_FALSE(val::write_file_atomic((dir / "missing" / "f.v2").string(), "x\n", why));
+  CHECK_FALSE(interpreter::write_file_atomic((dir / "missing" / "f.v2").string(), "x\n", why));
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) {
     ++files;

@@ -2,15 +2,15 @@
 // processing, HERE/DECOMPOSE, SPEED, motion errors, collisions.
 #include "support/cell_bodies.hpp"
 #include "interpreter_fixture.hpp"
-#include "collision/polyhedron.hpp"
-#include "motion/location.hpp"
+#include "asimov/collision/polyhedron.hpp"
+#include "asimov/motion/location.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
 using asimov::test::InterpreterFixture;
-using asimov::val::RunStatus;
+using asimov::interpreter::RunStatus;
 using Catch::Detail::Approx;
 
 namespace {
@@ -24,7 +24,7 @@ double distance_mm(const asimov::motion::Location& a, const asimov::motion::Loca
 TEST_CASE("MOVE to a precision point reaches its joints", "[motion]") {
   InterpreterFixture f;
   const auto r = f.run(".PROGRAM main()\n  MOVE #PPOINT(10, -80, 100, 0, 20, 30)\n.END\n");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   const auto& j = f.sim.joints();
   CHECK(j[0] == Approx(10).margin(1e-6));
@@ -64,7 +64,7 @@ TEST_CASE("SET, MOVE, MOVES, APPRO, DEPART, HERE and DECOMPOSE", "[motion]") {
   TYPE /F0.2, jv[1], jv[0]
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   const std::string out = f.out.str();
   CHECK(out == "-100.00\n50.00\n30.00\n-1\n-60.0015.00\n");
@@ -81,7 +81,7 @@ TEST_CASE("DEPART takes HERE after the previous motion ended", "[motion]") {
   DEPART 80
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(distance_mm(f.sim.here(), ready) == Approx(0).margin(1e-3));
 }
@@ -91,7 +91,7 @@ TEST_CASE("APPRO backs off along the target's tool Z", "[motion]") {
   REQUIRE(f.run(".PROGRAM work()\n MOVE #PPOINT(10, -60, 150, 10, 40, 20)\n.END\n", "work").status == RunStatus::completed);
   const auto ready = f.sim.here();
   const auto r = f.run(".PROGRAM main()\n  SET a = HERE\n  APPRO a, 40\n.END\n");
-  INFO(asimov::val::format_diagnostic(r.error));
+  INFO(asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   const auto expected = ready * asimov::motion::trans(0, 0, -40, 0, 0, 0);
   CHECK(distance_mm(f.sim.here(), expected) == Approx(0).margin(1e-3));
@@ -112,7 +112,7 @@ TEST_CASE("SPEED applies to the next motion only unless ALWAYS", "[motion]") {
   auto duration = [](const std::string& body) {
     InterpreterFixture f;
     const auto r = f.run(".PROGRAM main()\n" + body + "\n.END\n");
-    INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+    INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
     REQUIRE(r.status == RunStatus::completed);
     return f.sim.time_s();
   };
@@ -163,7 +163,7 @@ TEST_CASE("a collision ends the run and names the motion's step", "[motion][coll
   cell.objects.push_back(test::box_object("box", collision::Vec3(60, 60, 60), work.translation()));
   motion::Simulator sim(cell);
   std::ostringstream out;
-  val::Interpreter interp(sim, out);
+  interpreter::Interpreter interp(sim, out);
   REQUIRE(interp.load_source(R"(.PROGRAM main()
   MOVE #PPOINT(10, -60, 150, 10, 40, 20)
   SET #target = #PPOINT(40, -60, 150, 10, 40, 20)
@@ -171,8 +171,8 @@ TEST_CASE("a collision ends the run and names the motion's step", "[motion][coll
   TYPE "typed before the motion runs"
 .END
 )", "hit.v2").empty());
-  const val::RunResult r = interp.run("main");
-  INFO(val::format_diagnostic(r.error));
+  const interpreter::RunResult r = interp.run("main");
+  INFO(interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::collision);
   CHECK(r.error.message == "*Collision*");
   CHECK(r.error.detail.find("box") != std::string::npos);
@@ -187,11 +187,11 @@ TEST_CASE("a collision ends the run and names the motion's step", "[motion][coll
 
   // RETRY restarts the interrupted motion from the halted pose: it meets the box again.
   REQUIRE(interp.can_resume());
-  const val::RunResult again = interp.retry();
+  const interpreter::RunResult again = interp.retry();
   CHECK(again.status == RunStatus::collision);
   CHECK(again.error.step == 3);
   // PROCEED drops it; contact was found at the program's end, so nothing is left to run.
-  const val::RunResult done = interp.proceed();
+  const interpreter::RunResult done = interp.proceed();
   CHECK(done.status == RunStatus::completed);
   CHECK_FALSE(interp.can_resume());
 }
@@ -222,7 +222,7 @@ TEST_CASE("READY, DRAW, TOOL, BASE and configuration words", "[motion]") {
   READY
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "30.000.00\n-1.00\n100.00\n");
   CHECK(f.sim.joints()[1] == Approx(-90).margin(1e-6));
@@ -243,7 +243,7 @@ TEST_CASE("ALIGN turns tool Z onto the nearest world axis, DRIVE moves one joint
   TYPE /F0.3, DISTANCE(before, after)
 .END
 )");
-  INFO(f.load_report << asimov::val::format_diagnostic(r.error));
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "0.000\n");  // the tool point stays
   const Eigen::Vector3d z = f.sim.here().linear().col(2);

@@ -1,9 +1,9 @@
 // Stage 1: every construct of the slice parses; syntax errors carry line, column and caret.
-#include "interpreter/parser.hpp"
+#include "interpreter/src/parser.hpp"
 
 #include <catch2/catch.hpp>
 
-using namespace asimov::val;
+using namespace asimov::interpreter;
 
 namespace {
 

@@ -48,12 +48,12 @@ TEST_CASE("random programs load and run without escaping exceptions", "[random]"
     INFO(text);
     asimov::test::InterpreterFixture f;
     f.interp.limits().max_statements = 10'000;
-    std::vector<asimov::val::Diagnostic> d;
+    std::vector<asimov::interpreter::Diagnostic> d;
     REQUIRE_NOTHROW(d = f.load(text));
     for (const auto& e : d) {
       CHECK(e.line >= 1);
       CHECK(e.column >= 1);
-      CHECK_FALSE(asimov::val::format_diagnostic(e).empty());
+      CHECK_FALSE(asimov::interpreter::format_diagnostic(e).empty());
     }
     if (!d.empty()) continue;
     ++loaded;

@@ -5,7 +5,7 @@
 // through the real CLI (`asimov run NAME.v2`, the default cell), comparing stdout, stderr and
 // the exit code.
 #include "interpreter_fixture.hpp"
-#include "motion/location.hpp"
+#include "asimov/motion/location.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -50,17 +50,17 @@ TEST_CASE("programs/language samples print their .out", "[samples]") {
       const auto diags = f.interp.load_source(read_text(dir / (name + ".v2")), name + ".v2");
       std::string report;
       for (const auto& d : diags) {
-        INFO(asimov::val::format_diagnostic(d));
+        INFO(asimov::interpreter::format_diagnostic(d));
         REQUIRE(d.warning);
-        report += "Warning: " + asimov::val::format_diagnostic(d);
+        report += "Warning: " + asimov::interpreter::format_diagnostic(d);
       }
       const auto r = f.interp.run(f.interp.program_names().front());
-      INFO(asimov::val::format_diagnostic(r.error));
+      INFO(asimov::interpreter::format_diagnostic(r.error));
       if (fs::exists(dir / (name + ".err"))) {
-        CHECK(r.status == asimov::val::RunStatus::error);
-        CHECK(report + asimov::val::format_diagnostic(r.error) == read_text(dir / (name + ".err")));
+        CHECK(r.status == asimov::interpreter::RunStatus::error);
+        CHECK(report + asimov::interpreter::format_diagnostic(r.error) == read_text(dir / (name + ".err")));
       } else {
-        CHECK(r.status == asimov::val::RunStatus::completed);
+        CHECK(r.status == asimov::interpreter::RunStatus::completed);
         CHECK(report.empty());
       }
       CHECK(f.out.str() == read_text(dir / (name + ".out")));

@@ -3,7 +3,7 @@
 // (SPEED ... MMPS, GETC ...). Each runs a program and checks its TYPE output or its error.
 #include "support/cell_bodies.hpp"
 #include "interpreter_fixture.hpp"
-#include "collision/polyhedron.hpp"
+#include "asimov/collision/polyhedron.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -11,7 +11,7 @@
 #include <sstream>
 
 using asimov::test::InterpreterFixture;
-using asimov::val::RunStatus;
+using asimov::interpreter::RunStatus;
 
 namespace {
 
@@ -41,7 +41,7 @@ TEST_CASE("PAUSE stops with a paused status; PROCEED continues with the next ste
   CHECK(r.status == RunStatus::paused);
   CHECK(r.program == "sub");
   CHECK(r.step == 1);
-  CHECK(asimov::val::format_pause(r) == "Program paused: sub, step 1");
+  CHECK(asimov::interpreter::format_pause(r) == "Program paused: sub, step 1");
   CHECK(f.out.str() == "a\n");
   REQUIRE(f.interp.can_resume());
   r = f.interp.proceed();
@@ -65,7 +65,7 @@ TEST_CASE("HALT stops and cannot be resumed", "[statements]") {
   InterpreterFixture f;
   auto r = f.run(program("  TYPE \"a\"\n  HALT\n  TYPE \"b\""));
   CHECK(r.status == RunStatus::halted);
-  CHECK(asimov::val::format_pause(r) == "Program halted: main, step 2");
+  CHECK(asimov::interpreter::format_pause(r) == "Program halted: main, step 2");
   CHECK_FALSE(f.interp.can_resume());
   r = f.interp.proceed();
   CHECK(r.error.message == "*No program to resume*");
@@ -173,7 +173,7 @@ TEST_CASE("MOVET and MOVEST set the hand when the motion starts", "[statements]"
   using asimov::motion::HandState;
   InterpreterFixture f;
   auto r = f.run(program("MOVET #PPOINT(10, -80, 100, 0, 20, 30), 0\nBREAK\nHERE p\nMOVEST p, 1\nBREAK\nMOVET p, 0"));
-  INFO(asimov::val::format_diagnostic(r.error));
+  INFO(asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.sim.hand() == HandState::closed);
   CHECK_FALSE(f.load(program("MOVET p")).empty());
@@ -228,10 +228,10 @@ TEST_CASE("DISABLE COLLISION lets a colliding motion through; the clearance wide
     cell.objects.push_back(test::box_object("box", collision::Vec3(60, 60, 60), work.translation()));
     motion::Simulator sim(cell);
     std::ostringstream out;
-    val::Interpreter interp(sim, out);
+    interpreter::Interpreter interp(sim, out);
     REQUIRE(interp.load_source(program(prefix + "\nMOVE #PPOINT(10, -60, 150, 10, 40, 20)\nMOVE #PPOINT(40, -60, 150, 10, 40, 20)\n"
                                        "BREAK\nTYPE SWITCH(COLLISION)"), "box.v2").empty());
-    const val::RunResult r = interp.run("main");
+    const interpreter::RunResult r = interp.run("main");
     text = out.str();
     return r;
   };

@@ -1,8 +1,8 @@
 // The run's own accuracy figures (Simulator::accuracy): the §6.3 step bound against real vertex
 // displacements, FK(IK(target)) residuals, straight-line deviation between checked poses, the
-// contact bracket; and gap stepping (four-step.md §6.3) against fixed stepping on random motions.
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+// contact bracket; and gap stepping (docs/collision-method.md §6.3) against fixed stepping on random motions.
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/cell_bodies.hpp"
 #include "support/geometry.hpp"

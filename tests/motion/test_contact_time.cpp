@@ -1,9 +1,9 @@
-// Contact time by bisection (four-step.md §6.4): a J1 sweep of the PUMA into a wall, whose
+// Contact time by bisection (docs/collision-method.md §6.4): a J1 sweep of the PUMA into a wall, whose
 // contact time follows analytically from the vertices and the profile, and a straight line
 // lowering a tool onto a plate, whose contact depth follows from the line.
-#include "motion/profile.hpp"
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/motion/profile.hpp"
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/cell_bodies.hpp"
 #include "support/geometry.hpp"

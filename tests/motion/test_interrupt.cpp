@@ -1,8 +1,8 @@
 // Ctrl-C inside a motion (Simulator::set_interrupt): the arm stops at the last checked pose,
 // the clock at that pose's time, and resume_motion carries out the rest of the same path. The
 // flag is set from the pose hook after N checked poses, so every run is deterministic.
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/cell_bodies.hpp"
 #include "support/joints.hpp"

@@ -1,7 +1,7 @@
 // Straight-line timing: every joint's acceleration, curvature term included, stays within its
 // limit, measured on the simulated trajectory (second differences in time of the traced poses).
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/joints.hpp"
 

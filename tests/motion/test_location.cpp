@@ -1,5 +1,5 @@
 // TRANS / DECOMPOSE (dialect §4): the three decomposition cases and the required round trips.
-#include "motion/location.hpp"
+#include "asimov/motion/location.hpp"
 
 #include <catch2/catch.hpp>
 #include <random>

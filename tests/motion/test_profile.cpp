@@ -1,6 +1,6 @@
-// Synchronised minimum-time trapezoid (kinematics.md §8).
-#include "motion/interpolation.hpp"
-#include "motion/profile.hpp"
+// Synchronised minimum-time trapezoid (docs/kinematics.md §8).
+#include "asimov/motion/interpolation.hpp"
+#include "asimov/motion/profile.hpp"
 
 #include <array>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Checked-pose spacing: real vertex displacements of every arm body (links and a tool) between
 // consecutive checked poses never exceed step_mm, for joint and straight-line moves.
-#include "motion/sampler.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/motion/sampler.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/joints.hpp"
 

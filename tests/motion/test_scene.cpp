@@ -1,8 +1,8 @@
 // The collision scene of a cell (motion/scene.hpp): body order, groups, joined pairs, poses,
 // the generated pair matrix, and the simulator running on that matrix.
-#include "motion/scene.hpp"
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/motion/scene.hpp"
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/joints.hpp"
 

@@ -1,8 +1,8 @@
 // The simulated arm: planning errors before any pose is checked, free motions reaching their
 // targets, a halt at the first contact with a point on both bodies, BASE/TOOL semantics, time.
-#include "collision/engine.hpp"
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/collision/engine.hpp"
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/cell_bodies.hpp"
 #include "support/geometry.hpp"

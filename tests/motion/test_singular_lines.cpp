@@ -1,8 +1,8 @@
 // Straight-line motions that would cross a singularity stop with a clear error before moving
 // (no pose checked, joints and clock unchanged): shoulder, elbow, wrist; and joint limits on
 // a joint move name the joint.
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/joints.hpp"
 

@@ -1,8 +1,8 @@
 // Motion-instruction targets against hand-computed poses (dialect §5), DRIVE timing, the hand
 // state machine, and a URDF arm moving in the simulator.
-#include "motion/targets.hpp"
-#include "robots/puma560.hpp"
-#include "robots/urdf_loader.hpp"
+#include "asimov/motion/targets.hpp"
+#include "asimov/robots/puma560.hpp"
+#include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
 

@@ -1,8 +1,8 @@
-// Closed-form PUMA IK (kinematics.md §4-§6): the 8 listed solutions, random round trips,
+// Closed-form PUMA IK (docs/kinematics.md §4-§6): the 8 listed solutions, random round trips,
 // configuration selection, singular cases, reach and limit errors.
-#include "robots/configuration.hpp"
-#include "robots/ik_puma.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/robots/configuration.hpp"
+#include "asimov/robots/ik_puma.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/joints.hpp"
 

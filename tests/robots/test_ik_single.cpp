@@ -1,10 +1,10 @@
 // SINGLE / MULTIPLE on URDF arms: the last revolute joint in (-180, 180] (SINGLE) or the
 // 2pi-equivalent nearest the current value (MULTIPLE), through the spherical-wrist closed form
 // (generic6) and through the numeric solver (generic6 with its wrist made non-spherical).
-#include "robots/configuration.hpp"
-#include "robots/ik.hpp"
-#include "robots/ik_spherical.hpp"
-#include "robots/urdf_loader.hpp"
+#include "asimov/robots/configuration.hpp"
+#include "asimov/robots/ik.hpp"
+#include "asimov/robots/ik_spherical.hpp"
+#include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
 

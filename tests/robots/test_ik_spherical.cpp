@@ -1,9 +1,9 @@
 // Closed form for J1 _|_ J2 || J3 arms with a spherical wrist (Paden-Kahan): detection, round
 // trips on generic6 and on the PUMA written as URDF (against the DH closed form), singular wrist.
-#include "robots/ik.hpp"
-#include "robots/ik_spherical.hpp"
-#include "robots/puma560.hpp"
-#include "robots/urdf_loader.hpp"
+#include "asimov/robots/ik.hpp"
+#include "asimov/robots/ik_spherical.hpp"
+#include "asimov/robots/puma560.hpp"
+#include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
 

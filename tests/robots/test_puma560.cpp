@@ -1,8 +1,8 @@
-// PUMA 560 model: DH FK oracles (kinematics.md §4), the display convention (§2), limits (§3),
+// PUMA 560 model: DH FK oracles (docs/kinematics.md §4), the display convention (§2), limits (§3),
 // configuration words (§6) and the displacement bound.
-#include "robots/configuration.hpp"
-#include "robots/displacement_bound.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/robots/configuration.hpp"
+#include "asimov/robots/displacement_bound.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/joints.hpp"
 

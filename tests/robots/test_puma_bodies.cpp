@@ -1,6 +1,6 @@
 // PUMA 560 link bodies: joined at the joints, apart elsewhere at READY and the safe pose.
-#include "collision/engine.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/collision/engine.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/joints.hpp"
 

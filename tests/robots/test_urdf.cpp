@@ -1,10 +1,10 @@
 // URDF arms: the PUMA written as URDF reproduces the DH FK, the generic 6-axis arm loads and
 // its numeric IK converges, the displacement bound holds for a chain, bad input is reported
 // with file and line, STL meshes (collision::read_mesh) and tessellated spheres.
-#include "robots/displacement_bound.hpp"
-#include "robots/ik.hpp"
-#include "robots/puma560.hpp"
-#include "robots/urdf_loader.hpp"
+#include "asimov/robots/displacement_bound.hpp"
+#include "asimov/robots/ik.hpp"
+#include "asimov/robots/puma560.hpp"
+#include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
 

@@ -1,7 +1,7 @@
-// Exact contact (four-step.md §6.2, docs/stiff-cases.md "Exact contact"): at clearance 0,
+// Exact contact (docs/collision-method.md §6.2, docs/stiff-cases.md "Exact contact"): at clearance 0,
 // touching is a contact and one ulp of separation is not. The meshes are built from exactly
 // representable coordinates (no rotation rounding), so "touching" is exact.
-#include "collision/engine.hpp"
+#include "asimov/collision/engine.hpp"
 
 #include <catch2/catch.hpp>
 

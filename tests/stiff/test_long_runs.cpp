@@ -1,9 +1,9 @@
 // Long runs (docs/stiff-cases.md "Long runs"): 10^6 compound transformations through VAL's `:`
-// keep rotation matrices orthonormal to 1e-12 (kinematics.md §8) and a chain followed by its
+// keep rotation matrices orthonormal to 1e-12 (docs/kinematics.md §8) and a chain followed by its
 // inverse chain returns to the start within the documented drift bound. The 10^6 DRAW moves
 // through the simulator are the end-to-end case programs/stiff/long_draw.v2.
-#include "interpreter/operators.hpp"
-#include "motion/location.hpp"
+#include "interpreter/src/operators.hpp"
+#include "asimov/motion/location.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -21,7 +21,7 @@ double orthonormality_error(const Location& t) {
 }
 
 Location compound(const Location& a, const Location& b) {
-  return std::get<Location>(val::apply_binary(val::ast::Op::compound, a, b));
+  return std::get<Location>(interpreter::apply_binary(interpreter::ast::Op::compound, a, b));
 }
 
 }  // namespace

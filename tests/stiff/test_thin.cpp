@@ -1,4 +1,4 @@
-// Fast motions against thin things (four-step.md §6.3, docs/stiff-cases.md "Thin things"):
+// Fast motions against thin things (docs/collision-method.md §6.3, docs/stiff-cases.md "Thin things"):
 // the PUMA sweeps a 0.5 mm tool blade about J1 through a thin vertical plate (1 mm or
 // 0.1 mm) at SPEED 100. Checked poses are spaced by distance (step_mm), so whether a contact
 // is seen depends on where the samples fall relative to the plate: each setting is run with
@@ -7,8 +7,8 @@
 // - clearance 0 with step_mm <= plate + blade: the blade cannot pass between two samples;
 // - the documented safe setting, clearance c > 0 with step_mm <= c: no phase ever misses, for
 //   any thickness (a pair farther than c at one pose cannot touch before the next).
-#include "motion/simulator.hpp"
-#include "robots/puma560.hpp"
+#include "asimov/motion/simulator.hpp"
+#include "asimov/robots/puma560.hpp"
 
 #include "support/cell_bodies.hpp"
 

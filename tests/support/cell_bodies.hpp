@@ -1,7 +1,7 @@
 // Cell bodies for tests: an axis-aligned box object, and any named body's mesh and world pose
 // at given joints (links at cell.base * frames[link], the tool at the flange, objects as placed).
 #pragma once
-#include "motion/cell.hpp"
+#include "asimov/motion/cell.hpp"
 
 #include <catch2/catch.hpp>
 #include <string>

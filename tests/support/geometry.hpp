@@ -1,6 +1,6 @@
 // Independent geometry for test oracles (deliberately not the engine's code).
 #pragma once
-#include "collision/polyhedron.hpp"
+#include "asimov/collision/polyhedron.hpp"
 #include <algorithm>
 #include <limits>
 

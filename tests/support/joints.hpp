@@ -1,6 +1,6 @@
 // Joint vectors for tests: literals and uniform random samples within a robot's limits.
 #pragma once
-#include "robots/robot.hpp"
+#include "asimov/robots/robot.hpp"
 
 #include <initializer_list>
 #include <random>

@@ -1,0 +1,329 @@
+#include "asimov/cell/cell_loader.hpp"
+
+#include "asimov/collision/mesh_io.hpp"
+#include "asimov/collision/engine.hpp"
+#include "asimov/robots/puma560.hpp"
+#include "asimov/robots/urdf_loader.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <set>
+#include <sstream>
+
+namespace asimov::cell {
+namespace {
+
+const char* const kDefaultCell = R"(# Built-in default cell: the PUMA 560 with a table and a box in reach.
+# World frame = robot frame: origin at the shoulder (J1/J2 axes), Z up; the floor is ~672 mm below.
+robot: puma560
+base: [0, 0, 0, 0, 0, 0]
+tool: [0, 0, 200, 0, 0, 0]            # tool point 200 mm out along the flange Z axis
+tool_shape: {box: [50, 80, 140], at: [0, 0, 130, 0, 0, 0]}   # a simple gripper, flange frame
+objects:
+  - {name: table, box: [700, 1200, 40], at: [750, 0, -420, 0, 0, 0]}   # top face at z = -400
+  - {name: box, box: [160, 160, 200], at: [600, 250, -300, 0, 0, 0]}   # standing on the table
+collision: {halvings: 9, step_mm: 1.0, clearance_mm: 0}
+)";
+
+class Reader {
+ public:
+  Reader(std::string source, std::filesystem::path base_dir, bool source_is_text)
+      : source_(std::move(source)), base_dir_(std::move(base_dir)), source_is_text_(source_is_text) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& what) const {
+    const auto mark = node.Mark();
+    throw CellError(what, source_, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1);
+  }
+
+  double number(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsScalar()) fail(node, fmt::format("{} must be a number", what));
+    double v = 0;
+    try {
+      v = node.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(node, fmt::format("{} must be a number, got '{}'", what, node.Scalar()));
+    }
+    if (!std::isfinite(v)) fail(node, fmt::format("{} must be finite", what));
+    return v;
+  }
+
+  double positive(const YAML::Node& node, const std::string& what) const {
+    const double v = number(node, what);
+    if (!(v > 0)) fail(node, fmt::format("{} must be > 0, got {}", what, v));
+    return v;
+  }
+
+  std::vector<double> numbers(const YAML::Node& node, std::size_t count, const std::string& what) const {
+    if (!node.IsSequence() || node.size() != count)
+      fail(node, fmt::format("{} must be a list of {} numbers", what, count));
+    std::vector<double> v;
+    for (const auto& item : node) v.push_back(number(item, what));
+    return v;
+  }
+
+  motion::Location pose(const YAML::Node& node, const std::string& what) const {
+    if (!node) return motion::Location::Identity();
+    const auto v = numbers(node, 6, what + " ([x, y, z, o, a, t])");
+    return motion::trans(v[0], v[1], v[2], v[3], v[4], v[5]);
+  }
+
+  // A shape entry: {box: [sx, sy, sz]}, {cylinder: {radius: r, height: h[, segments: n]}},
+  // {sphere: {radius: r[, tolerance_mm: t]}} or {mesh: file.stl|obj[, scale: s | [sx, sy, sz]]}.
+  // Mesh warnings (dropped faces, open meshes) are appended to `warnings`.
+  collision::Polyhedron shape(const YAML::Node& node, const std::string& what,
+                              std::vector<std::string>& warnings) const {
+    if (!node.IsMap()) fail(node, what + " must be a map");
+    if (const auto mesh = node["mesh"]) {
+      if (!mesh.IsScalar()) fail(mesh, what + ".mesh must be a file name");
+      collision::Vec3 scale = collision::Vec3::Ones();
+      if (const auto s = node["scale"]) {
+        if (s.IsScalar()) {
+          scale.setConstant(positive(s, what + ".scale"));
+        } else {
+          const auto v = numbers(s, 3, what + ".scale");
+          for (double x : v)
+            if (!(x > 0)) fail(s, what + ".scale factors must be > 0");
+          scale = {v[0], v[1], v[2]};
+        }
+      }
+      const auto path = (base_dir_ / mesh.Scalar()).lexically_normal().string();
+      try {
+        auto loaded = collision::read_mesh(path, scale);
+        if (loaded.mesh.triangles.empty()) fail(mesh, fmt::format("{}: no valid face in {}", what, path));
+        for (auto& w : loaded.warnings) warnings.push_back(std::move(w));
+        return std::move(loaded.mesh);
+      } catch (const collision::MeshError& e) {
+        fail(mesh, fmt::format("{}: {}", what, e.what()));
+      }
+    }
+    if (const auto sphere = node["sphere"]) {
+      if (!sphere.IsMap()) fail(sphere, what + ".sphere must be {radius: r[, tolerance_mm: t]}");
+      const double r = positive(sphere["radius"] ? sphere["radius"] : sphere, what + ".sphere.radius");
+      const double tol = sphere["tolerance_mm"] ? positive(sphere["tolerance_mm"], what + ".sphere.tolerance_mm")
+                                                : std::max(0.5, r * 1e-3);
+      return collision::make_sphere(r, tol);
+    }
+    if (const auto box = node["box"]) {
+      const auto s = numbers(box, 3, what + ".box");
+      for (double x : s)
+        if (!(x > 0)) fail(box, what + ".box sides must be > 0");
+      return collision::make_box({s[0], s[1], s[2]});
+    }
+    if (const auto cyl = node["cylinder"]) {
+      if (!cyl.IsMap()) fail(cyl, what + ".cylinder must be {radius: r, height: h}");
+      const double r = positive(cyl["radius"] ? cyl["radius"] : cyl, what + ".cylinder.radius");
+      const double h = positive(cyl["height"] ? cyl["height"] : cyl, what + ".cylinder.height");
+      int segments = 24;
+      if (const auto s = cyl["segments"]) {
+        segments = static_cast<int>(number(s, what + ".cylinder.segments"));
+        if (segments < 3 || segments > 4096) fail(s, what + ".cylinder.segments must be 3..4096");
+      }
+      return collision::make_cylinder(r, h, segments);
+    }
+    fail(node, what + " needs a shape: box, cylinder, sphere or mesh");
+  }
+
+  void expect_keys(const YAML::Node& node, std::initializer_list<const char*> keys, const std::string& what) const {
+    const std::set<std::string> known(keys.begin(), keys.end());
+    for (const auto& kv : node) {
+      const auto key = kv.first.as<std::string>();
+      if (!known.count(key)) {
+        std::string list;
+        for (const auto* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+        fail(kv.first, fmt::format("unknown key '{}' in {} (known: {})", key, what, list));
+      }
+    }
+  }
+
+  // `robot: puma560` (built in) or a URDF file, relative to the cell file's folder.
+  robots::Robot robot(const YAML::Node& node) const {
+    if (!node) return robots::puma560();
+    if (!node.IsScalar()) fail(node, "robot must be puma560 or a .urdf file");
+    const auto name = node.Scalar();
+    if (name == "puma560") return robots::puma560();
+    if (!name.ends_with(".urdf")) fail(node, fmt::format("unknown robot '{}' (puma560 or a .urdf file)", name));
+    const auto path = (base_dir_ / name).lexically_normal();
+    try {
+      return robots::load_urdf(path.string());
+    } catch (const robots::UrdfError& e) {
+      fail(node, fmt::format("robot: {}", e.what()));
+    }
+  }
+
+  // Body coordinates beyond kMaxCoordinateMm lose the engine's precision (positions round to
+  // 1e-16 of their size: at 1e18 mm a whole link rounds away) and overflow its products near
+  // 1e150 mm (an arm inside a 1e150 mm box went unseen): a cell error (docs/stiff-cases.md).
+  static constexpr double kMaxCoordinateMm = 1e9;
+  void within_extent(const YAML::Node& node, const collision::Polyhedron& mesh, const collision::Pose& pose,
+                     const std::string& what) const {
+    double far = pose.translation().cwiseAbs().maxCoeff();
+    for (const auto& v : mesh.vertices) far = std::max(far, (pose * v).cwiseAbs().maxCoeff());
+    if (!(far <= kMaxCoordinateMm))
+      fail(node, fmt::format("{} reaches {} mm from the origin; coordinates are limited to {:g} mm", what, far,
+                             kMaxCoordinateMm));
+  }
+
+  motion::Cell cell(const YAML::Node& root) const {
+    if (!root.IsMap()) fail(root, "a cell file is a YAML map (see docs/cell-format.md)");
+    expect_keys(root, {"robot", "base", "tool", "tool_shape", "objects", "collision", "start"}, "the cell");
+    motion::Cell cell;
+    cell.robot = robot(root["robot"]);
+    cell.warnings = cell.robot.warnings;  // URDF mesh notes, already prefixed with urdf:line
+    cell.base = pose(root["base"], "base");
+    within_extent(root["base"], {}, cell.base, "base");
+    cell.tool = pose(root["tool"], "tool");
+    const int n = cell.robot.joint_count();
+    cell.start_joints = robots::ready_joints(cell.robot);
+    if (const auto start = root["start"]) {
+      const auto v = numbers(start, static_cast<std::size_t>(n), "start (joint values in degrees)");
+      for (int i = 0; i < n; ++i) cell.start_joints[i] = v[static_cast<std::size_t>(i)];
+      const int bad = robots::first_limit_violation(cell.robot, cell.start_joints);
+      if (bad >= 0)
+        fail(start, fmt::format("start: J{} = {} is outside [{}, {}]", bad + 1, cell.start_joints[bad],
+                                cell.robot.lower[bad], cell.robot.upper[bad]));
+    }
+    if (const auto ts = root["tool_shape"]) {
+      expect_keys(ts, {"box", "cylinder", "sphere", "mesh", "scale", "at"}, "tool_shape");
+      cell.tool_shape =
+          collision::transformed(shape(ts, "tool_shape", cell.warnings), pose(ts["at"], "tool_shape.at"));
+      within_extent(ts, *cell.tool_shape, cell.base, "tool_shape");
+    }
+    std::set<std::string> names;
+    for (const auto& b : cell.robot.bodies) names.insert(b.name);
+    names.insert("tool");
+    if (const auto objects = root["objects"]) {
+      if (!objects.IsSequence()) fail(objects, "objects must be a list");
+      for (const auto& o : objects) {
+        expect_keys(o, {"name", "box", "cylinder", "sphere", "mesh", "scale", "at"}, "an object");
+        if (!o["name"]) fail(o, "every object needs a name");
+        motion::CellObject obj;
+        obj.name = o["name"].as<std::string>();
+        if (!names.insert(obj.name).second) fail(o["name"], fmt::format("duplicate body name '{}'", obj.name));
+        obj.mesh = shape(o, "object '" + obj.name + "'", cell.warnings);
+        obj.pose = pose(o["at"], "object '" + obj.name + "' at");
+        within_extent(o, obj.mesh, obj.pose, "object '" + obj.name + "'");
+        cell.objects.push_back(std::move(obj));
+      }
+    }
+    if (const auto c = root["collision"]) {
+      expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled", "toc_tolerance_s", "pairs",
+                      "pair_samples", "stepping"},
+                  "collision");
+      auto& s = cell.collision;
+      if (c["halvings"] && c["halvings"].IsScalar() && c["halvings"].Scalar() == "auto") {
+        s.halvings = collision::kAutoHalvings;
+      } else if (c["halvings"]) {
+        const double m = number(c["halvings"], "collision.halvings (auto or an integer 0..20)");
+        if (m < 0 || m > 20 || m != std::floor(m)) fail(c["halvings"], "collision.halvings must be auto or an integer 0..20");
+        s.halvings = static_cast<int>(m);
+      }
+      if (c["step_mm"]) {
+        s.step_mm = positive(c["step_mm"], "collision.step_mm");
+        if (s.step_mm < 1e-6) fail(c["step_mm"], fmt::format("collision.step_mm must be >= 1e-6, got {}", s.step_mm));
+      }
+      if (c["clearance_mm"]) {
+        s.clearance_mm = number(c["clearance_mm"], "collision.clearance_mm");
+        if (s.clearance_mm < 0) fail(c["clearance_mm"], "collision.clearance_mm must be >= 0");
+      }
+      if (c["enabled"]) s.enabled = c["enabled"].as<bool>();
+      if (c["toc_tolerance_s"]) s.toc_tolerance_s = positive(c["toc_tolerance_s"], "collision.toc_tolerance_s");
+      if (const auto pairs = c["pairs"]) {
+        const auto v = pairs.IsScalar() ? pairs.Scalar() : std::string();
+        if (v != "joined" && v != "generated") fail(pairs, "collision.pairs must be joined or generated");
+        s.generated_pairs = v == "generated";
+        // Shared with `asimov pairs CELL.yaml`: both build the same input, so one cache serves both.
+        if (s.generated_pairs && !source_is_text_) s.pairs_cache = source_ + ".pairs";
+      }
+      if (const auto st = c["stepping"]) {
+        const auto v = st.IsScalar() ? st.Scalar() : std::string();
+        if (v != "fixed" && v != "gap") fail(st, "collision.stepping must be fixed or gap");
+        s.stepping = v == "gap" ? motion::Stepping::gap : motion::Stepping::fixed;
+      }
+      if (c["pair_samples"]) {
+        const double n = number(c["pair_samples"], "collision.pair_samples");
+        if (n < 1 || n > 1e7 || n != std::floor(n)) fail(c["pair_samples"], "collision.pair_samples must be 1..10000000");
+        s.pair_samples = static_cast<int>(n);
+      }
+      if (const auto ig = c["ignore"]) {
+        if (!ig.IsSequence()) fail(ig, "collision.ignore must be a list of [body, body] pairs");
+        for (const auto& pair : ig) {
+          if (!pair.IsSequence() || pair.size() != 2) fail(pair, "collision.ignore entries are [body, body]");
+          const auto a = pair[0].as<std::string>(), b = pair[1].as<std::string>();
+          for (const auto& [node, name] : {std::pair{pair[0], a}, std::pair{pair[1], b}})
+            if (!names.count(name)) fail(node, fmt::format("collision.ignore: unknown body '{}'", name));
+          s.ignore.emplace_back(a, b);
+        }
+      }
+    }
+    return cell;
+  }
+
+ private:
+  std::string source_;
+  std::filesystem::path base_dir_;  // relative file names in the cell resolve here
+  bool source_is_text_;             // no file behind the text: nowhere to put a pairs cache
+};
+
+}  // namespace
+
+std::string CellError::format() const {
+  if (line > 0) return fmt::format("{}:{}:{}: {}", file, line, column, what());
+  return fmt::format("{}: {}", file, what());
+}
+
+namespace {
+motion::Cell parse_cell(const std::string& yaml, const std::string& source_name, const std::string& base_dir,
+                        bool from_file) {
+  Reader reader(source_name, base_dir, !from_file);
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::ParserException& e) {
+    throw CellError(e.msg, source_name, e.mark.line + 1, e.mark.column + 1);
+  }
+  try {
+    return reader.cell(root);
+  } catch (const YAML::Exception& e) {  // e.g. a map where a string was expected
+    throw CellError(e.msg, source_name, e.mark.is_null() ? 0 : e.mark.line + 1,
+                    e.mark.is_null() ? 0 : e.mark.column + 1);
+  }
+}
+}  // namespace
+
+motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name,
+                           const std::string& base_dir) {
+  return parse_cell(yaml, source_name, base_dir, false);
+}
+
+motion::Cell load_cell_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CellError("cannot read cell file", path, 0, 0);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_cell(text.str(), path, std::filesystem::path(path).parent_path().string(), true);
+}
+
+const std::string& default_cell_yaml() {
+  static const std::string text = kDefaultCell;
+  return text;
+}
+
+motion::Cell default_cell() { return load_cell_text(default_cell_yaml(), "<default cell>"); }
+
+std::optional<motion::Cell> load_cell_for_command(const std::string& path, std::ostream& err) {
+  try {
+    motion::Cell cell = path.empty() ? default_cell() : load_cell_file(path);
+    for (const auto& w : cell.warnings) err << "Warning: " << w << '\n';
+    return cell;
+  } catch (const CellError& e) {
+    err << "*Cell error*  " << e.format() << '\n';
+    return std::nullopt;
+  }
+}
+
+}  // namespace asimov::cell

@@ -1,0 +1,30 @@
+// Gap between two bodies' step-2 containers (docs/collision-method.md §6.3 gap stepping): the distance
+// between their world minimax boxes. Nothing inside the two containers is closer than this, so a
+// pair with gap g cannot meet while the two bodies together move less than g.
+#pragma once
+#include "asimov/collision/minimax.hpp"
+
+namespace asimov::collision {
+
+// Euclidean distance [mm] between two axis-aligned boxes (0 when they overlap or touch).
+double box_distance(const Box& a, const Box& b);
+
+// A container placed at a pose, as the gap needs it: its world minimax box and the world centre
+// of its vertex sphere (Container::radius). Computed once per body and pose, used by every pair.
+struct PlacedContainer {
+  Box box;
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+};
+PlacedContainer place(const Container& c, const Pose& pose);
+
+// Gap of two placed containers: the larger of two lower bounds on the bodies' distance (their
+// world boxes' distance, their vertex spheres' distance; the spheres win for long bodies lying
+// diagonally, whose world boxes are mostly empty), less `margin` for the rounding of the
+// mapping (relative_margin), never below 0.
+double container_gap(const PlacedContainer& a, const PlacedContainer& b, double margin);
+
+// The same from the containers and their poses.
+double container_gap(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b);
+
+}  // namespace asimov::collision

@@ -1,0 +1,76 @@
+// The four-step collision engine (Garcia-Alonso): participation -> minimax -> voxels -> faces.
+// Bodies are added once (preprocessing); each checked pose sets body poses and calls check().
+#pragma once
+#include "asimov/collision/participation.hpp"
+#include "asimov/collision/polyhedron.hpp"
+#include "asimov/collision/query.hpp"
+#include <memory>
+#include <span>
+#include <string>
+
+namespace asimov::collision {
+
+using BodyId = std::uint32_t;
+
+constexpr int kAutoHalvings = -1;  // BodyDef::halvings: let the cost model choose M
+
+struct BodyDef {
+  std::string name;       // reported in contacts ("link3", "tool", "table")
+  Polyhedron mesh;        // local frame
+  int group = -1;         // rigid group: bodies of one group are never tested together (-1: own group)
+  bool is_static = false; // static bodies never move after the first set_pose
+  int halvings = 9;       // M: the voxel grid has 2^M cells; kAutoHalvings (-1): cost model
+};
+
+class Engine {
+ public:
+  Engine();
+  ~Engine();
+  Engine(Engine&&) noexcept;
+  Engine& operator=(Engine&&) noexcept;
+
+  BodyId add_body(BodyDef def);
+  std::size_t body_count() const;
+  const std::string& body_name(BodyId id) const;
+  // Closed mesh (every edge shared by two faces in opposite directions). Only closed bodies
+  // have an inside for the containment test (docs/collision-method.md §6.1); callers should warn on false.
+  bool body_closed(BodyId id) const;
+  // M in use for the body: BodyDef::halvings, or the cost model's choice for kAutoHalvings
+  // (auto_halvings in voxel_grid.hpp). Known from add_body on, for reports.
+  int body_halvings(BodyId id) const;
+  // True once the body's voxel grid is built: only bodies of an enabled pair that reached
+  // step 3 are ever preprocessed (lazy).
+  bool body_preprocessed(BodyId id) const;
+
+  // Step 1, the participation matrix. All pairs of different groups start enabled.
+  void set_pair_enabled(BodyId a, BodyId b, bool enabled);
+  bool pair_enabled(BodyId a, BodyId b) const;
+  bool has_enabled_pairs() const;
+  std::span<const BodyPair> enabled_pairs() const;  // sorted, a < b
+
+  void set_clearance(double clearance_mm);  // contact when distance <= clearance (default 0)
+  void set_pose(BodyId id, const Pose& local_to_world);
+
+  // Runs the four steps over every enabled pair at the current poses; stops at the first
+  // contact (pairs tested in a fixed order, so the answer is deterministic).
+  QueryResult check();
+  // The same on a subset of pairs, in the order given (either body order; pairs that are not
+  // enabled are skipped). For contact-time bisection: only the pairs that collided at the
+  // later pose need re-checking between the last free pose and it (docs/collision-method.md §6.4).
+  QueryResult check_pairs(std::span<const BodyPair> pairs);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Reference answer: every face of every enabled pair against every face, same exact predicate.
+// Used by tests to cross-check the four steps.
+// Includes the containment test of docs/collision-method.md §6.1 (a shell of one mesh inside the other,
+// closed, mesh), as the engine does; `clearance` > 0 adds the face distance test.
+bool brute_force_collides(const Polyhedron& a, const Pose& pose_a,
+                          const Polyhedron& b, const Pose& pose_b);
+bool brute_force_collides(const Polyhedron& a, const Pose& pose_a,
+                          const Polyhedron& b, const Pose& pose_b, double clearance);
+
+}  // namespace asimov::collision

@@ -1,0 +1,492 @@
+// The four steps wired together. Per body: preprocessing (container, voxel grid, shells)
+// done lazily for bodies in an enabled pair; per pose: sphere centre, world box and world
+// vertices cached by pose version, so a static body computes them once. Buffers are members
+// and reused, so after the first checks no query allocates.
+#include "asimov/collision/engine.hpp"
+
+#include "containment.hpp"
+#include "face_distance.hpp"
+#include "face_plane.hpp"
+#include "face_test.hpp"
+#include "asimov/collision/minimax.hpp"
+#include "asimov/collision/participation.hpp"
+#include "tree_descent.hpp"
+#include "voxel_grid.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+namespace asimov::collision {
+namespace {
+
+// One face in world coordinates, valid when version == its body's version (step 4 cache).
+// Two cache lines with its version: at 50,000 faces the cache is far larger than L2, and a
+// separate version array cost a third miss per face.
+struct alignas(64) WorldFace {
+  TriangleVerts t;  // world vertices (transform_vertex of the local ones)
+  Vec3 lo, hi;      // their bounding box
+  std::uint64_t version = 0;
+};
+
+// Face pairs already tested in the current body pair [ours]: a face spans many voxels, so one
+// pair meets in several voxel pairs; a repeat would get the same answer (no contact, or the
+// query would have ended). Open addressing over a fixed table, cleared by a stamp per body
+// pair; a pair that finds no free slot within a few probes is simply not remembered (tested
+// again), so the table never grows and never allocates after construction.
+class TestedPairs {
+ public:
+  void next_body_pair() {
+    if (++now_ == 0) {  // wrapped: forget every old stamp
+      std::fill(stamp_.begin(), stamp_.end(), 0);
+      now_ = 1;
+    }
+  }
+  // True when (fa, fb) was recorded since next_body_pair(); records it otherwise.
+  bool seen_or_insert(std::uint32_t fa, std::uint32_t fb) {
+    const std::uint64_t key = (std::uint64_t{fa} << 32) | fb;
+    std::size_t i = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - kBits));
+    for (int probe = 0; probe < kProbes; ++probe, i = (i + 1) & (kSlots - 1)) {
+      if (stamp_[i] != now_) {
+        stamp_[i] = now_;
+        key_[i] = key;
+        return false;
+      }
+      if (key_[i] == key) return true;
+    }
+    return false;
+  }
+
+ private:
+  static constexpr int kBits = 12, kProbes = 8;
+  static constexpr std::size_t kSlots = std::size_t{1} << kBits;
+  std::vector<std::uint64_t> key_ = std::vector<std::uint64_t>(kSlots);
+  std::vector<std::uint32_t> stamp_ = std::vector<std::uint32_t>(kSlots);
+  std::uint32_t now_ = 0;
+};
+
+struct Body {
+  BodyDef def;
+  Pose pose = Pose::Identity();
+  std::uint64_t version = 1;        // bumped by every set_pose
+  Container container;              // step 2 basic axes, local
+  bool closed = false;              // containment applies (§6.1)
+  std::vector<std::vector<std::uint32_t>> shells;  // per shell, a few of its vertices (shell_samples)
+  std::optional<VoxelGrid> grid;    // step 3, built on first use
+  std::vector<Vec3> world;          // world vertices: all valid when world_version == version,
+  std::uint64_t world_version = 0;  //   else vertex i valid when vertex_version[i] == version
+  std::vector<std::uint64_t> vertex_version;
+  std::vector<WorldFace> faces;     // world triangle + box of face f (step 4 cache)
+  int halvings = 9;                 // M in use (resolved from def.halvings, kAutoHalvings = cost model)
+  Box box;                          // world minimax box, valid when box_version == version
+  std::uint64_t box_version = 0;
+  Vec3 sphere_centre = Vec3::Zero();// world centre of the vertex sphere, valid when
+  std::uint64_t sphere_version = 0; //   sphere_version == version
+};
+
+TriangleVerts triangle_at(const std::vector<Vec3>& v, const Triangle& t) { return {v[t[0]], v[t[1]], v[t[2]]}; }
+
+// Exact point-in-solid in world coordinates (the reference answer shared with brute force).
+bool world_point_inside(const Vec3& w, const std::vector<Vec3>& world, const Polyhedron& mesh) {
+  return point_in_solid(w, world, mesh.triangles) != PointClass::outside;
+}
+
+// Vertices per shell tried by voxel class before the exact point-in-solid test (contained).
+constexpr std::size_t kShellSamples = 16;
+
+}  // namespace
+
+struct Engine::Impl {
+  std::vector<Body> bodies;
+  Participation participation;
+  std::vector<std::uint32_t> pair_count;  // enabled pairs per body (step 2 test order)
+  double clearance = 0;
+  // A faces of the current voxel pair (index, world face), reused (no allocation per pose).
+  // Its plane (face_plane.hpp) is computed here on first use: most kept faces never reach the
+  // prefilter, and a plane per cached face made the cache a third larger.
+  struct Kept {
+    std::uint32_t f;
+    const WorldFace* w;
+    bool has_plane;
+    FacePlane plane;
+  };
+  std::vector<Kept> a_faces;
+  TestedPairs tested;
+
+  static bool never_tested(const Body& a, const Body& b) {
+    return (a.def.group >= 0 && a.def.group == b.def.group) || (a.def.is_static && b.def.is_static);
+  }
+
+  const Box& world_box(Body& b) {
+    if (b.box_version != b.version) {
+      b.box = minimax_box(b.container, b.pose);
+      b.box_version = b.version;
+    }
+    return b.box;
+  }
+  const Vec3& world_sphere_centre(Body& b) {
+    if (b.sphere_version != b.version) {
+      b.sphere_centre = b.pose * b.container.centre();
+      b.sphere_version = b.version;
+    }
+    return b.sphere_centre;
+  }
+  const std::vector<Vec3>& world(Body& b) {
+    if (b.world_version != b.version) {
+      transform_vertices(b.def.mesh.vertices, b.pose, b.world);
+      b.world_version = b.version;
+    }
+    return b.world;
+  }
+  // One world vertex, mapped on first use in this pose: step 4 touches few of a large mesh's
+  // vertices, and mapping them all was 50 us per query at 50,000 faces.
+  static const Vec3& world_vertex(Body& b, std::uint32_t i) {
+    if (b.world_version != b.version && b.vertex_version[i] != b.version) {
+      b.world[i] = transform_vertex(b.pose, b.def.mesh.vertices[i]);
+      b.vertex_version[i] = b.version;
+    }
+    return b.world[i];
+  }
+  static TriangleVerts world_triangle(Body& b, std::uint32_t f) {
+    const Triangle& t = b.def.mesh.triangles[f];
+    return {world_vertex(b, t[0]), world_vertex(b, t[1]), world_vertex(b, t[2])};
+  }
+  static void prefetch_face(const Body& b, std::uint32_t f) {
+    const char* w = reinterpret_cast<const char*>(&b.faces[f]);
+    __builtin_prefetch(w);
+    __builtin_prefetch(w + 64);
+  }
+  static const WorldFace& world_face(Body& b, std::uint32_t f) {
+    WorldFace& w = b.faces[f];
+    if (w.version != b.version) {
+      w.t = world_triangle(b, f);
+      w.lo = w.t[0].cwiseMin(w.t[1]).cwiseMin(w.t[2]);
+      w.hi = w.t[0].cwiseMax(w.t[1]).cwiseMax(w.t[2]);
+      w.version = b.version;
+    }
+    return w;
+  }
+  // Boxes farther apart than `pad` on some axis. With pad = 0 this is the exact bounding-box
+  // rejection triangles_intersect starts with (min/max do not round); with a clearance c,
+  // pad = 2c + margin, so no pair within c of each other is dropped.
+  static bool boxes_disjoint(const Vec3& xlo, const Vec3& xhi, const Vec3& ylo, const Vec3& yhi, double pad) {
+    return static_cast<bool>((xlo.x() > yhi.x() + pad) | (ylo.x() > xhi.x() + pad) | (xlo.y() > yhi.y() + pad) |
+                             (ylo.y() > xhi.y() + pad) | (xlo.z() > yhi.z() + pad) | (ylo.z() > xhi.z() + pad));
+  }
+  void count_pairs() {
+    pair_count.assign(bodies.size(), 0);
+    for (const BodyPair& p : participation.pairs()) {
+      ++pair_count[p.a];
+      ++pair_count[p.b];
+    }
+  }
+  static void preprocess(Body& b) {
+    if (b.grid) return;
+    b.faces.resize(b.def.mesh.triangles.size());
+    b.grid = build_voxel_grid(b.def.mesh, b.halvings);
+    b.shells = shell_samples(b.def.mesh, kShellSamples);
+  }
+
+  // Where point p (in x's frame; mapped by the pair's relative pose, its rounding within ε_r)
+  // is by x's voxel classes: 1 inside, 0 outside (every voxel within the margin agrees), -1
+  // undecided (then only the exact test in world coordinates can tell).
+  static int voxel_verdict(const Body& x, const Vec3& p, double margin) {
+    const CellRange r = cell_range(*x.grid, Box{p.array() - margin, p.array() + margin});
+    if (r.empty()) return 0;  // outside the container
+    bool all_in = true, all_out = true;
+    for (int k = r.lo[2]; k <= r.hi[2]; ++k)
+      for (int j = r.lo[1]; j <= r.hi[1]; ++j)
+        for (int i = r.lo[0]; i <= r.hi[0]; ++i) {
+          const VoxelClass c = x.grid->classes[x.grid->index(i, j, k)];
+          all_in = all_in && c == VoxelClass::inside;
+          all_out = all_out && c == VoxelClass::outside;
+        }
+    return all_in ? 1 : all_out ? 0 : -1;
+  }
+
+  // §6.1, called once no faces meet: each shell of one body lies wholly inside or wholly
+  // outside the other (it is connected and crosses no face), so any of its vertices decides
+  // [ours]. The sampled vertices are tried by voxel class first; only when none is decided
+  // there does the first one go to the exact point-in-solid test (O(faces), and it needs all
+  // of the outer body's world vertices).
+  bool contained(BodyId ia, BodyId ib, const Pose& a_from_b, double margin, Contact& c) {
+    for (const bool a_outer : {true, false}) {
+      Body& o = bodies[a_outer ? ia : ib];
+      Body& in = bodies[a_outer ? ib : ia];
+      if (!o.closed) continue;
+      for (const std::vector<std::uint32_t>& shell : in.shells) {
+        int verdict = -1;
+        std::uint32_t v = shell.front();
+        for (const std::uint32_t s : shell) {
+          const Vec3& local = in.def.mesh.vertices[s];
+          const Vec3 p = a_outer ? Vec3(a_from_b * local)
+                                 : Vec3(a_from_b.linear().transpose() * (local - a_from_b.translation()));
+          verdict = voxel_verdict(o, p, margin);
+          if (verdict >= 0) {
+            v = s;
+            break;
+          }
+        }
+        if (verdict < 0) verdict = world_point_inside(world_vertex(in, v), world(o), o.def.mesh) ? 1 : 0;
+        if (verdict == 1) {
+          c = Contact{.kind = ContactKind::containment, .body_a = ia, .body_b = ib, .point = world_vertex(in, v)};
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  // A voxel pair [ours]: a contact point of faces fa, fb lies in a voxel of A listing fa and
+  // one of B listing fb, and that voxel pair is visited too; so here only the part of each face
+  // inside its voxel matters. Faces whose part (local box) misses the other voxel's box mapped
+  // into their frame are dropped before any world vertex is computed; B faces whose world box
+  // misses the union of the kept A faces' boxes are dropped next. Then each kept B face against
+  // each kept A face: exact bounding-box rejection, pairs already tested in this body pair
+  // skipped, the plane prefilter (face_plane.hpp, sound), then the exact test. True at the
+  // first contact (res filled).
+  bool visit_voxel_pair(BodyId ia, BodyId ib, std::uint32_t va, std::uint32_t vb, const NodePair& p, double grow,
+                        double pad, QueryResult& res) {
+    Body& a = bodies[ia];
+    Body& b = bodies[ib];
+    const VoxelGrid& ga = *a.grid;
+    const VoxelGrid& gb = *b.grid;
+    if (res.counts.voxel_pairs++ == 0) ++res.counts.pairs_after_voxels;
+    // The float centre, reach and grow of the descent: conservative (tree_descent.hpp). The
+    // other voxel's interval per axis is computed once per voxel pair, and the six comparisons
+    // per face are combined without branches (the outcome is data-dependent: a branch per
+    // comparison mispredicted often).
+    struct Window {
+      double lo[3], hi[3];
+    };
+    auto window = [grow](const float* centre, const float* reach) {
+      Window w;
+      for (int k = 0; k < 3; ++k) {
+        const double c = centre[k], r = static_cast<double>(reach[k]) + grow;
+        w.lo[k] = c - r;
+        w.hi[k] = c + r;
+      }
+      return w;
+    };
+    auto misses = [](const Box& part, const Window& w) {
+      return static_cast<bool>((part.lo[0] > w.hi[0]) | (part.hi[0] < w.lo[0]) | (part.lo[1] > w.hi[1]) |
+                               (part.hi[1] < w.lo[1]) | (part.lo[2] > w.hi[2]) | (part.hi[2] < w.lo[2]));
+    };
+    const Window in_a = window(p.y_centre_a, p.y_reach_a), in_b = window(p.x_centre_b, p.x_reach_b);
+    a_faces.clear();
+    Vec3 ulo = Vec3::Constant(INFINITY), uhi = Vec3::Constant(-INFINITY);  // union of kept A boxes
+    const auto fas = ga.faces_in(va);
+    const auto pas = ga.face_parts_in(va);
+    // Two passes: the kept faces first, their cached world faces prefetched (at 50,000 faces
+    // the cache is far larger than L2, and the misses now overlap), then the world faces.
+    for (std::size_t n = 0; n < fas.size(); ++n)
+      if (!misses(pas[n], in_a)) {
+        Kept& k = a_faces.emplace_back();
+        k.f = fas[n];
+        k.has_plane = false;
+        prefetch_face(a, k.f);
+      }
+    if (a_faces.empty()) return false;
+    for (Kept& k : a_faces) {
+      k.w = &world_face(a, k.f);
+      ulo = ulo.cwiseMin(k.w->lo);
+      uhi = uhi.cwiseMax(k.w->hi);
+    }
+    const auto fbs = gb.faces_in(vb);
+    const auto pbs = gb.face_parts_in(vb);
+    for (std::size_t n = 0; n < fbs.size(); ++n) {
+      if (misses(pbs[n], in_b)) continue;
+      const std::uint32_t fb = fbs[n];
+      res.counts.face_pairs += a_faces.size();
+      const WorldFace& wb = world_face(b, fb);
+      // Missing the union box, it misses every kept A face's box (exact min/max): a bounding-
+      // box rejection of all its pairs at once.
+      if (boxes_disjoint(ulo, uhi, wb.lo, wb.hi, pad)) continue;
+      bool b_has_plane = false;
+      FacePlane b_plane{Vec3::Zero(), Vec3::Zero()};
+      for (Kept& k : a_faces) {
+        const WorldFace& wa = *k.w;
+        // Disjoint bounding boxes: triangles_intersect would say no (min/max are exact).
+        if (boxes_disjoint(wa.lo, wa.hi, wb.lo, wb.hi, pad)) continue;
+        if (tested.seen_or_insert(k.f, fb)) continue;
+        // Planes: strictly one side of the other's plane, exactly; triangles_intersect says no.
+        if (!b_has_plane) {
+          b_plane = face_plane(wb.t);
+          b_has_plane = true;
+        }
+        bool apart = plane_separates(b_plane, wb.t, wa.t);
+        if (!apart) {
+          if (!k.has_plane) {
+            k.plane = face_plane(wa.t);
+            k.has_plane = true;
+          }
+          apart = plane_separates(k.plane, wa.t, wb.t);
+        }
+        if (!apart && triangles_intersect(wa.t, wb.t)) {
+          res.collided = true;
+          res.contact = Contact{.body_a = ia, .body_b = ib, .face_a = k.f, .face_b = fb,
+                                .point = contact_point(wa.t, wb.t)};
+          return true;
+        }
+        Vec3 pa, pb;
+        if (double d = 0; clearance > 0 && triangles_within(wa.t, wb.t, clearance, d, pa, pb)) {
+          res.collided = true;
+          res.contact = Contact{.kind = ContactKind::clearance, .distance = d, .body_a = ia, .body_b = ib,
+                                .face_a = k.f, .face_b = fb, .point = 0.5 * (pa + pb)};
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  bool test_pair(BodyId ia, BodyId ib, QueryResult& res) {
+    Body& a = bodies[ia];
+    Body& b = bodies[ib];
+    // Step 2: [ours] the vertex spheres first (the cheapest), the world minimax boxes (the
+    // thesis), then [ours] the oriented containers.
+    const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
+    const double grow = clearance + margin;
+    if (spheres_separated(world_sphere_centre(a), a.container.radius, world_sphere_centre(b), b.container.radius, grow))
+      return false;
+    // A body's world box is computed once per pose and shared by all its pairs (the thesis'
+    // reason for it). When this pair would compute one for itself alone (a moving body in no
+    // other enabled pair), the oriented boxes go first: they reject most of what the world
+    // boxes would, and the world boxes still follow.
+    const bool box_alone = (a.box_version != a.version && pair_count[ia] <= 1) ||
+                           (b.box_version != b.version && pair_count[ib] <= 1);
+    if (!box_alone && separated(world_box(a), world_box(b), grow)) return false;
+    const Pose a_from_b = relative_pose(a.pose, b.pose);
+    if (containers_separated(a.container, b.container, a_from_b, grow)) return false;
+    if (box_alone && separated(world_box(a), world_box(b), grow)) return false;
+    ++res.counts.pairs_after_minimax;
+    return steps_3_4(ia, ib, a_from_b, margin, grow, res);
+  }
+
+  // Out of line: most pairs end in step 2, and with steps 3-4 inlined test_pair carried their
+  // frame and saved registers on every call.
+  [[gnu::noinline]] bool steps_3_4(BodyId ia, BodyId ib, const Pose& a_from_b, double margin, double grow,
+                                   QueryResult& res) {
+    Body& a = bodies[ia];
+    Body& b = bodies[ib];
+    preprocess(a);
+    preprocess(b);
+    const double pad = clearance > 0 ? 2 * clearance + margin : 0.0;
+    // Steps 3 and 4, streamed: every voxel pair the descent finds goes to the face tests at
+    // once; the first hit ends the query.
+    const NodeTest nt(a_from_b, grow, a.container.scale, b.container.scale);
+    tested.next_body_pair();
+    if (descend(*a.grid, *b.grid, nt, [&](std::uint32_t va, std::uint32_t vb, const NodePair& p) {
+          return visit_voxel_pair(ia, ib, va, vb, p, nt.grow, pad, res);
+        }))
+      return true;
+    // §6.1: no faces meet, but one body may lie inside the other.
+    if (contained(ia, ib, a_from_b, margin, res.contact)) {
+      res.collided = true;
+      return true;
+    }
+    return false;
+  }
+};
+
+Engine::Engine() : impl_(std::make_unique<Impl>()) {}
+Engine::~Engine() = default;
+Engine::Engine(Engine&&) noexcept = default;
+Engine& Engine::operator=(Engine&&) noexcept = default;
+
+BodyId Engine::add_body(BodyDef def) {
+  for (const Vec3& v : def.mesh.vertices)
+    if (!v.allFinite()) throw std::invalid_argument("collision body '" + def.name + "' has a non-finite vertex");
+  for (const Triangle& t : def.mesh.triangles)
+    for (const std::uint32_t i : t)
+      if (i >= def.mesh.vertices.size())
+        throw std::invalid_argument("collision body '" + def.name + "' has a triangle index out of range");
+  const auto id = static_cast<BodyId>(impl_->bodies.size());
+  Body b;
+  b.container = make_container(def.mesh.vertices);
+  b.closed = is_closed(def.mesh);
+  b.halvings = def.halvings == kAutoHalvings ? auto_halvings(def.mesh) : std::clamp(def.halvings, 0, kMaxHalvings);
+  b.world.resize(def.mesh.vertices.size());
+  b.vertex_version.assign(def.mesh.vertices.size(), 0);
+  b.def = std::move(def);
+  impl_->bodies.push_back(std::move(b));
+  impl_->participation.resize(impl_->bodies.size());
+  for (BodyId other = 0; other < id; ++other)
+    if (!Impl::never_tested(impl_->bodies[other], impl_->bodies[id])) impl_->participation.set(other, id, true);
+  impl_->count_pairs();
+  return id;
+}
+
+std::size_t Engine::body_count() const { return impl_->bodies.size(); }
+const std::string& Engine::body_name(BodyId id) const { return impl_->bodies.at(id).def.name; }
+bool Engine::body_closed(BodyId id) const { return impl_->bodies.at(id).closed; }
+int Engine::body_halvings(BodyId id) const { return impl_->bodies.at(id).halvings; }
+bool Engine::body_preprocessed(BodyId id) const { return impl_->bodies.at(id).grid.has_value(); }
+std::span<const BodyPair> Engine::enabled_pairs() const { return impl_->participation.pairs(); }
+
+void Engine::set_pair_enabled(BodyId a, BodyId b, bool enabled) {
+  if (a == b || a >= body_count() || b >= body_count()) return;
+  // Pairs inside one rigid group and static-static pairs are never tested (docs/collision-method.md §1).
+  if (enabled && Impl::never_tested(impl_->bodies[a], impl_->bodies[b])) return;
+  impl_->participation.set(a, b, enabled);
+  impl_->count_pairs();
+}
+bool Engine::pair_enabled(BodyId a, BodyId b) const { return impl_->participation.enabled(a, b); }
+bool Engine::has_enabled_pairs() const { return !impl_->participation.pairs().empty(); }
+
+void Engine::set_clearance(double clearance_mm) { impl_->clearance = clearance_mm > 0 ? clearance_mm : 0.0; }
+
+void Engine::set_pose(BodyId id, const Pose& local_to_world) {
+  Body& b = impl_->bodies.at(id);
+  b.pose = local_to_world;
+  ++b.version;
+}
+
+QueryResult Engine::check() {
+  QueryResult res;
+  for (const BodyPair& p : impl_->participation.pairs()) {
+    ++res.counts.pairs_enabled;
+    if (impl_->test_pair(p.a, p.b, res)) return res;
+  }
+  return res;
+}
+
+QueryResult Engine::check_pairs(std::span<const BodyPair> pairs) {
+  QueryResult res;
+  for (BodyPair p : pairs) {
+    if (p.a > p.b) std::swap(p.a, p.b);
+    if (p.a == p.b || p.b >= body_count() || !impl_->participation.enabled(p.a, p.b)) continue;
+    ++res.counts.pairs_enabled;
+    if (impl_->test_pair(p.a, p.b, res)) return res;
+  }
+  return res;
+}
+
+bool brute_force_collides(const Polyhedron& a, const Pose& pose_a, const Polyhedron& b, const Pose& pose_b) {
+  return brute_force_collides(a, pose_a, b, pose_b, 0.0);
+}
+
+bool brute_force_collides(const Polyhedron& a, const Pose& pose_a, const Polyhedron& b, const Pose& pose_b,
+                          double clearance) {
+  std::vector<Vec3> wa, wb;
+  transform_vertices(a.vertices, pose_a, wa);
+  transform_vertices(b.vertices, pose_b, wb);
+  for (const Triangle& fa : a.triangles)
+    for (const Triangle& fb : b.triangles) {
+      const TriangleVerts ta = triangle_at(wa, fa), tb = triangle_at(wb, fb);
+      if (triangles_intersect(ta, tb)) return true;
+      Vec3 pa, pb;
+      if (double d = 0; clearance > 0 && triangles_within(ta, tb, clearance, d, pa, pb)) return true;
+    }
+  if (is_closed(a))
+    for (const std::uint32_t v : shell_vertices(b))
+      if (world_point_inside(wb[v], wa, a)) return true;
+  if (is_closed(b))
+    for (const std::uint32_t v : shell_vertices(a))
+      if (world_point_inside(wa[v], wb, b)) return true;
+  return false;
+}
+
+}  // namespace asimov::collision

@@ -1,0 +1,270 @@
+#include "asimov/collision/mesh_io.hpp"
+
+#include "predicates.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+namespace asimov::collision {
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MeshError(path + ": cannot open the file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Collects triangles with bit-identical vertices merged; checks finiteness.
+struct Builder {
+  std::string path{};
+  Vec3 scale = Vec3::Ones();
+  Polyhedron mesh{};
+  std::vector<std::size_t> numbers{};  // 1-based source face number per triangle
+  std::map<std::array<double, 3>, std::uint32_t> index{};
+
+  std::uint32_t vertex(const Vec3& raw, std::size_t face) {
+    if (!raw.allFinite()) throw MeshError(path + ": face " + std::to_string(face) + ": non-finite coordinate");
+    const Vec3 v = raw.cwiseProduct(scale);
+    if (!v.allFinite()) throw MeshError(path + ": face " + std::to_string(face) + ": coordinate overflows after scaling");
+    const std::array<double, 3> key{v.x() == 0 ? 0.0 : v.x(), v.y() == 0 ? 0.0 : v.y(), v.z() == 0 ? 0.0 : v.z()};
+    const auto [it, added] = index.emplace(key, static_cast<std::uint32_t>(mesh.vertices.size()));
+    if (added) mesh.vertices.emplace_back(key[0], key[1], key[2]);
+    return it->second;
+  }
+  void triangle(const Vec3& a, const Vec3& b, const Vec3& c, std::size_t face) {
+    mesh.triangles.push_back({vertex(a, face), vertex(b, face), vertex(c, face)});
+    numbers.push_back(face);
+  }
+  LoadedMesh finish() {
+    if (mesh.triangles.empty()) throw MeshError(path + ": no faces");
+    return validate_mesh(std::move(mesh), path, numbers);
+  }
+};
+
+bool zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Collinear (or repeated) exactly: every axis projection has zero signed area.
+  return orient2d(a.x(), a.y(), b.x(), b.y(), c.x(), c.y()) == 0 &&
+         orient2d(a.y(), a.z(), b.y(), b.z(), c.y(), c.z()) == 0 &&
+         orient2d(a.z(), a.x(), b.z(), b.x(), c.z(), c.x()) == 0;
+}
+
+std::string lower_extension(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  std::string e = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return e;
+}
+
+}  // namespace
+
+LoadedMesh validate_mesh(Polyhedron mesh, const std::string& source, const std::vector<std::size_t>& face_numbers) {
+  LoadedMesh out;
+  auto number = [&](std::size_t i) { return face_numbers.empty() ? i + 1 : face_numbers[i]; };
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    if (!mesh.vertices[i].allFinite()) throw MeshError(source + ": vertex " + std::to_string(i + 1) + ": non-finite coordinate");
+  std::vector<Triangle> kept;
+  std::vector<std::size_t> kept_numbers;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Triangle& t = mesh.triangles[i];
+    for (const std::uint32_t v : t)
+      if (v >= mesh.vertices.size())
+        throw MeshError(source + ": face " + std::to_string(number(i)) + ": vertex index out of range");
+    if (zero_area(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]])) {
+      out.warnings.push_back(source + ": face " + std::to_string(number(i)) + ": zero area, dropped");
+      continue;
+    }
+    kept.push_back(t);
+    kept_numbers.push_back(number(i));
+  }
+  if (kept.empty()) throw MeshError(source + ": every face has zero area");
+  mesh.triangles = std::move(kept);
+  // Closed: each directed edge once, and its reverse once.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, std::size_t>> edges;  // count, first face
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      auto& e = edges[{mesh.triangles[i][k], mesh.triangles[i][(k + 1) % 3]}];
+      if (e.first++ == 0) e.second = i;
+    }
+  out.closed = true;
+  for (const auto& [edge, use] : edges) {
+    const auto rev = edges.find({edge.second, edge.first});
+    const char* why = use.first > 1 ? "an edge used twice in one direction (non-manifold or inconsistent orientation)"
+                      : rev == edges.end() ? "an edge on one face only (open mesh)"
+                      : rev->second.first != 1 ? "an edge shared by more than two faces (non-manifold)"
+                                               : nullptr;
+    if (!why) continue;
+    out.closed = false;
+    out.warnings.push_back(source + ": face " + std::to_string(kept_numbers[use.second]) + ": " + why +
+                           "; the mesh has no inside, containment is not tested for it");
+    break;
+  }
+  out.mesh = std::move(mesh);
+  return out;
+}
+
+LoadedMesh read_stl(const std::string& path, const Vec3& scale) {
+  const std::string data = read_file(path);
+  Builder b{.path = path, .scale = scale};
+  // Binary when the size matches the triangle count, whatever the header says ("solid" too).
+  if (data.size() >= 84) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, data.data() + 80, 4);
+    if (data.size() == 84 + 50 * static_cast<std::size_t>(n)) {
+      for (std::uint32_t f = 0; f < n; ++f) {
+        const char* p = data.data() + 84 + 50 * static_cast<std::size_t>(f) + 12;  // skip the normal
+        Vec3 v[3];
+        for (int k = 0; k < 3; ++k) {
+          float xyz[3];
+          std::memcpy(xyz, p + 12 * k, 12);
+          v[k] = Vec3(xyz[0], xyz[1], xyz[2]);
+        }
+        b.triangle(v[0], v[1], v[2], f + 1);
+      }
+      return b.finish();
+    }
+  }
+  if (data.compare(0, 5, "solid") != 0)
+    throw MeshError(path + ": neither binary STL (size does not match the triangle count) nor ASCII STL");
+  std::istringstream in(data);
+  std::string word;
+  std::size_t face = 0, line_vertices = 0;
+  Vec3 v[3];
+  while (in >> word) {
+    if (word == "facet") {
+      ++face;
+      line_vertices = 0;
+    } else if (word == "vertex") {
+      std::string xs, ys, zs;
+      if (!(in >> xs >> ys >> zs)) throw MeshError(path + ": face " + std::to_string(face) + ": truncated vertex");
+      if (line_vertices >= 3) throw MeshError(path + ": face " + std::to_string(face) + ": more than three vertices");
+      try {
+        v[line_vertices++] = Vec3(std::stod(xs), std::stod(ys), std::stod(zs));
+      } catch (const std::out_of_range&) {
+        throw MeshError(path + ": face " + std::to_string(face) + ": coordinate out of range");
+      } catch (const std::invalid_argument&) {
+        throw MeshError(path + ": face " + std::to_string(face) + ": bad number in '" + xs + " " + ys + " " + zs + "'");
+      }
+    } else if (word == "endfacet") {
+      if (line_vertices != 3) throw MeshError(path + ": face " + std::to_string(face) + ": not three vertices");
+      b.triangle(v[0], v[1], v[2], face);
+    }
+  }
+  return b.finish();
+}
+
+LoadedMesh read_obj(const std::string& path, const Vec3& scale) {
+  const std::string data = read_file(path);
+  Builder b{.path = path, .scale = scale};
+  std::vector<Vec3> v;
+  std::istringstream in(data);
+  std::string line;
+  std::size_t line_no = 0, face = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::istringstream ls(line);
+    std::string tag;
+    if (!(ls >> tag) || tag[0] == '#') continue;
+    const std::string where = path + ":" + std::to_string(line_no);
+    if (tag == "v") {
+      std::string xs, ys, zs;
+      if (!(ls >> xs >> ys >> zs)) throw MeshError(where + ": a vertex needs x y z");
+      try {
+        v.emplace_back(std::stod(xs), std::stod(ys), std::stod(zs));
+      } catch (const std::exception&) {
+        throw MeshError(where + ": bad number in vertex");
+      }
+    } else if (tag == "f") {
+      ++face;
+      std::vector<Vec3> poly;
+      std::string item;
+      while (ls >> item) {
+        long idx = 0;
+        try {
+          idx = std::stol(item.substr(0, item.find('/')));
+        } catch (const std::exception&) {
+          throw MeshError(where + ": face " + std::to_string(face) + ": bad vertex reference '" + item + "'");
+        }
+        const long n = static_cast<long>(v.size());
+        const long i = idx < 0 ? n + idx : idx - 1;  // negative: relative to the last vertex
+        if (idx == 0 || i < 0 || i >= n)
+          throw MeshError(where + ": face " + std::to_string(face) + ": vertex " + item + " out of range");
+        poly.push_back(v[static_cast<std::size_t>(i)]);
+      }
+      if (poly.size() < 3) throw MeshError(where + ": face " + std::to_string(face) + ": fewer than three vertices");
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) b.triangle(poly[0], poly[k], poly[k + 1], face);  // fan
+    }
+    // vn, vt, g, o, s, usemtl, mtllib, l, p: not geometry we use.
+  }
+  return b.finish();
+}
+
+LoadedMesh read_mesh(const std::string& path, const Vec3& scale) {
+  const std::string e = lower_extension(path);
+  if (e == "stl") return read_stl(path, scale);
+  if (e == "obj") return read_obj(path, scale);
+  throw MeshError(path + ": unknown mesh format (expected .stl or .obj)");
+}
+
+int segments_for_tolerance(double radius, double tolerance, int min_segments) {
+  if (!(radius > 0) || !(tolerance > 0) || tolerance >= radius) return std::max(min_segments, 3);
+  // r (1 - cos(pi / n)) <= tol  <=>  n >= pi / acos(1 - tol / r)
+  const double n = std::ceil(std::numbers::pi / std::acos(1 - tolerance / radius));
+  return std::clamp(static_cast<int>(n), std::max(min_segments, 3), 4096);
+}
+
+namespace {
+Polyhedron uv_sphere(double radius, int segments, int rings) {
+  Polyhedron p;
+  p.vertices.emplace_back(0, 0, -radius);
+  for (int r = 1; r < rings; ++r) {
+    const double phi = std::numbers::pi * r / rings - std::numbers::pi / 2;
+    for (int s = 0; s < segments; ++s) {
+      const double th = 2 * std::numbers::pi * s / segments;
+      p.vertices.emplace_back(radius * std::cos(phi) * std::cos(th), radius * std::cos(phi) * std::sin(th),
+                              radius * std::sin(phi));
+    }
+  }
+  p.vertices.emplace_back(0, 0, radius);
+  const auto top = static_cast<std::uint32_t>(p.vertices.size() - 1);
+  auto at = [&](int r, int s) { return static_cast<std::uint32_t>(1 + (r - 1) * segments + (s % segments)); };
+  for (int s = 0; s < segments; ++s) p.triangles.push_back({0, at(1, s + 1), at(1, s)});
+  for (int r = 1; r + 1 < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      p.triangles.push_back({at(r, s), at(r, s + 1), at(r + 1, s + 1)});
+      p.triangles.push_back({at(r, s), at(r + 1, s + 1), at(r + 1, s)});
+    }
+  for (int s = 0; s < segments; ++s) p.triangles.push_back({at(rings - 1, s), at(rings - 1, s + 1), top});
+  return p;
+}
+}  // namespace
+
+Polyhedron make_sphere(double radius, double tolerance) {
+  // A face's plane is sqrt(r^2 - rho^2) from the centre (rho: its circumradius), so a face
+  // deviates more than the chord of one direction: refine until every face is within tolerance.
+  int segments = segments_for_tolerance(radius, tolerance, 8);  // around the z axis
+  for (;;) {
+    Polyhedron p = uv_sphere(radius, segments, std::max(2, (segments + 1) / 2));
+    double worst = 0;
+    for (const Triangle& t : p.triangles) {
+      const Vec3 &a = p.vertices[t[0]], &b = p.vertices[t[1]], &c = p.vertices[t[2]];
+      const Vec3 n = (b - a).cross(c - a);
+      if (n.norm() > 0) worst = std::max(worst, radius - n.normalized().dot(a));
+    }
+    if (worst <= tolerance || segments >= 4096 || !(tolerance > 0)) return p;
+    segments = std::min(4096, segments + std::max(1, segments / 16));
+  }
+}
+
+Polyhedron make_cylinder_tol(double radius, double height, double tolerance) {
+  return make_cylinder(radius, height, segments_for_tolerance(radius, tolerance));
+}
+
+}  // namespace asimov::collision

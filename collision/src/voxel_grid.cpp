@@ -1,0 +1,338 @@
+#include "voxel_grid.hpp"
+
+#include "containment.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <utility>
+
+namespace asimov::collision {
+namespace {
+
+int clamp_index(double x, int n) {
+  if (!(x > 0)) return 0;  // also NaN
+  if (x >= n - 1) return n - 1;
+  return static_cast<int>(std::floor(x));
+}
+
+// Empty voxels reachable from the grid border through empty faces are outside; every other
+// empty component is on one side of the surface, decided by one exact point-in-solid test.
+void classify_voxels(VoxelGrid& g, const Polyhedron& mesh) {
+  constexpr auto unknown = static_cast<VoxelClass>(255);
+  const std::size_t n = g.voxel_count();
+  g.classes.assign(n, unknown);
+  for (std::size_t v = 0; v < n; ++v)
+    if (!g.voxel_empty(v)) g.classes[v] = VoxelClass::surface;
+  std::vector<std::size_t> stack;
+  auto fill = [&](std::size_t seed, VoxelClass c) {
+    g.classes[seed] = c;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
+      const int i = static_cast<int>(v % g.cells[0]);
+      const int j = static_cast<int>((v / g.cells[0]) % g.cells[1]);
+      const int k = static_cast<int>(v / (static_cast<std::size_t>(g.cells[0]) * g.cells[1]));
+      const std::array<std::array<int, 3>, 6> nb{{{i - 1, j, k}, {i + 1, j, k}, {i, j - 1, k},
+                                                  {i, j + 1, k}, {i, j, k - 1}, {i, j, k + 1}}};
+      for (const auto& q : nb) {
+        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= g.cells[0] || q[1] >= g.cells[1] || q[2] >= g.cells[2]) continue;
+        const std::size_t w = g.index(q[0], q[1], q[2]);
+        if (g.classes[w] != unknown) continue;
+        g.classes[w] = c;
+        stack.push_back(w);
+      }
+    }
+  };
+  for (int k = 0; k < g.cells[2]; ++k)
+    for (int j = 0; j < g.cells[1]; ++j)
+      for (int i = 0; i < g.cells[0]; ++i) {
+        const bool border = i == 0 || j == 0 || k == 0 || i == g.cells[0] - 1 || j == g.cells[1] - 1 || k == g.cells[2] - 1;
+        if (border && g.classes[g.index(i, j, k)] == unknown) fill(g.index(i, j, k), VoxelClass::outside);
+      }
+  for (int k = 0; k < g.cells[2]; ++k)
+    for (int j = 0; j < g.cells[1]; ++j)
+      for (int i = 0; i < g.cells[0]; ++i) {
+        if (g.classes[g.index(i, j, k)] != unknown) continue;
+        const Box b = g.voxel_box(i, j, k);
+        const PointClass pc = point_in_solid(0.5 * (b.lo + b.hi), mesh.vertices, mesh.triangles);
+        // on_surface cannot happen (no face touches an empty voxel); keep it conservative.
+        fill(g.index(i, j, k), pc == PointClass::inside ? VoxelClass::inside
+                               : pc == PointClass::outside ? VoxelClass::outside
+                                                           : VoxelClass::surface);
+      }
+}
+
+// The axis each of the M halvings doubles, in order (halve_cells' choices).
+std::vector<int> halving_axes(const Vec3& size, int halvings) {
+  std::vector<int> axes;
+  std::array<int, 3> n{1, 1, 1};
+  for (int m = 0; m < halvings; ++m) {
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (size[k] / n[k] > size[axis] / n[axis]) axis = k;
+    n[static_cast<std::size_t>(axis)] *= 2;
+    axes.push_back(axis);
+  }
+  return axes;
+}
+
+// The binary halvings tree as built.
+struct BinaryNode {
+  Box box;
+  std::uint32_t second = 0;  // index of the second child (the first is next); 0 for a leaf
+  std::uint32_t voxel = 0;   // leaf: its voxel index
+  bool leaf() const { return second == 0; }
+};
+
+// Appends the subtree of the cell `r` (after `depth` halvings) in preorder and returns its
+// box; nothing when the cell holds no non-empty voxel. A cell with one non-empty half is
+// replaced by that half's subtree (same box), so every inner node has two children.
+bool add_subtree(const VoxelGrid& g, const std::vector<int>& axes, const CellRange& r, std::size_t depth,
+                 std::vector<BinaryNode>& tree, Box& box) {
+  if (g.count_nonempty(r) == 0) return false;
+  if (depth == axes.size()) {
+    const std::size_t v = g.index(r.lo[0], r.lo[1], r.lo[2]);
+    box = g.content[v];
+    tree.push_back({.box = box, .second = 0, .voxel = static_cast<std::uint32_t>(v)});
+    return true;
+  }
+  const auto axis = static_cast<std::size_t>(axes[depth]);
+  CellRange lo = r, hi = r;
+  lo.hi[axis] = (r.lo[axis] + r.hi[axis]) / 2;
+  hi.lo[axis] = lo.hi[axis] + 1;
+  const bool lo_full = g.count_nonempty(lo) != 0, hi_full = g.count_nonempty(hi) != 0;
+  if (!lo_full || !hi_full) return add_subtree(g, axes, lo_full ? lo : hi, depth + 1, tree, box);
+  const std::size_t node = tree.size();
+  tree.emplace_back();
+  Box a, b;
+  add_subtree(g, axes, lo, depth + 1, tree, a);
+  tree[node].second = static_cast<std::uint32_t>(tree.size());
+  add_subtree(g, axes, hi, depth + 1, tree, b);
+  box = Box{a.lo.cwiseMin(b.lo), a.hi.cwiseMax(b.hi)};
+  tree[node].box = box;
+  return true;
+}
+
+// A box (the double box lo, hi) as float centre and half sides that hold it.
+void float_box(const Vec3& lo, const Vec3& hi, float* centre, float* half) {
+  for (int k = 0; k < 3; ++k) {
+    float l = static_cast<float>(lo[k]), h = static_cast<float>(hi[k]);
+    if (static_cast<double>(l) > lo[k]) l = std::nextafter(l, -INFINITY);
+    if (static_cast<double>(h) < hi[k]) h = std::nextafter(h, INFINITY);
+    centre[k] = 0.5f * (l + h);
+    half[k] = std::nextafter(std::max(centre[k] - l, h - centre[k]), INFINITY);  // covers their rounding
+  }
+}
+
+std::uint32_t leaf_ref(const BinaryNode& n) { return TreeNode::kLeaf | n.voxel; }
+
+// Node of the 4-ary tree for binary inner node i: its children, or for an inner child its two
+// children, as lanes. Returns the node's index.
+std::uint32_t add_node(VoxelGrid& g, const std::vector<BinaryNode>& bin, std::uint32_t i) {
+  const auto index = static_cast<std::uint32_t>(g.tree.size());
+  g.tree.emplace_back();
+  std::array<std::uint32_t, 4> lanes{};
+  int n = 0;
+  for (const std::uint32_t c : {i + 1, bin[i].second}) {
+    if (bin[c].leaf()) {
+      lanes[static_cast<std::size_t>(n++)] = c;
+    } else {
+      lanes[static_cast<std::size_t>(n++)] = c + 1;
+      lanes[static_cast<std::size_t>(n++)] = bin[c].second;
+    }
+  }
+  for (int s = 0; s < 4; ++s) {
+    const auto u = static_cast<std::size_t>(s);
+    float centre[3] = {0, 0, 0}, half[3] = {-1e30f, -1e30f, -1e30f};  // unused: ref kNone, masked
+    std::uint32_t ref = TreeNode::kNone;
+    if (s < n) {
+      const BinaryNode& b = bin[lanes[u]];
+      float_box(b.box.lo, b.box.hi, centre, half);
+      ref = b.leaf() ? leaf_ref(b) : add_node(g, bin, lanes[u]);
+    }
+    TreeNode& t = g.tree[index];  // add_node may have moved the vector
+    t.cx[u] = centre[0], t.cy[u] = centre[1], t.cz[u] = centre[2];
+    t.hx[u] = half[0], t.hy[u] = half[1], t.hz[u] = half[2];
+    t.child[u] = ref;
+  }
+  return index;
+}
+
+void build_tree(VoxelGrid& g, const std::vector<int>& axes) {
+  g.tree.clear();
+  g.root = VoxelGrid::kNoRoot;
+  CellRange all;
+  for (std::size_t k = 0; k < 3; ++k) all.hi[k] = g.cells[k] - 1;
+  std::vector<BinaryNode> bin;
+  Box box;
+  if (!add_subtree(g, axes, all, 0, bin, box)) return;
+  float_box(bin[0].box.lo, bin[0].box.hi, g.root_centre.data(), g.root_half.data());
+  g.root = bin[0].leaf() ? leaf_ref(bin[0]) : add_node(g, bin, 0);
+}
+
+}  // namespace
+
+Box VoxelGrid::voxel_box(int i, int j, int k) const {
+  const Vec3 lo = container.origin + Vec3(i * cell.x(), j * cell.y(), k * cell.z());
+  return {lo, lo + cell};
+}
+
+int auto_halvings(const Polyhedron& mesh) {
+  const std::size_t f = mesh.triangles.size();
+  if (f < 2) return 3;
+  int m = static_cast<int>(std::lround(std::log2(static_cast<double>(f))));
+  // Size: cells no smaller than the mean face size sqrt(2 area) (volume / size^3 cells at
+  // most). Not the longest edge: a cylinder's long slivers still part well across.
+  double edge = 0;
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    edge += std::sqrt((b - a).cross(c - a).norm());
+  }
+  edge /= static_cast<double>(f);
+  const Container c = make_container(mesh.vertices);
+  if (edge > 0) {
+    const double cells = c.size.prod() / (edge * edge * edge);
+    if (cells >= 1) m = std::min(m, static_cast<int>(std::floor(std::log2(cells))) + 1);
+  }
+  return std::clamp(m, 3, 18);
+}
+
+std::uint32_t VoxelGrid::count_nonempty(const CellRange& r) const {
+  if (r.empty()) return 0;
+  const std::size_t sx = static_cast<std::size_t>(cells[0]) + 1, sy = static_cast<std::size_t>(cells[1]) + 1;
+  auto at = [&](int i, int j, int k) {
+    return occupied[static_cast<std::size_t>(i) + sx * (static_cast<std::size_t>(j) + sy * static_cast<std::size_t>(k))];
+  };
+  const int i0 = r.lo[0], j0 = r.lo[1], k0 = r.lo[2], i1 = r.hi[0] + 1, j1 = r.hi[1] + 1, k1 = r.hi[2] + 1;
+  // Inclusion-exclusion in unsigned arithmetic: wraps cancel, the result is exact.
+  return at(i1, j1, k1) - at(i0, j1, k1) - at(i1, j0, k1) - at(i1, j1, k0) + at(i0, j0, k1) + at(i0, j1, k0) +
+         at(i1, j0, k0) - at(i0, j0, k0);
+}
+
+std::array<int, 3> halve_cells(const Vec3& size, int halvings) {
+  std::array<int, 3> n{1, 1, 1};
+  for (const int axis : halving_axes(size, halvings)) n[static_cast<std::size_t>(axis)] *= 2;
+  return n;
+}
+
+VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
+  VoxelGrid g;
+  g.container = make_container(mesh.vertices);
+  g.cells = halve_cells(g.container.size, std::clamp(halvings, 0, kMaxHalvings));
+  g.cell = g.container.size.cwiseQuotient(Vec3(g.cells[0], g.cells[1], g.cells[2]));
+  g.inv_cell = g.cell.cwiseInverse();
+  // Covers the rounding of voxel corners and of the separating-axis arithmetic.
+  g.margin = 64 * DBL_EPSILON * (g.container.scale + g.container.size.maxCoeff());
+  g.face_count = mesh.triangles.size();
+
+  // (voxel, face) incidences in face order, then a counting sort into CSR.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> hits;
+  const Vec3 half = 0.5 * g.cell + Vec3::Constant(g.margin);
+  for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Triangle& tri = mesh.triangles[f];
+    const TriangleVerts t{mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]};
+    const Box tb{t[0].cwiseMin(t[1]).cwiseMin(t[2]), t[0].cwiseMax(t[1]).cwiseMax(t[2])};
+    const CellRange r = cell_range(g, grown(tb, 2 * g.margin));
+    for (int k = r.lo[2]; k <= r.hi[2]; ++k)
+      for (int j = r.lo[1]; j <= r.hi[1]; ++j)
+        for (int i = r.lo[0]; i <= r.hi[0]; ++i) {
+          const Box vb = g.voxel_box(i, j, k);
+          if (triangle_box_overlap(0.5 * (vb.lo + vb.hi), half, t))
+            hits.emplace_back(static_cast<std::uint32_t>(g.index(i, j, k)), f);
+        }
+  }
+  const std::size_t n = static_cast<std::size_t>(g.cells[0]) * g.cells[1] * g.cells[2];
+  g.offsets.assign(n + 1, 0);
+  for (const auto& h : hits) ++g.offsets[h.first + 1];
+  for (std::size_t v = 0; v < n; ++v) g.offsets[v + 1] += g.offsets[v];
+  g.faces.resize(hits.size());
+  std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
+  for (const auto& h : hits) g.faces[fill[h.first]++] = h.second;
+  // Hits are in face order, and in increasing voxel order within a face.
+  g.face_offsets.assign(g.face_count + 1, 0);
+  for (const auto& h : hits) ++g.face_offsets[h.second + 1];
+  for (std::size_t f = 0; f < g.face_count; ++f) g.face_offsets[f + 1] += g.face_offsets[f];
+  g.face_voxels.resize(hits.size());
+  for (std::size_t n = 0; n < hits.size(); ++n) g.face_voxels[n] = hits[n].first;
+
+  // Content boxes: voxel (grown) cut to the union of its faces' boxes (grown).
+  g.content.assign(n, Box{});
+  g.face_parts.resize(hits.size());
+  for (int k = 0; k < g.cells[2]; ++k)
+    for (int j = 0; j < g.cells[1]; ++j)
+      for (int i = 0; i < g.cells[0]; ++i) {
+        const std::size_t v = g.index(i, j, k);
+        if (g.voxel_empty(v)) continue;
+        const Box vb = grown(g.voxel_box(i, j, k), g.margin);
+        Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+        for (std::uint32_t n = g.offsets[v]; n < g.offsets[v + 1]; ++n) {
+          const Triangle& tri = mesh.triangles[g.faces[n]];
+          const Vec3 &p = mesh.vertices[tri[0]], &q = mesh.vertices[tri[1]], &r = mesh.vertices[tri[2]];
+          const Box fb = grown(Box{p.cwiseMin(q).cwiseMin(r), p.cwiseMax(q).cwiseMax(r)}, g.margin);
+          g.face_parts[n] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
+          lo = lo.cwiseMin(g.face_parts[n].lo);
+          hi = hi.cwiseMax(g.face_parts[n].hi);
+        }
+        g.content[v] = Box{lo, hi};
+      }
+  // Summed-volume table of non-empty voxels.
+  const std::size_t sx = static_cast<std::size_t>(g.cells[0]) + 1, sy = static_cast<std::size_t>(g.cells[1]) + 1;
+  g.occupied.assign(sx * sy * (static_cast<std::size_t>(g.cells[2]) + 1), 0);
+  auto at = [&](int i, int j, int k) -> std::uint32_t& {
+    return g.occupied[static_cast<std::size_t>(i) + sx * (static_cast<std::size_t>(j) + sy * static_cast<std::size_t>(k))];
+  };
+  for (int k = 1; k <= g.cells[2]; ++k)
+    for (int j = 1; j <= g.cells[1]; ++j)
+      for (int i = 1; i <= g.cells[0]; ++i)
+        at(i, j, k) = (g.voxel_empty(g.index(i - 1, j - 1, k - 1)) ? 0u : 1u) + at(i - 1, j, k) + at(i, j - 1, k) +
+                      at(i, j, k - 1) - at(i - 1, j - 1, k) - at(i - 1, j, k - 1) - at(i, j - 1, k - 1) +
+                      at(i - 1, j - 1, k - 1);
+
+  build_tree(g, halving_axes(g.container.size, std::clamp(halvings, 0, kMaxHalvings)));
+  if (is_closed(mesh)) classify_voxels(g, mesh);
+  return g;
+}
+
+CellRange cell_range(const VoxelGrid& g, const Box& b) {
+  CellRange r;
+  for (int k = 0; k < 3; ++k) {
+    const double o = g.container.origin[k];
+    if (b.hi[k] < o || b.lo[k] > o + g.container.size[k] || !(b.lo[k] <= b.hi[k])) return CellRange{};
+    // A product instead of the quotient: off by an ulp at most, far inside the margins every
+    // caller grows its box by (so still conservative).
+    r.lo[k] = clamp_index((b.lo[k] - o) * g.inv_cell[k], g.cells[k]);
+    r.hi[k] = clamp_index((b.hi[k] - o) * g.inv_cell[k], g.cells[k]);
+  }
+  return r;
+}
+
+CellRange intersect(const CellRange& a, const CellRange& b) {
+  CellRange r;
+  for (int k = 0; k < 3; ++k) {
+    r.lo[k] = std::max(a.lo[k], b.lo[k]);
+    r.hi[k] = std::min(a.hi[k], b.hi[k]);
+  }
+  return r;
+}
+
+bool triangle_box_overlap(const Vec3& centre, const Vec3& half, const TriangleVerts& t) {
+  const Vec3 v0 = t[0] - centre, v1 = t[1] - centre, v2 = t[2] - centre;
+  auto separates = [&](const Vec3& a) {
+    const double p0 = a.dot(v0), p1 = a.dot(v1), p2 = a.dot(v2);
+    const double r = half.x() * std::fabs(a.x()) + half.y() * std::fabs(a.y()) + half.z() * std::fabs(a.z());
+    return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+  };
+  // The box's face normals (the triangle's bounding box against the box).
+  for (int k = 0; k < 3; ++k)
+    if (std::min({v0[k], v1[k], v2[k]}) > half[k] || std::max({v0[k], v1[k], v2[k]}) < -half[k]) return false;
+  const Vec3 e[3] = {v1 - v0, v2 - v1, v0 - v2};
+  if (separates(e[0].cross(e[1]))) return false;  // the triangle's plane
+  for (const Vec3& edge : e)
+    for (int k = 0; k < 3; ++k)
+      if (separates(Vec3::Unit(k).cross(edge))) return false;
+  return true;
+}
+
+}  // namespace asimov::collision

@@ -1,0 +1,103 @@
+// Step 3 preprocessing: a body's container cut into 2^M voxels by M halvings of the longest
+// cell side, each voxel listing (CSR) every face that touches it.
+#pragma once
+#include "face_test.hpp"
+#include "asimov/collision/minimax.hpp"
+#include "asimov/collision/polyhedron.hpp"
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace asimov::collision {
+
+// Inclusive voxel index ranges per axis; empty when any lo > hi.
+struct CellRange {
+  std::array<int, 3> lo{0, 0, 0}, hi{-1, -1, -1};
+  bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
+};
+
+// A node of the halvings tree [ours], as step 3 reads it: two levels of halvings at once, so up
+// to four children, their boxes side by side in float lanes (one SIMD test for all four). A
+// child box is the union of its voxels' content boxes (local frame), rounded outward to float.
+struct TreeNode {
+  static constexpr std::uint32_t kLeaf = 0x80000000u;  // child ref: kLeaf | voxel index, else a node index
+  static constexpr std::uint32_t kNone = 0xffffffffu;  // an unused lane
+  std::array<float, 4> cx{}, cy{}, cz{};  // children's centres
+  std::array<float, 4> hx{}, hy{}, hz{};  // children's half sides
+  std::array<std::uint32_t, 4> child{};
+};
+
+// Containment class of a voxel (docs/collision-method.md §6.1).
+enum class VoxelClass : std::uint8_t { surface, outside, inside };
+
+struct VoxelGrid {
+  Container container;
+  std::array<int, 3> cells{1, 1, 1};  // voxels per axis, product 2^M
+  Vec3 cell = Vec3::Ones();           // voxel side lengths [mm]
+  Vec3 inv_cell = Vec3::Ones();       // 1 / cell (cell_range multiplies: a division cost 5 % of a query)
+  double margin = 0;                  // growth of each voxel in the triangle-box test [mm]
+  std::vector<std::uint32_t> offsets; // CSR: faces of voxel v are faces[offsets[v] .. offsets[v+1])
+  std::vector<std::uint32_t> faces;   // triangle indices
+  std::vector<Box> face_parts;        // parallel to faces: the voxel (grown) cut to the face's box
+                                      //   (grown), holding every point of the face in the voxel
+  std::vector<std::uint32_t> face_offsets;  // inverse CSR: voxels of face f are
+  std::vector<std::uint32_t> face_voxels;   //   face_voxels[face_offsets[f] .. face_offsets[f+1])
+  std::vector<VoxelClass> classes;    // per voxel; empty when the mesh is not closed
+  std::vector<Box> content;           // per non-empty voxel: the voxel (grown by margin) cut to the
+                                      //   union of its faces' boxes (grown): holds every face point
+                                      //   inside the voxel, often much smaller than the voxel
+  // The halvings tree [ours]: node = a cell of some halving level holding a non-empty voxel,
+  // children = its two halves (a half with no non-empty voxel is dropped, a node with one child
+  // is replaced by it), leaves = non-empty voxels; stored two levels per TreeNode. Step 3
+  // descends both bodies' trees together, so only subtrees whose boxes meet are visited.
+  std::vector<TreeNode> tree;           // nodes; the root's box and ref below
+  std::array<float, 3> root_centre{}, root_half{};
+  std::uint32_t root = kNoRoot;         // kNoRoot when the mesh has no face
+  static constexpr std::uint32_t kNoRoot = 0xffffffffu;
+  std::vector<std::uint32_t> occupied;  // summed-volume table of non-empty voxels,
+                                        //   (nx+1)(ny+1)(nz+1): count with indices < (i, j, k)
+  std::size_t face_count = 0;         // triangles of the mesh
+
+  std::size_t voxel_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t index(int i, int j, int k) const {
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(cells[0]) * (j + static_cast<std::size_t>(cells[1]) * k);
+  }
+  bool voxel_empty(std::size_t v) const { return offsets[v] == offsets[v + 1]; }
+  std::span<const std::uint32_t> faces_in(std::size_t v) const {
+    return {faces.data() + offsets[v], faces.data() + offsets[v + 1]};
+  }
+  std::span<const Box> face_parts_in(std::size_t v) const {
+    return {face_parts.data() + offsets[v], face_parts.data() + offsets[v + 1]};
+  }
+  std::span<const std::uint32_t> voxels_of(std::uint32_t f) const {
+    return {face_voxels.data() + face_offsets[f], face_voxels.data() + face_offsets[f + 1]};
+  }
+  Box voxel_box(int i, int j, int k) const;  // local, not grown
+  // Non-empty voxels in a range (0 for an empty range), in O(1).
+  std::uint32_t count_nonempty(const CellRange& r) const;
+};
+
+constexpr int kMaxHalvings = 24;
+
+// M for a body from a cost model of its face count and size (bench/bench_m_sweep.cpp,
+// docs/collision.md §7): about one face per voxel, M = round(log2 F) (the fastest mean measured
+// is within about 2 of log2 F from 400 to 50,000 faces, for the flat scan and for the halvings
+// tree), but no voxel much smaller than the mean face size sqrt(2 area); within [3, 18].
+int auto_halvings(const Polyhedron& mesh);
+
+// Cells per axis after M halvings, each doubling the axis whose cells are longest (ties x, y, z).
+std::array<int, 3> halve_cells(const Vec3& size, int halvings);
+
+VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings);
+
+// Voxels of `grid` that a local box overlaps (clamped to the grid; empty if outside).
+CellRange cell_range(const VoxelGrid& grid, const Box& local_box);
+CellRange intersect(const CellRange& a, const CellRange& b);
+
+// Akenine-Moller (2001) separating-axis test of a closed triangle against an axis-aligned box.
+// Conservative: it can only err toward "overlap" (callers grow the box for rounding).
+bool triangle_box_overlap(const Vec3& centre, const Vec3& half, const TriangleVerts& t);
+
+}  // namespace asimov::collision

@@ -1,0 +1,120 @@
+// The public face of the VAL II interpreter: load .v2 sources, check them, run a program
+// against a motion::Simulator. Errors never escape as exceptions from these calls.
+#pragma once
+#include "asimov/motion/simulator.hpp"
+#include <atomic>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace asimov::interpreter {
+
+struct Memory;  // evaluator.hpp: symbols, globals, programs
+
+// One problem found in a source (load/check time) or raised while running.
+struct Diagnostic {
+  std::string message;      // "*Syntax error*", "*Undefined value*", ...
+  std::string detail;       // short detail after the message, may be empty
+  std::string file;         // source file as given
+  int line = 0;             // 1-based file line, 0 if unknown
+  int column = 0;           // 1-based column, 0 if unknown
+  std::string program;      // program name when known
+  int step = 0;             // step within the program (file line - .PROGRAM line)
+  std::string source_line;  // the offending source line, for the report
+  bool warning = false;
+};
+
+// Formats a diagnostic in the VAL style of dialect §10 (message, location, source, caret).
+std::string format_diagnostic(const Diagnostic& d);
+
+struct RunResult;
+// "Program paused: name, step n" / "Program halted: name, step n" (no newline) for a run
+// that ended in PAUSE or HALT; empty for any other status.
+std::string format_pause(const RunResult& r);
+// "motion halted at t = ... s, ... % of its path" and a "joints ..." line (newline-terminated)
+// when Ctrl-C stopped the arm inside a motion; empty otherwise.
+std::string format_interrupt(const RunResult& r);
+// True for the *Program interrupted* stop of Ctrl-C (Limits::interrupt).
+bool is_interrupt(const Diagnostic& d);
+
+// paused: PAUSE (PROCEED continues with the next step); halted: HALT (cannot be resumed).
+enum class RunStatus { completed, error, collision, paused, halted };
+
+struct RunResult {
+  RunStatus status = RunStatus::completed;
+  std::string program;            // the program executing when the run ended
+  int line = 0;                   // its file line (0 when completed normally)
+  int step = 0;
+  Diagnostic error;               // status == error (also filled for collision: "*Collision*")
+  motion::CollisionReport collision;  // status == collision
+  // Ctrl-C halted a motion (status error, "*Program interrupted*"): where the arm stopped.
+  // PROCEED and RETRY first carry out the rest of that motion.
+  std::optional<motion::InterruptReport> interrupt;
+  std::vector<Diagnostic> warnings;   // V+ constructs ignored with a warning (dialect §7), once each
+};
+
+struct Limits {
+  std::uint64_t max_statements = 100'000'000;  // executed statements per run
+  int max_call_depth = 1000;
+  // Set (Ctrl-C): the run stops before the next step, and a motion being carried out stops at
+  // its next checked pose (the simulator reads the flag while a run goes on).
+  const std::atomic<bool>* interrupt = nullptr;
+  double tick_s = 0.016;          // WAIT: the clock advances by ticks [s]
+  double max_wait_s = 3600;       // WAIT: simulated seconds before *Wait limit exceeded*
+};
+
+class Interpreter {
+ public:
+  Interpreter(motion::Simulator& sim, std::ostream& out);
+  ~Interpreter();
+
+  // Parses and checks `text` as file `file_name`. All problems are returned together; if any
+  // is an error (not a warning), nothing is added to memory.
+  std::vector<Diagnostic> load_source(const std::string& text, const std::string& file_name);
+  // Reads the file then load_source; a missing file is a "*File not found*" diagnostic.
+  std::vector<Diagnostic> load_file(const std::string& path);
+
+  std::vector<std::string> program_names() const;  // in load order
+  bool has_program(const std::string& name) const;
+
+  // Runs `name` from its start; waits for the last motion to end.
+  RunResult run(const std::string& name);
+
+  Limits& limits();
+
+  // Where PROMPT reads its replies (default std::cin). `interactive` (a terminal): bad input
+  // asks again; otherwise bad input or the end of input is an *Illegal value*.
+  void set_input(std::istream& in, bool interactive);
+
+  // The execution that the last error or collision stopped (dialect §9). PROCEED skips the
+  // failing step (after a collision: drops the interrupted motion and re-runs the step that
+  // found the contact); RETRY re-runs the failing step (after a collision: first restarts the
+  // interrupted motion from the halted pose). After Ctrl-C both run the step not yet run; when
+  // Ctrl-C halted a motion, both first carry out its rest towards its target (at the monitor
+  // speed then in effect). run() keeps a stopped execution (so DO can fix a value before
+  // RETRY); abort() drops it. Without one: "*No program to resume*".
+  bool can_resume() const;
+  RunResult proceed();
+  RunResult retry();
+  void abort();
+
+  // For the monitor (monitor.cpp): what LOAD put in memory, read and changed in place.
+  Memory& memory();
+  // Runs `name` for a monitor DO: a stop there is not resumable, and the execution stopped
+  // before (if any) stays resumable.
+  RunResult run_detached(const std::string& name);
+  // Speeds (dialect §5): the monitor speed, and the program speeds (ALWAYS, and the one-shot
+  // SPEED still pending) as the last execution left them.
+  double monitor_speed() const;
+  void set_monitor_speed(double percent);
+  double program_speed() const;
+  std::optional<double> next_program_speed() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace asimov::interpreter

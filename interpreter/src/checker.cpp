@@ -1,0 +1,677 @@
+#include "checker.hpp"
+
+#include "data_section.hpp"
+#include "expressions.hpp"
+#include "limits.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <map>
+
+namespace asimov::interpreter {
+
+int Symbols::global(const std::string& name) {
+  auto [it, added] = global_slots.try_emplace(name, static_cast<int>(globals.size()));
+  if (added) globals.push_back(name);
+  return it->second;
+}
+
+int Symbols::program(const std::string& name) {
+  auto [it, added] = program_slots.try_emplace(name, static_cast<int>(programs.size()));
+  if (added) programs.push_back(name);
+  return it->second;
+}
+
+namespace {
+
+using ast::Kw;
+using ast::Op;
+
+// Binary operator levels of dialect §3 (7 = weakest). ':' binds tighter than '*' [assumption].
+constexpr int kPrecedence[] = {
+    0, 0, 0,           // unary: never binary
+    5, 5, 5,           // * / MOD
+    4, 4,              // + -
+    3, 3, 3, 3, 3, 3,  // relational
+    2, 2,              // AND BAND
+    1, 1, 1, 1,        // OR XOR BOR BXOR
+    6,                 // :
+};
+static_assert(std::size(kPrecedence) == static_cast<std::size_t>(Op::count));
+
+struct Block {
+  Kw kind = Kw::none;         // if_ (Kw::then), while_, do_, for (Kw::next marks FOR)
+  int line = 0;               // opening line
+  int column = 1;             // and column of its keyword
+  int id = 0;
+  int test = -1;              // instruction to patch (IF/WHILE jump_false, FOR init, VALUE test)
+  bool has_else = false;      // IF: ELSE seen; CASE: ANY seen
+  bool arm_open = false;      // CASE: a VALUE or ANY part is open
+  int temp = -1;              // CASE: the frame temporary holding the value
+  std::vector<int> end_jumps; // IF and CASE: jumps from the end of a part to END
+  int start = -1;             // loop start (WHILE test, DO body, FOR body)
+  std::vector<int> exits;     // EXIT jumps to patch
+  std::vector<int> nexts;     // NEXT jumps to patch
+};
+
+constexpr Kw kIfBlock = Kw::then;
+constexpr Kw kForBlock = Kw::next;
+
+class Checker {
+ public:
+  Checker(const ParsedSource& src, Symbols& symbols, int joint_count)
+      : src_(src), symbols_(symbols), joint_count_(joint_count) {
+    text_ = std::make_shared<const std::vector<std::string>>(src.text);
+  }
+
+  CheckResult run() {
+    for (std::size_t i = 0; i < src_.lines.size(); ++i) {
+      line_ = static_cast<int>(i) + 1;
+      const ast::Line& l = src_.lines[i];
+      column_ = l.column;
+      if (l.data) {
+        data_line(*l.data);
+        continue;
+      }
+      if (data_section(l)) continue;
+      if (!l.statement) {
+        if (l.label) {
+          if (!in_program_) error("label outside .PROGRAM");
+          else define_label(*l.label);
+        }
+        continue;
+      }
+      if (const auto* h = boost::get<ast::ProgramHeader>(&*l.statement)) {
+        if (l.label) error("a label cannot precede .PROGRAM");
+        begin_program(*h);
+        continue;
+      }
+      if (!in_program_) {
+        error("only comments may appear outside .PROGRAM ... .END");
+        continue;
+      }
+      if (l.label) define_label(*l.label);
+      statement(*l.statement);
+    }
+    if (in_program_) {
+      error_at(prog_.line, 1, ".PROGRAM without .END");
+      in_program_ = false;
+    }
+    if (data_kind_ != Kw::none) error_at(data_start_, 1, "data section without .END");
+    return std::move(out_);
+  }
+
+ private:
+  // --- diagnostics ---------------------------------------------------------------------
+  void error_at(int line, int column, std::string detail) {
+    Diagnostic d;
+    d.message = "*Syntax error*";
+    d.detail = std::move(detail);
+    d.file = src_.file;
+    d.line = line;
+    d.column = column;
+    if (in_program_ && line > prog_.line) {
+      d.program = prog_.name;
+      d.step = line - prog_.line;
+    }
+    d.source_line = src_.text[static_cast<std::size_t>(line - 1)];
+    out_.errors.push_back(std::move(d));
+  }
+  void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
+
+  // A block error that a syntax error in the same program may have caused (a block opener
+  // or END the parser rejected) is not reported: the syntax error already is.
+  bool parse_error_between(int from, int to) const {
+    for (const Diagnostic& d : src_.errors)
+      if (d.line > from && d.line < to) return true;
+    return false;
+  }
+  void block_error(std::string detail) {
+    if (!parse_error_between(prog_.line, line_)) error(std::move(detail));
+  }
+
+  // --- data sections (dialect §8) -------------------------------------------------------
+  // Handles .LOCATIONS/.REALS/.STRINGS and the .END closing them; false for anything else.
+  bool data_section(const ast::Line& l) {
+    const auto* in = l.statement ? boost::get<ast::Instruction>(&*l.statement) : nullptr;
+    if (!in) return false;
+    if (in->kw == Kw::dot_end && data_kind_ != Kw::none) {
+      data_kind_ = Kw::none;
+      return true;
+    }
+    if (in->kw != Kw::dot_locations && in->kw != Kw::dot_reals && in->kw != Kw::dot_strings) return false;
+    if (in_program_) error("a data section cannot be inside a program");
+    else if (l.label || in->args.size() > 1 || (in->args.size() == 1 && !ast::is_omitted(in->args[0]))
+             || in->trailing != Kw::none)
+      error("unexpected text");
+    data_kind_ = in->kw;
+    data_start_ = line_;
+    return true;
+  }
+
+  void data_line(const ast::DataLine& d) {
+    std::string why;
+    if (auto item = compile_data_line(d, data_kind_, joint_count_, symbols_, why)) out_.data.push_back(std::move(*item));
+    else error(why);
+  }
+
+  // --- programs ------------------------------------------------------------------------
+  void begin_program(const ast::ProgramHeader& h) {
+    if (in_program_) {
+      error_at(prog_.line, 1, ".PROGRAM without .END");
+      in_program_ = false;
+    }
+    prog_ = Program{};
+    prog_.name = normalize_name(h.name);
+    prog_.file = src_.file;
+    prog_.line = line_;
+    prog_.text = text_;
+    for (const std::string& p : h.params) {
+      Param param;
+      param.array = p.size() > 2 && p.substr(p.size() - 2) == "[]";
+      param.name = normalize_name(param.array ? p.substr(0, p.size() - 2) : p);
+      for (const Param& other : prog_.params)
+        if (other.name == param.name) error(fmt::format("parameter {} twice", param.name));
+      prog_.params.push_back(param);
+    }
+    for (const Program& other : out_.programs)
+      if (other.name == prog_.name) error(fmt::format("program {} defined twice", prog_.name));
+    in_program_ = true;
+    executable_seen_ = false;
+    blocks_.clear();
+    block_parent_.assign(1, -1);
+    labels_.clear();
+    gotos_.clear();
+  }
+
+  void end_program() {
+    for (auto it = blocks_.rbegin(); it != blocks_.rend(); ++it)
+      if (!parse_error_between(it->line, line_))
+        error_at(it->line, it->column, fmt::format("{} without END", block_name(it->kind)));
+    for (const Goto& g : gotos_) {
+      auto found = labels_.find(g.label);
+      if (found == labels_.end()) {
+        error_at(g.line, g.column, fmt::format("undefined label {}", g.label));
+        continue;
+      }
+      if (!encloses(found->second.block, g.block)) {
+        error_at(g.line, g.column, fmt::format("GOTO {} jumps into a block", g.label));
+        continue;
+      }
+      prog_.code[static_cast<std::size_t>(g.instr)].jump = found->second.instr;
+    }
+    for (Instr& in : prog_.code)  // the dispatch loop calls the compiled root directly
+      in.fast0 = in.args.empty() || !in.args[0].fast ? nullptr : in.args[0].fast->root();
+    out_.programs.push_back(std::move(prog_));
+    in_program_ = false;
+  }
+
+  static const char* block_name(Kw kind) {
+    switch (kind) {
+      case kIfBlock: return "IF";
+      case Kw::while_: return "WHILE";
+      case Kw::do_: return "DO";
+      case kForBlock: return "FOR";
+      case Kw::case_: return "CASE";
+      default: return "block";
+    }
+  }
+
+  // --- labels and blocks -----------------------------------------------------------------
+  struct LabelInfo {
+    int instr;
+    int block;
+  };
+  struct Goto {
+    unsigned label;
+    int instr, block, line, column;
+  };
+
+  int current_block() const { return blocks_.empty() ? 0 : blocks_.back().id; }
+  bool encloses(int outer, int inner) const {
+    for (int b = inner; b >= 0; b = block_parent_[static_cast<std::size_t>(b)])
+      if (b == outer) return true;
+    return false;
+  }
+
+  void define_label(unsigned label) {
+    if (labels_.count(label)) {
+      error(fmt::format("duplicate label {}", label));
+      return;
+    }
+    labels_[label] = {here(), current_block()};
+  }
+
+  void add_goto(unsigned label) {
+    gotos_.push_back({label, here() - 1, current_block(), line_, column_});
+  }
+
+  void open_block(Kw kind, int test, int start) {
+    Block b;
+    b.kind = kind;
+    b.line = line_;
+    b.column = column_;
+    b.id = static_cast<int>(block_parent_.size());
+    b.test = test;
+    b.start = start;
+    block_parent_.push_back(current_block());
+    blocks_.push_back(std::move(b));
+  }
+
+  Block* innermost_loop() {
+    for (auto it = blocks_.rbegin(); it != blocks_.rend(); ++it)
+      if (it->kind != kIfBlock && it->kind != Kw::case_) return &*it;  // CASE is not a loop
+    return nullptr;
+  }
+
+  // --- code emission ---------------------------------------------------------------------
+  int here() const { return static_cast<int>(prog_.code.size()); }
+  Instr& emit(Code code) {
+    Instr in;
+    in.code = code;
+    in.line = line_;
+    prog_.code.push_back(std::move(in));
+    return prog_.code.back();
+  }
+  Instr& at(int index) { return prog_.code[static_cast<std::size_t>(index)]; }
+
+  void declaration(const ast::Declaration& d) {
+    if (executable_seen_) {
+      error("declarations must precede the first executable statement");
+      return;
+    }
+    for (const ast::VarRef& v : d.names) {
+      const std::string name = normalize_name(v.name);
+      bool clash = false;
+      for (const Param& p : prog_.params) clash = clash || p.name == name;
+      if (d.kw == Kw::auto_ && clash) error(fmt::format("{} is a parameter", name));
+      auto declared = [&](const std::vector<std::string>& names) {
+        return std::find(names.begin(), names.end(), name) != names.end();
+      };
+      const bool in_auto = declared(prog_.autos), in_local = declared(prog_.locals);
+      if ((d.kw != Kw::auto_ && in_auto) || (d.kw != Kw::local && in_local) || (d.kw == Kw::global && clash))
+        error(fmt::format("{} declared with another class", name));
+      else if (d.kw == Kw::auto_ && !in_auto && !clash) prog_.autos.push_back(name);
+      else if (d.kw == Kw::local && !in_local) prog_.locals.push_back(name);
+    }
+  }
+
+  // --- expressions (expressions.cpp) ------------------------------------------------------
+  Node expression(const ast::Expr& e) { return expr_.expression(e); }
+  Node variable(const ast::VarRef& v, bool whole_array_ok) { return expr_.variable(v, whole_array_ok); }
+  void format_items(const ast::TypeStmt& t, std::vector<ast::Format>& formats, std::vector<Node>& values) {
+    expr_.format_items(t, formats, values);
+  }
+  static const ast::VarRef* plain_variable(const ast::Expr& e, bool subscript_ok) {
+    return ExpressionCompiler::plain_variable(e, subscript_ok);
+  }
+  static Node setting_name(const ast::VarRef& v) { return ExpressionCompiler::setting_name(v); }
+
+  // --- statements ------------------------------------------------------------------------
+  void statement(const ast::Statement& s) {
+    struct Visitor {
+      Checker& c;
+      void operator()(const ast::Instruction& i) const { c.instruction(i); }
+      void operator()(const ast::Binding& b) const { c.binding(b); }
+      void operator()(const ast::ForStmt& f) const { c.for_statement(f); }
+      void operator()(const ast::IfStmt& i) const { c.if_statement(i); }
+      void operator()(const ast::CallStmt& call) const { c.call_statement(call); }
+      void operator()(const ast::TypeStmt& t) const { c.type_statement(t); }
+      void operator()(const ast::ProgramHeader&) const {}
+      void operator()(const ast::Declaration& d) const { c.declaration(d); }
+      void operator()(const ast::Unsupported& u) const { c.unsupported(u); }
+      void operator()(const ast::TimerStmt& t) const {
+        Instr& in = c.emit(Code::timer);
+        in.args.push_back(c.expression(t.number));
+        in.args.push_back(c.expression(t.value));
+      }
+    };
+    if (!boost::get<ast::Declaration>(&s)) executable_seen_ = true;
+    boost::apply_visitor(Visitor{*this}, s);
+  }
+
+  // Dialect §7: robot ATTACH ()/DETACH (), SELECT ROBOT = 1 and ACCEL only warn.
+  void unsupported(const ast::Unsupported& u) {
+    Instr& in = emit(Code::unsupported);
+    for (char c : u.keyword) in.target.text += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    std::string rest;
+    for (char c : u.rest.substr(0, u.rest.find(';')))
+      if (c != ' ' && c != '\t') rest += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const std::string& k = in.target.text;
+    in.always = k == "ACCEL" || ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0)
+        || (k == "SELECT" && rest == "ROBOT=1");
+  }
+
+  void binding(const ast::Binding& b) {
+    if (b.kw == Kw::parameter) {  // PARAMETER name = value: the name is checked when it runs
+      if (!b.target.subscript.empty() || b.target.name[0] == '$' || b.target.name[0] == '#')
+        error("PARAMETER expects a parameter name");
+      Instr& in = emit(Code::parameter);
+      in.target = setting_name(b.target);
+      in.args.push_back(expression(b.value));
+      return;
+    }
+    Node target = variable(b.target, false);
+    const Code code = b.kw == Kw::set ? Code::set : b.kw == Kw::decompose ? Code::decompose : Code::assign;
+    Node value = expression(b.value);
+    if (code == Code::assign) {
+      const StaticKind k = static_kind(value);
+      const bool string_target = target.text[0] == '$';
+      if ((string_target && k == StaticKind::real) || (!string_target && k == StaticKind::string))
+        error(string_target ? "a number cannot be put into a string variable"
+                            : "a string needs a $ variable");
+    }
+    Instr& in = emit(code);
+    in.real_target = code == Code::assign && target.text[0] != '$' && target.text[0] != '#';
+    in.target = std::move(target);
+    in.args.push_back(std::move(value));
+  }
+
+  void for_statement(const ast::ForStmt& f) {
+    if (!f.var.subscript.empty() || f.var.name[0] == '$' || f.var.name[0] == '#')
+      error("FOR needs a plain real variable");
+    Instr& in = emit(Code::for_init);
+    in.target = variable(f.var, false);
+    in.args.push_back(expression(f.from));
+    in.args.push_back(expression(f.to));
+    if (f.step) in.args.push_back(expression(*f.step));
+    in.temp = prog_.temps;
+    prog_.temps += 2;
+    open_block(kForBlock, here() - 1, here());
+  }
+
+  void if_statement(const ast::IfStmt& i) {
+    if (i.goto_label) {
+      emit(Code::jump_true).args.push_back(expression(i.cond));
+      add_goto(*i.goto_label);
+      return;
+    }
+    emit(Code::jump_false).args.push_back(expression(i.cond));
+    open_block(kIfBlock, here() - 1, -1);
+  }
+
+  void call_statement(const ast::CallStmt& call) {
+    Instr& in = emit(Code::call);
+    in.program = symbols_.program(normalize_name(call.name));
+    std::size_t count = call.args.size();
+    if (count == 1 && !call.args[0]) count = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto& a = call.args[i];
+      const ast::VarRef* v = a ? plain_variable(*a, true) : nullptr;
+      // A plain variable or a whole array a[] goes by reference; anything else by value.
+      if (v && (v->subscript.empty() || ast::is_whole_array(*v))) {
+        in.args.push_back(variable(*v, true));
+        in.by_ref.push_back(true);
+      } else {
+        in.args.push_back(a ? expression(*a) : Node{});
+        in.by_ref.push_back(false);
+      }
+    }
+  }
+
+  void type_statement(const ast::TypeStmt& t) {
+    Instr& in = emit(Code::type);
+    format_items(t, in.formats, in.args);
+  }
+
+
+  void expect_args(const ast::Instruction& i, std::size_t lo, std::size_t hi, const char* what) {
+    if (i.args.size() < lo || i.args.size() > hi) error(fmt::format("{} expects {}", what, lo == hi && lo == 0 ? "no argument" : "other arguments"));
+  }
+
+  void instruction(const ast::Instruction& raw) {
+    ast::Instruction i = raw;
+    if (i.args.size() == 1 && ast::is_omitted(i.args[0])) i.args.clear();  // no arguments
+    if (i.trailing != Kw::none) {
+      const bool ok = (i.kw == Kw::speed && (i.trailing == Kw::always || i.trailing == Kw::monitor))
+          || (i.kw == Kw::duration && i.trailing == Kw::always) || (i.kw == Kw::while_ && i.trailing == Kw::do_)
+          || (i.kw == Kw::elseif && i.trailing == Kw::then) || (i.kw == Kw::case_ && i.trailing == Kw::of);
+      if (!ok) error("unexpected word at the end of the statement");
+    }
+    if (i.units != Kw::none && i.kw != Kw::speed) error("MMPS and IPS follow SPEED only");
+    if (const SimpleForm* form = simple_form(i.kw)) {
+      if (static_cast<int>(i.args.size()) < form->min_args
+          || (form->max_args >= 0 && static_cast<int>(i.args.size()) > form->max_args))
+        error(fmt::format("{} expects {}", form->name, form->max_args == 0 ? "no argument" : "other arguments"));
+      simple(i, form->code);
+      Instr& in = prog_.code.back();
+      in.word = i.kw;
+      in.always = i.trailing == Kw::always;
+      if (i.kw == Kw::wait_event && !i.args.empty() && !ast::is_omitted(i.args[0]))
+        in.code = Code::unsupported, in.target.text = "WAIT.EVENT";  // with a mask (dialect §7)
+      return;
+    }
+    switch (i.kw) {
+      case Kw::elseif: return else_if(i);
+      case Kw::case_: {
+        expect_args(i, 1, 1, "CASE");
+        simple(i, Code::case_init);
+        prog_.code.back().temp = prog_.temps;
+        open_block(Kw::case_, -1, -1);
+        blocks_.back().temp = prog_.temps++;
+        return;
+      }
+      case Kw::value: case Kw::any: return case_part(i);
+      case Kw::righty: case Kw::lefty: case Kw::above: case Kw::below: case Kw::flip:
+      case Kw::noflip: case Kw::single: case Kw::multiple:
+        expect_args(i, 0, 0, "a configuration word");
+        simple(i, Code::configure);
+        prog_.code.back().word = i.kw;
+        return;
+      case Kw::enable: case Kw::disable: return switches(i);
+      case Kw::prompt: return prompt(i);
+      case Kw::here: {
+        const ast::VarRef* v = i.args.size() == 1 ? plain_variable(i.args[0], true) : nullptr;
+        if (!v) {
+          error("HERE expects a location variable");
+          return;
+        }
+        emit(Code::here).target = variable(*v, false);
+        return;
+      }
+      case Kw::speed: {
+        expect_args(i, 1, 2, "SPEED");
+        simple(i, Code::speed);
+        Instr& in = prog_.code.back();
+        in.always = i.trailing == Kw::always;
+        in.monitor = i.trailing == Kw::monitor;
+        if (i.units != Kw::none)  // SPEED ... MMPS / IPS (dialect §7)
+          in.code = Code::unsupported, in.always = false, in.target.text = i.units == Kw::mmps ? "SPEED MMPS" : "SPEED IPS";
+        return;
+      }
+      case Kw::goto_: {
+        const double* label = i.args.size() == 1 && i.args[0].rest.empty() ? boost::get<double>(&i.args[0].first) : nullptr;
+        if (!label || *label < 0 || *label > kMaxLabel || *label != static_cast<unsigned>(*label)) {
+          error("GOTO expects a label (0 to 65535)");
+          return;
+        }
+        emit(Code::jump);
+        add_goto(static_cast<unsigned>(*label));
+        return;
+      }
+      case Kw::while_: {
+        expect_args(i, 1, 1, "WHILE");
+        const int test = here();
+        simple(i, Code::jump_false);
+        open_block(Kw::while_, test, test);
+        return;
+      }
+      case Kw::do_: expect_args(i, 0, 0, "DO"); open_block(Kw::do_, -1, here()); return;
+      case Kw::until: return until(i);
+      case Kw::else_: return else_part(i);
+      case Kw::end: return end_block(i);
+      case Kw::exit:
+      case Kw::next: {
+        expect_args(i, 0, 0, i.kw == Kw::exit ? "EXIT" : "NEXT");
+        Block* loop = innermost_loop();
+        if (!loop) {
+          block_error(fmt::format("{} outside a loop", i.kw == Kw::exit ? "EXIT" : "NEXT"));
+          return;
+        }
+        (i.kw == Kw::exit ? loop->exits : loop->nexts).push_back(here());
+        emit(Code::jump);
+        return;
+      }
+      case Kw::dot_end: expect_args(i, 0, 0, ".END"); return end_program();
+      default: error("unexpected statement"); return;
+    }
+  }
+
+  // ENABLE / DISABLE sw, ...: switch names, checked when the statement runs (dialect §6).
+  void switches(const ast::Instruction& i) {
+    Instr& in = emit(i.kw == Kw::enable ? Code::enable : Code::disable);
+    for (const ast::Expr& e : i.args) {
+      const ast::VarRef* v = plain_variable(e, false);
+      if (!v || v->name[0] == '$' || v->name[0] == '#') {
+        error(fmt::format("{} expects switch names", i.kw == Kw::enable ? "ENABLE" : "DISABLE"));
+        return;
+      }
+      in.args.push_back(setting_name(*v));
+    }
+    if (in.args.empty()) error("a switch name is missing");
+  }
+
+
+  // PROMPT text, variable
+  void prompt(const ast::Instruction& i) {
+    const ast::VarRef* v = i.args.size() == 2 ? plain_variable(i.args[1], true) : nullptr;
+    if (!v || ast::is_whole_array(*v) || v->name[0] == '#') {
+      error("PROMPT expects a text and a real or string variable");
+      return;
+    }
+    Node text = expression(i.args[0]);
+    if (static_kind(text) == StaticKind::real) error("PROMPT expects a text first");
+    Instr& in = emit(Code::prompt);
+    in.target = variable(*v, false);
+    in.args.push_back(std::move(text));
+  }
+
+  void simple(const ast::Instruction& i, Code code) {
+    Instr& in = emit(code);
+    for (const ast::Expr& e : i.args) in.args.push_back(expression(e));
+  }
+
+  void until(const ast::Instruction& i) {
+    expect_args(i, 1, 1, "UNTIL");
+    if (blocks_.empty() || blocks_.back().kind != Kw::do_) {
+      block_error("UNTIL without DO");
+      return;
+    }
+    Block b = std::move(blocks_.back());
+    blocks_.pop_back();
+    for (int n : b.nexts) at(n).jump = here();
+    simple(i, Code::jump_false);
+    prog_.code.back().jump = b.start;
+    for (int e : b.exits) at(e).jump = here();
+  }
+
+  // Ends the open part of an IF or CASE: jump to END, and the pending test lands here.
+  void close_part(Block& b) {
+    b.end_jumps.push_back(here());
+    emit(Code::jump);
+    if (b.test >= 0) at(b.test).jump = here();
+    b.test = -1;
+  }
+
+  void else_part(const ast::Instruction& i) {
+    expect_args(i, 0, 0, "ELSE");
+    if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().has_else) {
+      block_error("ELSE without IF ... THEN");
+      return;
+    }
+    close_part(blocks_.back());
+    blocks_.back().has_else = true;
+  }
+
+  // ELSEIF / ELIF cond [THEN]   [ext]
+  void else_if(const ast::Instruction& i) {
+    expect_args(i, 1, 1, "ELSEIF");
+    if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().has_else) {
+      block_error("ELSEIF without IF ... THEN");
+      return;
+    }
+    close_part(blocks_.back());
+    blocks_.back().test = here();
+    simple(i, Code::jump_false);
+  }
+
+  // VALUE e1, e2:  /  ANY
+  void case_part(const ast::Instruction& i) {
+    const bool any = i.kw == Kw::any;
+    expect_args(i, any ? 0 : 1, any ? 0 : 1000, any ? "ANY" : "VALUE");
+    if (blocks_.empty() || blocks_.back().kind != Kw::case_ || blocks_.back().has_else) {
+      block_error(fmt::format("{} outside CASE (or after ANY)", any ? "ANY" : "VALUE"));
+      return;
+    }
+    Block& b = blocks_.back();
+    if (b.arm_open) close_part(b);
+    b.arm_open = true;
+    if (any) {
+      b.has_else = true;
+      return;
+    }
+    b.test = here();
+    simple(i, Code::case_test);
+    prog_.code.back().temp = b.temp;
+  }
+
+  void end_block(const ast::Instruction& i) {
+    expect_args(i, 0, 0, "END");
+    if (blocks_.empty() || blocks_.back().kind == Kw::do_) {
+      block_error(blocks_.empty() ? "END without a block" : "DO ends with UNTIL, not END");
+      return;
+    }
+    Block b = std::move(blocks_.back());
+    blocks_.pop_back();
+    if (b.kind == kIfBlock || b.kind == Kw::case_) {
+      if (b.test >= 0) at(b.test).jump = here();
+      for (int e : b.end_jumps) at(e).jump = here();
+      return;
+    }
+    const int loop_end = here();
+    for (int n : b.nexts) at(n).jump = loop_end;
+    if (b.kind == Kw::while_) {  // the test again at the bottom (one dispatch per iteration less)
+      Instr& again = emit(Code::jump_true);
+      again.args = at(b.test).args;
+      again.line = at(b.test).line;
+      again.jump = b.start + 1;
+    } else {  // FOR
+      Instr& next = emit(Code::for_next);
+      const Instr& init = at(b.test);
+      next.target = init.target;
+      next.temp = init.temp;
+      next.jump = b.start;
+    }
+    at(b.test).jump = here();
+    for (int e : b.exits) at(e).jump = here();
+  }
+
+  const ParsedSource& src_;
+  Symbols& symbols_;
+  CheckResult out_;
+  std::shared_ptr<const std::vector<std::string>> text_;
+  int line_ = 0, column_ = 1;
+  int joint_count_ = 6;
+  Kw data_kind_ = Kw::none;             // the open data section, if any
+  int data_start_ = 0;                  // and its line
+  bool in_program_ = false;
+  bool executable_seen_ = false;       // declarations must come first
+  Program prog_;
+  std::vector<Block> blocks_;
+  std::vector<int> block_parent_;       // block id -> enclosing block id (0 = program level)
+  std::map<unsigned, LabelInfo> labels_;
+  std::vector<Goto> gotos_;
+  ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail) { error(std::move(detail)); }};
+};
+
+}  // namespace
+
+int precedence(ast::Op op) { return kPrecedence[static_cast<std::size_t>(op)]; }
+
+CheckResult check_source(const ParsedSource& source, Symbols& symbols, int joint_count) {
+  return Checker(source, symbols, joint_count).run();
+}
+
+}  // namespace asimov::interpreter

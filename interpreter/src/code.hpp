@@ -1,0 +1,102 @@
+// Stage 2 output: programs compiled by the checker into flat instruction lists with names
+// resolved to slots (globals, parameters, programs) and jumps resolved to instruction indices.
+#pragma once
+#include "ast.hpp"
+#include "functions.hpp"
+#include "asimov/interpreter/interpreter.hpp"
+#include "realcode.hpp"
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace asimov::interpreter {
+
+enum class Scope : unsigned char { global, param };
+
+struct Ref {
+  Scope scope = Scope::global;
+  int slot = -1;                // index into the globals or the frame's slots (params, AUTO)
+};
+
+enum class NodeKind : unsigned char { number, string, variable, unary, binary, function, encode, absent };
+
+// An expression tree node. Variables carry their resolved slot; `kids` are operands,
+// subscripts (variables) or arguments (functions).
+struct Node {
+  NodeKind kind = NodeKind::absent;
+  ast::Op op = ast::Op::add;    // unary / binary
+  Func func = Func::pi;         // function
+  double number = 0;            // number literal
+  std::string text;             // string literal, or the variable's name for messages
+  Ref ref;                      // variable
+  bool subscripted = false;     // variable written with [...]
+  bool plain = false;           // only numbers, variables, unary and arithmetic / relational /
+                                // logical operators below: the evaluator's real fast path
+  std::vector<Node> kids;
+  std::vector<ast::Format> formats;  // $ENCODE: one per item; code 0 = the next of `kids`
+  std::shared_ptr<const RealCode> fast;  // top-level plain real trees: the compiled form
+};
+
+enum class Code : unsigned char {
+  assign, set, here, decompose, type, move, moves, appro, appros, depart, departs, break_,
+  speed, jump, jump_false, jump_true, for_init, for_next, call, return_, stop, case_init,
+  case_test, tool, base, configure, ready, draw, signal, timer, align, drive, unsupported,
+  movet, movest, hand, wait, wait_event, prompt, duration, enable, disable, parameter, pause,
+  halt
+};
+
+struct Instr {
+  Code code = Code::jump;
+  int line = 0;                    // file line
+  bool real_target = false;        // assign: the target holds reals (no '$' or '#')
+  const RNode* fast0 = nullptr;    // args[0].fast's root (owned by it), for the dispatch loop
+  Node target;                     // assign/set/here/decompose/for: the variable written
+  std::vector<Node> args;          // operands in source order (FOR: from, to, step)
+  std::vector<ast::Format> formats;  // TYPE: one per item; code 0 = the next of `args`
+  int jump = -1;                   // jumps, FOR exit / FOR body start
+  int temp = -1;                   // FOR: two frame temporaries (limit, step); CASE: one
+  bool always = false;             // SPEED ... ALWAYS; unsupported: only warn
+  bool monitor = false;            // SPEED ... MONITOR
+  int program = -1;                // CALL: program slot
+  std::vector<bool> by_ref;        // CALL: argument i passed by reference
+  ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE; hand: OPEN...
+};
+
+// Instructions that compile to one Instr holding their arguments (checker.cpp): the keyword,
+// its code and how many arguments it takes (max -1: any number).
+struct SimpleForm {
+  ast::Kw kw;
+  Code code;
+  int min_args, max_args;
+  const char* name;                // for "NAME expects ..." messages
+};
+const SimpleForm* simple_form(ast::Kw kw);
+
+// What an expression yields when the syntax shows it (dialect §3: a visible mix of
+// strings and numbers is a load-time error).
+enum class StaticKind { unknown, real, string };
+StaticKind static_kind(const Node& n);
+// Sets Node::plain over the tree (bottom-up).
+void mark_plain(Node& n);
+
+struct Param {
+  std::string name;                // normalized, with prefix
+  bool array = false;              // written a[]
+};
+
+struct Program {
+  std::string name;                // normalized
+  std::string file;
+  int line = 0;                    // line of .PROGRAM
+  std::vector<Param> params;
+  std::vector<std::string> autos;  // AUTO variables: frame slots after the parameters
+  std::vector<std::string> locals; // LOCAL variables (global slots named "name@program")
+  std::vector<Instr> code;
+  int temps = 0;                   // frame temporaries (FOR limits and steps)
+  std::shared_ptr<const std::vector<std::string>> text;  // the file's lines, for reports
+};
+
+// Fills the program, file, line, step and source line of `d` for `line` of `p`.
+void locate_at(Diagnostic& d, const Program& p, int line);
+
+}  // namespace asimov::interpreter

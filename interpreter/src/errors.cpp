@@ -1,0 +1,86 @@
+#include "errors.hpp"
+
+#include "asimov/interpreter/interpreter.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+
+namespace asimov::interpreter {
+namespace {
+
+constexpr std::array<std::string_view, 11> kErrorMessages = {
+    "*Syntax error*",
+    "*Undefined program or variable name*",
+    "*Undefined value*",
+    "*Illegal value*",
+    "*Division by zero*",
+    "*Too many nested calls*",
+    "*Too many statements*",  // our limit on executed statements (runaway programs)
+    "*Motion error*",         // replaced by the simulator's own text
+    "*Not supported in simulation*",
+    "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps or in a motion
+    "*Wait limit exceeded*",  // WAIT still false after Limits::max_wait_s simulated seconds
+};
+static_assert(kErrorMessages.size() == static_cast<std::size_t>(ErrorKind::count));
+
+}  // namespace
+
+std::string_view error_message(ErrorKind kind) {
+  return kErrorMessages[static_cast<std::size_t>(kind)];
+}
+
+void raise(ErrorKind kind, std::string detail) {
+  throw RuntimeError{std::string(error_message(kind)), std::move(detail)};
+}
+
+void raise_text(std::string message, std::string detail) {
+  throw RuntimeError{std::move(message), std::move(detail)};
+}
+
+std::string format_pause(const RunResult& r) {
+  if (r.status != RunStatus::paused && r.status != RunStatus::halted) return {};
+  return fmt::format("Program {}: {}, step {}", r.status == RunStatus::paused ? "paused" : "halted", r.program,
+                     r.step);
+}
+
+bool is_interrupt(const Diagnostic& d) { return d.message == error_message(ErrorKind::interrupted); }
+
+std::string format_interrupt(const RunResult& r) {
+  if (!r.interrupt) return {};
+  const auto& h = *r.interrupt;
+  std::string out = fmt::format("motion halted at t = {:.6f} s, {:.1f} % of its path\njoints", h.time_s,
+                                100 * h.path_fraction);
+  for (Eigen::Index i = 0; i < h.joints.size(); ++i) out += fmt::format(" {:.3f}", h.joints[i]);
+  return out + '\n';
+}
+
+// The report of dialect §10 (declared in interpreter.hpp, the public face).
+std::string format_diagnostic(const Diagnostic& d) {
+  std::string out = d.message;
+  if (!d.detail.empty()) out += "  " + d.detail;
+  out += '\n';
+  const bool syntax = d.column > 0;
+  if (syntax) {
+    out += fmt::format(" {}:{}:{}", d.file, d.line, d.column);
+    if (!d.program.empty()) out += fmt::format("  ({}, step {})", d.program, d.step);
+    out += '\n';
+  } else if (!d.program.empty()) {
+    out += fmt::format(" {}, step {} ({}:{})\n", d.program, d.step, d.file, d.line);
+  } else if (!d.file.empty()) {
+    out += d.line > 0 ? fmt::format(" {}:{}\n", d.file, d.line) : fmt::format(" {}\n", d.file);
+  }
+  if (!d.source_line.empty()) {
+    out += "    " + d.source_line + '\n';
+    if (syntax) {
+      // Caret under the 1-based column; tabs copied so it lines up with the source.
+      std::string pad = "    ";
+      for (int i = 0; i + 1 < d.column && i < static_cast<int>(d.source_line.size()); ++i)
+        pad += d.source_line[static_cast<std::size_t>(i)] == '\t' ? '\t' : ' ';
+      out += pad + "^\n";
+    }
+  }
+  return out;
+}
+
+}  // namespace asimov::interpreter

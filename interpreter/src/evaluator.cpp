@@ -1,0 +1,690 @@
+#include "evaluator.hpp"
+
+#include "errors.hpp"
+#include "limits.hpp"
+#include "operators.hpp"
+#include "terminal.hpp"
+#include "asimov/motion/targets.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <iostream>
+
+namespace asimov::interpreter {
+namespace {
+
+using ast::Op;
+
+// Thrown by finish_motion() on contact; caught next to RuntimeError in run().
+struct CollisionStop {
+  motion::CollisionReport report;
+};
+
+// Thrown by PAUSE and HALT once the motion has ended; caught in run().
+struct PauseStop {
+  bool halt = false;
+};
+
+}  // namespace
+
+Evaluator::Evaluator(motion::Simulator& sim, std::ostream& out, Memory& memory, const Limits& limits)
+    : sim_(sim), out_(out), memory_(memory), limits_(limits) {}
+
+RunResult Evaluator::run(int slot, bool resumable) {
+  std::optional<Stopped> earlier = std::move(stopped_);  // a run keeps a stopped execution
+  stopped_.reset();
+  stack_.clear();
+  speed_always_ = 100;  // each execution starts with SPEED 100 ALWAYS
+  speed_next_.reset();
+  duration_always_ = 0;  // and no DURATION
+  duration_next_.reset();
+  current_program_ = nullptr;
+  current_line_ = 0;
+  motion_program_ = nullptr;
+  last_motion_.reset();
+  RunResult r = protected_run(memory_.symbols.programs[static_cast<std::size_t>(slot)], [&] {
+    const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
+    if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
+    Frame& top = stack_.next();
+    top.program = program.get();
+    top.owned.clear();
+    top.owned.resize(program->params.size() + program->autos.size());
+    for (Variable& v : top.owned) top.params.push_back(&v);
+    top.temps.resize(static_cast<std::size_t>(program->temps));
+    stack_.commit();
+  });
+  if (!resumable) {
+    stopped_.reset();
+    if (r.interrupt) sim_.drop_halted_motion();  // a DO's halted motion is not resumed either
+  }
+  if (!stopped_) stopped_ = std::move(earlier);  // only the latest stopped execution is kept
+  return r;
+}
+
+bool Evaluator::can_resume() const { return stopped_.has_value(); }
+
+void Evaluator::abort() {
+  if (stopped_ && stopped_->motion_halted) sim_.drop_halted_motion();
+  stopped_.reset();
+}
+
+RunResult Evaluator::resume(bool retry) {
+  if (!stopped_) {
+    RunResult r;
+    r.status = RunStatus::error;
+    r.error.message = "*No program to resume*";
+    return r;
+  }
+  Stopped s = std::move(*stopped_);
+  stopped_.reset();
+  stack_.assign(std::move(s.stack));
+  speed_always_ = s.speed_always;
+  speed_next_ = s.speed_next;
+  duration_always_ = s.duration_always;
+  duration_next_ = s.duration_next;
+  last_motion_ = s.motion;
+  return protected_run(s.program, [&] {
+    // After Ctrl-C halted a motion, PROCEED and RETRY first carry out its rest (a real
+    // controller resumes the interrupted motion towards its target).
+    if (s.motion_halted) resume_halted_motion();
+    // After a collision the step that found the contact runs again (PROCEED and RETRY);
+    // RETRY after an error re-runs the failing step; PROCEED after an error skips it.
+    // After PAUSE both continue with the next step.
+    // After Ctrl-C (or PAUSE) both run the step not yet run.
+    if (s.status == RunStatus::paused || s.interrupted) return;
+    if (!stack_.empty() && (retry || s.status == RunStatus::collision)) --stack_.back().pc;
+    if (retry && s.status == RunStatus::collision && last_motion_) start_motion(*last_motion_);
+  });
+}
+
+// --- the protected boundary -----------------------------------------------------------------
+
+RunResult Evaluator::protected_run(const std::string& name, const std::function<void()>& setup) {
+  RunResult result;
+  warnings_.clear();
+  halt_.reset();
+  // The simulator reads the Ctrl-C flag while this run goes on, and only then.
+  struct InterruptWiring {
+    motion::Simulator& sim;
+    ~InterruptWiring() { sim.set_interrupt(nullptr); }
+  } wiring{sim_};
+  sim_.set_interrupt(limits_.interrupt);
+  memory_.globals.resize(memory_.symbols.globals.size());
+  globals_.resize(memory_.globals.size());  // no global is added while a run goes on
+  for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
+  ctx_.globals = globals_.data();
+  ctx_.slots = nullptr;
+
+  auto locate = [&](Diagnostic& d, const Program* p, int line) {
+    if (!p) return;
+    locate_at(d, *p, line);
+    result.program = p->name;
+    result.line = line;
+    result.step = d.step;
+  };
+  auto collided = [&](const motion::CollisionReport& report) {
+    result = RunResult{};
+    result.status = RunStatus::collision;
+    result.collision = report;
+    result.error.message = "*Collision*";
+    result.error.detail = report.body_a + " / " + report.body_b;
+    locate(result.error, motion_program_, motion_line_);
+  };
+
+  try {
+    setup();
+    loop();
+    finish_motion();  // the last motion completes at the end of the run
+  } catch (const RuntimeError& e) {
+    result.status = RunStatus::error;
+    result.error.message = e.message;
+    result.error.detail = e.detail;
+    locate(result.error, current_program_, current_line_);
+    // The motion already started still completes (forward processing); contact wins. After
+    // Ctrl-C (the flag is still set) it stops at once, where it is, and its rest is kept.
+    try {
+      if (sim_.motion_pending()) {
+        const motion::MotionResult r = sim_.finish_motion();
+        if (r.status == motion::MotionStatus::collision) collided(r.collision);
+        if (r.status == motion::MotionStatus::interrupted) halt_ = r.interrupt;
+      }
+    } catch (...) {
+    }
+  } catch (const CollisionStop& c) {
+    collided(c.report);
+  } catch (const PauseStop& p) {
+    result.status = p.halt ? RunStatus::halted : RunStatus::paused;
+    locate(result.error, current_program_, current_line_);
+    result.error = Diagnostic{};
+    if (p.halt) stack_.clear();  // HALT cannot be resumed
+  }
+  if (result.status == RunStatus::completed) {
+    result.program = name;
+    result.line = result.step = 0;
+  } else if (!stack_.empty() || result.status == RunStatus::collision || halt_) {
+    stopped_ = Stopped{stack_.take(), result.status, name, speed_always_, speed_next_, last_motion_,
+                       duration_always_, duration_next_,
+                       result.error.message == error_message(ErrorKind::interrupted), halt_.has_value(),
+                       memory_.programs};
+  }
+  result.interrupt = halt_;
+  stack_.clear();
+  result.warnings = std::move(warnings_);
+  warnings_.clear();
+  return result;
+}
+
+// --- statements -----------------------------------------------------------------------------
+
+// The dispatch loop. The statements that dominate loops (real assignments, jumps, FOR steps)
+// run inline here through their compiled expressions; any value the compiled form does not
+// handle, and every other statement, goes through execute(), which raises the exact errors.
+void Evaluator::loop() {
+  const std::atomic<bool>* interrupt = limits_.interrupt;
+  const std::uint64_t max_statements = limits_.max_statements;
+  std::uint64_t statements = 0;  // this execution's steps (a run or a resumption)
+  while (!stack_.empty()) {
+    Frame& f = stack_.back();  // valid until a CALL, RETURN or STOP changes the stack
+    const Program& program = *f.program;
+    const Instr* const code = program.code.data();
+    const int size = static_cast<int>(program.code.size());
+    current_program_ = &program;
+    ctx_.slots = f.params.data();  // every evaluation happens below, in this frame
+    for (;;) {
+      if (f.pc >= size) {  // .END returns
+        pop_frame();
+        break;
+      }
+      const Instr& in = code[f.pc];
+      current_line_ = in.line;
+      // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
+      if (interrupt && interrupt->load(std::memory_order_relaxed)) raise(ErrorKind::interrupted);
+      ++f.pc;
+      if (++statements > max_statements)
+        raise(ErrorKind::too_many_statements, fmt::format("more than {}", max_statements));
+      double x;
+      switch (in.code) {
+        case Code::assign:
+          if (in.real_target && in.fast0 && run_root(in.fast0, x)) {
+            const Node& t = in.target;
+            if (!t.subscripted) {  // a scalar that holds a real: written in place
+              Variable& v = *(t.ref.scope == Scope::global ? ctx_.globals : ctx_.slots)[t.ref.slot];
+              if (v.scalar)  // never with elements (see real_of)
+                if (double* d = std::get_if<double>(&*v.scalar)) {
+                  *d = x;
+                  continue;
+                }
+            }
+            if (!store_in_place(t, x)) store_real(t, x);
+            continue;
+          }
+          break;
+        case Code::jump:
+          f.pc = in.jump;
+          continue;
+        case Code::jump_false:
+          if (in.fast0 && run_root(in.fast0, x)) {
+            if (x == 0) f.pc = in.jump;
+            continue;
+          }
+          break;
+        case Code::jump_true:
+          if (in.fast0 && run_root(in.fast0, x)) {
+            if (x != 0) f.pc = in.jump;
+            continue;
+          }
+          break;
+        case Code::for_next: {
+          Variable& v = variable(in.target);
+          if (!v.scalar) break;  // never with elements (see real_of)
+          double* d = std::get_if<double>(&*v.scalar);
+          if (!d) break;
+          const double step = f.temps[static_cast<std::size_t>(in.temp) + 1];
+          *d = finite(*d + step);
+          if (step > 0 ? *d <= f.temps[static_cast<std::size_t>(in.temp)] : *d >= f.temps[static_cast<std::size_t>(in.temp)])
+            f.pc = in.jump;
+          continue;
+        }
+        default: break;
+      }
+      execute(in);
+      if (in.code == Code::call || in.code == Code::return_ || in.code == Code::stop) break;
+    }
+  }
+}
+
+void Evaluator::execute(const Instr& in) {
+  Frame& f = stack_.back();
+  switch (in.code) {
+    case Code::assign: {
+      if (double x; in.args[0].plain && in.target.text[0] != '$' && in.target.text[0] != '#'
+                    && (run_fast(in.args[0], x) || try_real(in.args[0], x)))
+        return store_real(in.target, x);
+      Value v = eval(in.args[0]);
+      const char prefix = in.target.text[0];
+      if (prefix == '$') {
+        to_string_value(v);
+      } else if (kind_of(v) == Kind::trans || kind_of(v) == Kind::ppoint) {
+        raise(ErrorKind::illegal_value, "a location is assigned with SET");
+      } else if (prefix == '#' || kind_of(v) != Kind::real) {
+        raise(ErrorKind::illegal_value, fmt::format("{} cannot hold a {}", in.target.text, kind_name(kind_of(v))));
+      }
+      store(in.target, std::move(v));
+      return;
+    }
+    case Code::set: {
+      Value v = eval(in.args[0]);
+      const Kind want = in.target.text[0] == '#' ? Kind::ppoint : Kind::trans;
+      if (in.target.text[0] == '$' || kind_of(v) != want)
+        raise(ErrorKind::illegal_value, fmt::format("{} cannot hold a {}", in.target.text, kind_name(kind_of(v))));
+      store(in.target, std::move(v));
+      return;
+    }
+    case Code::here:
+      if (in.target.text[0] == '$') raise(ErrorKind::illegal_value, "HERE needs a location variable");
+      if (in.target.text[0] == '#') store(in.target, sim_.joints());
+      else store(in.target, finite_location(sim_.here()));  // huge BASE/TOOL may overflow
+      return;
+    case Code::decompose: {
+      const Value v = eval(in.args[0]);
+      std::vector<double> parts;
+      if (const auto* j = std::get_if<robots::JointVector>(&v)) {
+        parts.assign(j->data(), j->data() + j->size());
+      } else {
+        const motion::Xyzoat x = motion::decompose(as_pose(v, sim_));
+        parts.assign(x.begin(), x.end());
+      }
+      if (in.target.text[0] == '$' || in.target.text[0] == '#')
+        raise(ErrorKind::illegal_value, "DECOMPOSE needs a real array");
+      Variable& var = variable(in.target);
+      if (var.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", in.target.text));
+      Index idx = in.target.subscripted ? index(in.target) : Index{0, 0, 0};
+      const std::size_t last = in.target.kids.empty() ? 0 : in.target.kids.size() - 1;
+      for (double p : parts) {
+        if (idx[last] > kMaxArrayIndex) raise(ErrorKind::illegal_value, "index above 65535");
+        var.elements[idx] = p;
+        ++idx[last];
+      }
+      return;
+    }
+    case Code::type: return type(in);
+    case Code::move: case Code::moves: case Code::appro: case Code::appros:
+    case Code::depart: case Code::departs: case Code::ready: case Code::draw: case Code::align:
+    case Code::drive:
+      return motion(in);
+    case Code::signal:  // SIGNAL n, ...: n > 0 on, n < 0 off, 0 ignored
+      for (const Node& n : in.args) {
+        const int k = signal_number(n, true);
+        if (k > 0) memory_.signals.insert(k);
+        if (k < 0) memory_.signals.erase(-k);
+      }
+      return;
+    case Code::timer: {
+      const int k = to_index(to_real(eval(in.args[0]), "timer number"));
+      if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));
+      memory_.timers[static_cast<std::size_t>(k)] = {to_real(eval(in.args[1]), "TIMER value"), sim_.time_s()};
+      return;
+    }
+    case Code::unsupported:
+      if (!in.always) raise(ErrorKind::not_supported, in.target.text);
+      return warn_once(in.target.text, in);
+    case Code::movet: case Code::movest: return motion(in);
+    case Code::hand: {
+      using motion::HandState;
+      const ast::Kw w = in.word;
+      const HandState h = w == ast::Kw::open || w == ast::Kw::openi     ? HandState::open
+                          : w == ast::Kw::close || w == ast::Kw::closei ? HandState::closed
+                                                                        : HandState::relaxed;
+      if (w == ast::Kw::open || w == ast::Kw::close || w == ast::Kw::relax) return sim_.request_hand(h);
+      return check_motion(sim_.hand_immediate(h, memory_.settings.hand_time_s));  // OPENI ...
+    }
+    case Code::wait: case Code::wait_event: return wait(in);
+    case Code::prompt: return prompt(in);
+    case Code::duration: {
+      const double t = to_real(eval(in.args[0]), "DURATION");
+      if (!(t >= 0)) raise(ErrorKind::illegal_value, fmt::format("DURATION {}", format_number(t)));
+      if (in.always) duration_always_ = t, duration_next_.reset();
+      else duration_next_ = t;
+      return;
+    }
+    case Code::enable: case Code::disable: case Code::parameter: return settings(in);
+    case Code::pause: case Code::halt:
+      finish_motion();  // PAUSE and HALT wait for the motion
+      throw PauseStop{in.code == Code::halt};
+    case Code::case_init:
+      f.temps[static_cast<std::size_t>(in.temp)] = to_real(eval(in.args[0]), "CASE value");
+      return;
+    case Code::case_test: {
+      const double value = f.temps[static_cast<std::size_t>(in.temp)];
+      for (const Node& n : in.args)
+        if (to_real(eval(n), "VALUE") == value) return;
+      f.pc = in.jump;
+      return;
+    }
+    case Code::tool: {
+      if (in.args.empty()) sim_.set_tool(motion::Location::Identity());  // TOOL = TOOL NULL
+      else sim_.set_tool(as_transformation(eval(in.args[0])));
+      return;
+    }
+    case Code::base: {
+      if (in.args.size() == 1 && in.args[0].kind != NodeKind::absent) {
+        const Value v = eval(in.args[0]);
+        if (kind_of(v) != Kind::real) {
+          sim_.set_base(as_transformation(v));
+          return;
+        }
+      }
+      double x[4] = {0, 0, 0, 0};  // BASE dx, dy, dz, rz (omitted: 0)
+      for (std::size_t k = 0; k < in.args.size(); ++k)
+        if (in.args[k].kind != NodeKind::absent) x[k] = to_real(eval(in.args[k]), "BASE");
+      sim_.set_base(motion::trans(x[0], x[1], x[2], x[3], 0, 0));
+      return;
+    }
+    case Code::configure: return request_configuration(in.word, sim_.request());
+    case Code::break_: return finish_motion();
+    case Code::speed: {
+      const double s = to_real(eval(in.args[0]));
+      if (!(s > 0 && s <= 100)) raise(ErrorKind::illegal_value, fmt::format("SPEED {}", format_number(s)));
+      if (in.monitor) {
+        speed_monitor_ = s;
+      } else if (in.always) {
+        speed_always_ = s;
+        speed_next_.reset();
+      } else {
+        speed_next_ = s;
+      }
+      return;
+    }
+    case Code::jump: f.pc = in.jump; return;
+    case Code::jump_false:
+      if (real(in.args[0], "condition") == 0) f.pc = in.jump;
+      return;
+    case Code::jump_true:
+      if (real(in.args[0], "condition") != 0) f.pc = in.jump;
+      return;
+    case Code::for_init: {
+      const double from = real(in.args[0], "FOR start");
+      const double to = real(in.args[1], "FOR limit");
+      const double step = in.args.size() > 2 ? real(in.args[2], "FOR step") : 1.0;
+      if (step == 0) raise(ErrorKind::illegal_value, "FOR with STEP 0");
+      store(in.target, from);
+      f.temps[static_cast<std::size_t>(in.temp)] = to;
+      f.temps[static_cast<std::size_t>(in.temp) + 1] = step;
+      if (step > 0 ? !(from <= to) : !(from >= to)) f.pc = in.jump;
+      return;
+    }
+    case Code::for_next: {
+      const double to = f.temps[static_cast<std::size_t>(in.temp)];
+      const double step = f.temps[static_cast<std::size_t>(in.temp) + 1];
+      const double v = finite(real(in.target, "FOR variable") + step);
+      store_real(in.target, v);
+      if (step > 0 ? v <= to : v >= to) f.pc = in.jump;
+      return;
+    }
+    case Code::call: return call(in);
+    case Code::return_: pop_frame(); return;
+    case Code::stop: stack_.clear(); return;
+  }
+}
+
+void Evaluator::call(const Instr& in) {
+  const auto& program = memory_.programs[static_cast<std::size_t>(in.program)];
+  if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(in.program)]);
+  if (static_cast<int>(stack_.size()) >= std::min(limits_.max_call_depth, kMaxCallDepth))
+    raise(ErrorKind::too_many_calls, fmt::format("{} levels", stack_.size()));
+  if (in.args.size() > program->params.size())
+    raise(ErrorKind::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
+  Frame& frame = stack_.next();  // pushed once the arguments are evaluated in the caller's frame
+  frame.program = program.get();
+  // Variables owned by the frame: those of an earlier call, emptied when it returned (no
+  // construction per CALL), then new ones. Reserved first: the pointers taken stay valid.
+  const std::size_t slots = program->params.size() + program->autos.size();
+  frame.owned.reserve(slots);
+  frame.params.reserve(slots);
+  std::size_t used = 0;
+  auto fresh = [&]() -> Variable& {
+    if (used == frame.owned.size()) {
+      ++used;
+      return frame.owned.emplace_back();
+    }
+    Variable& v = frame.owned[used++];
+    v.scalar.reset();  // already empty unless an earlier CALL failed while filling this frame
+    if (!v.elements.empty()) v.elements = Elements{};
+    return v;
+  };
+  for (std::size_t i = 0; i < program->params.size(); ++i) {
+    const bool given = i < in.args.size() && in.args[i].kind != NodeKind::absent;
+    if (given && in.by_ref[i]) {
+      frame.params.push_back(&variable(in.args[i]));  // the caller's variable itself
+      continue;
+    }
+    Variable& owned = fresh();
+    if (double x; given && run_fast(in.args[i], x)) owned.scalar.emplace(x);
+    else if (given) owned.scalar = eval(in.args[i]);
+    frame.params.push_back(&owned);
+  }
+  for (std::size_t i = 0; i < program->autos.size(); ++i)  // a fresh AUTO copy per call
+    frame.params.push_back(&fresh());
+  frame.temps.resize(static_cast<std::size_t>(program->temps));
+  stack_.commit();
+}
+
+void Evaluator::pop_frame() {
+  Frame& f = stack_.back();
+  f.program = nullptr;
+  f.params.clear();
+  for (Variable& v : f.owned) {  // emptied, kept for the next CALL
+    v.scalar.reset();
+    if (!v.elements.empty()) v.elements = Elements{};
+  }
+  f.temps.clear();
+  f.pc = 0;
+  stack_.pop();
+}
+
+void Evaluator::finish_motion() {
+  if (sim_.motion_pending()) check_motion(sim_.finish_motion());
+}
+
+// The motion that the simulator finished failed: contact stops the run, an error is reported
+// at the motion instruction.
+void Evaluator::check_motion(const motion::MotionResult& r) {
+  if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
+  if (r.status == motion::MotionStatus::interrupted) {
+    // Ctrl-C halted the motion: reported at the motion instruction, as a contact is; the step
+    // that was waiting for the motion (none at the run's end) runs again after its rest.
+    halt_ = r.interrupt;
+    if (!stack_.empty()) --stack_.back().pc;
+    current_program_ = motion_program_;
+    current_line_ = motion_line_;
+    raise(ErrorKind::interrupted);
+  }
+  if (r.status == motion::MotionStatus::error) {
+    current_program_ = motion_program_;  // reported at the motion instruction
+    current_line_ = motion_line_;
+    raise_text(r.error.message, r.error.detail);
+  }
+}
+
+void Evaluator::motion(const Instr& in) {
+  finish_motion();  // a motion instruction waits for the previous motion to end
+  const bool straight = in.code == Code::moves || in.code == Code::appros || in.code == Code::departs
+      || in.code == Code::draw || in.code == Code::movest;
+  std::optional<Value> target;
+  switch (in.code) {
+    case Code::ready: target = motion::ready_target(sim_.robot()); break;  // the robot's READY
+    case Code::align: target = motion::align_target(sim_.here()); break;
+    case Code::drive: {  // DRIVE j, change, speed: one joint, relative, at speed % of its maximum
+      const int j = to_index(to_real(eval(in.args[0]), "joint"));
+      const double change = to_real(eval(in.args[1]), "DRIVE change");
+      const double s = to_real(eval(in.args[2]), "DRIVE speed");
+      if (!(s >= 1 && s <= 100)) raise(ErrorKind::illegal_value, fmt::format("DRIVE speed {}", format_number(s)));
+      robots::JointVector target;
+      if (!motion::drive_target(sim_.joints(), j, change, target))
+        raise(ErrorKind::illegal_value, fmt::format("joint {}", j));
+      MotionRequest m;
+      m.joints = target;
+      m.speed = motion::drive_speed(speed_monitor_, s);
+      m.program = current_program_;
+      m.line = in.line;
+      return start_motion(m);  // the program speed does not apply and is not consumed
+    }
+    case Code::draw: {  // SHIFT(HERE BY dx, dy, dz), HERE after the previous motion; omitted = 0
+      double d[3] = {0, 0, 0};
+      for (std::size_t k = 0; k < in.args.size() && k < 3; ++k)
+        if (in.args[k].kind != NodeKind::absent) d[k] = to_real(eval(in.args[k]), "DRAW");
+      target = motion::draw_target(sim_.here(), d[0], d[1], d[2]);
+      break;
+    }
+    case Code::move: case Code::moves: target = eval(in.args[0]); break;
+    case Code::movet: case Code::movest: {  // the hand opens (h != 0) or closes when it starts
+      target = eval(in.args[0]);
+      sim_.request_hand(motion::movet_hand(to_real(eval(in.args[1]), "MOVET hand")));
+      break;
+    }
+    case Code::appro: case Code::appros: {
+      const Value loc = eval(in.args[0]);
+      const double d = to_real(eval(in.args[1]), "APPRO distance");
+      target = motion::appro_target(as_pose(loc, sim_), d);
+      break;
+    }
+    default: {  // DEPART: HERE is taken once the previous motion has ended
+      const double d = to_real(eval(in.args[0]), "DEPART distance");
+      target = motion::depart_target(sim_.here(), d);
+      break;
+    }
+  }
+  MotionRequest m;
+  m.speed = {speed_monitor_, speed_next_.value_or(speed_always_), -1, duration_next_.value_or(duration_always_)};
+  speed_next_.reset();
+  duration_next_.reset();
+  m.straight = straight;
+  m.program = current_program_;
+  m.line = in.line;
+  if (const auto* j = std::get_if<robots::JointVector>(&*target); j && !straight) {
+    m.joints = *j;
+  } else {
+    if (kind_of(*target) != Kind::trans && kind_of(*target) != Kind::ppoint)
+      raise(ErrorKind::illegal_value, fmt::format("location expected, not a {}", kind_name(kind_of(*target))));
+    m.pose = as_pose(*target, sim_);
+  }
+  start_motion(m);
+}
+
+// PROCEED / RETRY after Ctrl-C halted a motion: the rest of it, from where the arm stopped;
+// when a DO has moved the arm since (the simulator dropped the rest), the same motion
+// instruction again from where the arm is. The monitor speed now in effect applies.
+void Evaluator::resume_halted_motion() {
+  if (!last_motion_) return;
+  motion_program_ = last_motion_->program;
+  motion_line_ = last_motion_->line;
+  if (sim_.halted_motion()) return check_motion(sim_.resume_motion(speed_monitor_));
+  MotionRequest m = *last_motion_;
+  m.speed.monitor = speed_monitor_;
+  start_motion(m);
+}
+
+// Starts a resolved motion (also RETRY's restart of an interrupted one).
+void Evaluator::start_motion(const MotionRequest& m) {
+  const int step = m.line - m.program->line;
+  const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
+                                          : sim_.start_move(m.pose, m.straight, m.speed, step);
+  if (r.status == motion::MotionStatus::interrupted) check_motion(r);  // the previous motion's halt
+  motion_program_ = m.program;
+  motion_line_ = m.line;
+  last_motion_ = m;
+  if (r.status == motion::MotionStatus::error) raise_text(r.error.message, r.error.detail);
+  if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
+}
+
+void Evaluator::type(const Instr& in) {
+  bool newline = true;
+  const std::string text = format_items(in.formats, eval_all(in.args), newline);
+  out_ << text;
+  if (newline) out_ << '\n';
+}
+
+std::vector<Value> Evaluator::eval_all(const std::vector<Node>& nodes) {
+  std::vector<Value> values;
+  values.reserve(nodes.size());
+  for (const Node& n : nodes) values.push_back(eval(n));
+  return values;
+}
+
+motion::Location Evaluator::as_transformation(const Value& v) {
+  if (const auto* t = std::get_if<motion::Location>(&v)) return *t;
+  raise(ErrorKind::illegal_value, fmt::format("transformation expected, not a {}", kind_name(kind_of(v))));
+}
+
+// --- waiting, terminal input, settings -------------------------------------------------------
+
+// WAIT cond: the clock advances tick by tick until cond holds (bare WAIT: one tick).
+// WAIT.EVENT , t: t seconds. Both wait for the motion first.
+void Evaluator::wait(const Instr& in) {
+  finish_motion();
+  if (in.code == Code::wait_event) {
+    const double t = to_real(eval(in.args[1]), "WAIT.EVENT time");
+    if (!(t >= 0)) raise(ErrorKind::illegal_value, fmt::format("WAIT.EVENT {}", format_number(t)));
+    return check_motion(sim_.wait(t));
+  }
+  if (in.args.empty()) return check_motion(sim_.wait(limits_.tick_s));
+  const double give_up = sim_.time_s() + limits_.max_wait_s;
+  while (to_real(eval(in.args[0]), "WAIT condition") == 0) {
+    if (limits_.interrupt && limits_.interrupt->load(std::memory_order_relaxed)) {
+      --stack_.back().pc;  // as between steps: PROCEED waits again
+      raise(ErrorKind::interrupted);
+    }
+    if (sim_.time_s() >= give_up)
+      raise(ErrorKind::wait_limit, fmt::format("still false after {} s", format_number(limits_.max_wait_s)));
+    check_motion(sim_.wait(limits_.tick_s));
+  }
+}
+
+// PROMPT text, variable: prints the text and reads one line into a string or a real.
+void Evaluator::prompt(const Instr& in) {
+  const std::string text = to_string_value(eval(in.args[0]));
+  std::istream& input = in_ ? *in_ : std::cin;
+  const bool string_target = in.target.text[0] == '$';
+  for (;;) {
+    out_ << text;
+    out_.flush();
+    std::string line;
+    if (!read_reply(input, line)) {
+      out_ << '\n';
+      raise(ErrorKind::illegal_value, "end of input at PROMPT");
+    }
+    if (!interactive_) out_ << '\n';  // the reply is not echoed: keep the output in lines
+    if (string_target) {
+      if (line.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
+      return store(in.target, line);
+    }
+    if (const auto v = parse_reply_number(line)) return store(in.target, *v);
+    if (!interactive_) raise(ErrorKind::illegal_value, fmt::format("\"{}\" is not a number", line));
+  }
+}
+
+// PARAMETER name = value, ENABLE / DISABLE switch, ...
+void Evaluator::settings(const Instr& in) {
+  if (in.code == Code::parameter)
+    return set_parameter(in.target.text, to_real(eval(in.args[0]), "PARAMETER value"), memory_.settings, sim_);
+  for (const Node& n : in.args)
+    if (!set_switch(n.text, in.code == Code::enable, memory_.settings, sim_))
+      warn_once((in.code == Code::enable ? "ENABLE " : "DISABLE ") + n.text, in);
+}
+
+// A V+ construct that the simulation ignores (dialect §7): one warning per execution.
+void Evaluator::warn_once(const std::string& keyword, const Instr& in) {
+  for (const Diagnostic& w : warnings_)
+    if (w.detail == keyword) return;
+  Diagnostic w;
+  w.message = std::string(error_message(ErrorKind::not_supported));
+  w.detail = keyword;
+  w.warning = true;
+  locate_at(w, *current_program_, in.line);
+  warnings_.push_back(std::move(w));
+}
+
+}  // namespace asimov::interpreter

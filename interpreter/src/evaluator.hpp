@@ -1,0 +1,206 @@
+// Stage 3: runs compiled programs against the simulator. Holds the run-time state (call
+// stack, speeds); the memory (symbols, globals, programs) belongs to the interpreter.
+#pragma once
+#include "checker.hpp"
+#include "code.hpp"
+#include "asimov/interpreter/interpreter.hpp"
+#include "settings.hpp"
+#include "asimov/interpreter/values.hpp"
+#include <array>
+#include <deque>
+#include <functional>
+#include <iterator>
+#include <string>
+#include <set>
+#include <utility>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace asimov::interpreter {
+
+// Everything LOAD puts in memory, indexed by the slots the checker resolved.
+struct Memory {
+  Symbols symbols;
+  std::deque<Variable> globals;                            // by global slot
+  std::vector<std::shared_ptr<const Program>> programs;    // by program slot; null if absent
+  std::vector<std::string> load_order;                     // program names as first loaded
+  std::set<int> signals;                                   // digital signals that are on
+  std::array<std::pair<double, double>, 17> timers{};      // TIMER n: value set, clock then [s]
+  Settings settings;                                       // PARAMETER, ENABLE / DISABLE
+};
+
+class Evaluator {
+ public:
+  Evaluator(motion::Simulator& sim, std::ostream& out, Memory& memory, const Limits& limits);
+  // Runs the program in `slot` to its end. A stopped execution kept from earlier survives.
+  // `resumable` false (a monitor DO): this run's own stop is not kept either.
+  RunResult run(int slot, bool resumable = true);
+  // The execution the last error or collision stopped (dialect §9 PROCEED / RETRY).
+  bool can_resume() const;
+  RunResult resume(bool retry);
+  void abort();
+
+  // Speeds for the monitor's SPEED and STATUS (dialect §5): the monitor speed, and the
+  // ALWAYS and one-shot program speeds as the last execution left them.
+  double monitor_speed() const { return speed_monitor_; }
+  void set_monitor_speed(double percent) { speed_monitor_ = percent; }
+  double program_speed() const { return speed_always_; }
+  std::optional<double> next_speed() const { return speed_next_; }
+  // PROMPT's input (null: std::cin).
+  void set_input(std::istream* in, bool interactive) { in_ = in, interactive_ = interactive; }
+
+ private:
+  struct Frame {
+    const Program* program = nullptr;              // kept alive by memory_ or Stopped::pinned
+    std::vector<Variable*> params;                 // by reference or into `owned`
+    std::vector<Variable> owned;                   // by value, omitted, AUTO (reserved: stable)
+    std::vector<double> temps;                     // FOR limits and steps
+    int pc = 0;                                    // next instruction
+  };
+
+  // The call stack. Popped frames stay allocated and are reused by the next CALL, with their
+  // vectors' capacity and their (emptied) variables: no construction, move or allocation per
+  // CALL. back() is valid until the next next().
+  class FrameStack {
+   public:
+    bool empty() const { return size_ == 0; }
+    std::size_t size() const { return size_; }
+    Frame& back() { return frames_[size_ - 1]; }
+    // The frame above the top, cleared (its owned variables are emptied as they are taken),
+    // filled by the caller, then pushed by commit().
+    Frame& next() {
+      if (size_ == frames_.size()) frames_.emplace_back();
+      Frame& f = frames_[size_];
+      f.program = nullptr;
+      f.params.clear();
+      f.temps.clear();
+      f.pc = 0;
+      return f;
+    }
+    void commit() { ++size_; }
+    void pop() { --size_; }
+    void clear() { size_ = 0; }
+    std::vector<Frame> take() {  // the frames, for a stopped execution
+      std::vector<Frame> out(std::make_move_iterator(frames_.begin()),
+                             std::make_move_iterator(frames_.begin() + static_cast<std::ptrdiff_t>(size_)));
+      frames_.clear();
+      size_ = 0;
+      return out;
+    }
+    void assign(std::vector<Frame> frames) {
+      frames_ = std::move(frames);
+      size_ = frames_.size();
+    }
+
+   private:
+    std::vector<Frame> frames_;
+    std::size_t size_ = 0;
+  };
+
+  // A resolved motion, kept so that RETRY can restart it after a collision.
+  struct MotionRequest {
+    std::optional<robots::JointVector> joints;  // joint target, or else `pose`
+    motion::Location pose = motion::Location::Identity();
+    bool straight = false;
+    motion::SpeedSettings speed;
+    const Program* program = nullptr;           // the motion instruction
+    int line = 0;
+  };
+  // An execution stopped by an error or a collision, for PROCEED / RETRY.
+  struct Stopped {
+    std::vector<Frame> stack;
+    RunStatus status = RunStatus::error;
+    std::string program;                        // the program the run started with
+    double speed_always = 100;
+    std::optional<double> speed_next;
+    std::optional<MotionRequest> motion;
+    double duration_always = 0;
+    std::optional<double> duration_next;
+    bool interrupted = false;                   // Ctrl-C: pc is the step not yet run
+    bool motion_halted = false;                 // Ctrl-C halted `motion`: its rest runs first
+    std::vector<std::shared_ptr<const Program>> pinned;  // the frames' programs, even if reloaded
+  };
+
+  // The one protected boundary: runs `setup` then the loop; raises become the result.
+  RunResult protected_run(const std::string& name, const std::function<void()>& setup);
+  void start_motion(const MotionRequest& m);
+  void execute(const Instr& in);
+  void loop();  // runs stack_ until it is empty
+  void call(const Instr& in);
+  void pop_frame();
+  void motion(const Instr& in);
+  void type(const Instr& in);
+  std::vector<Value> eval_all(const std::vector<Node>& nodes);
+  void finish_motion();
+  void check_motion(const motion::MotionResult& r);  // a failed finish: collision, error, Ctrl-C
+  void resume_halted_motion();  // PROCEED / RETRY after Ctrl-C halted a motion
+  void wait(const Instr& in);
+  void prompt(const Instr& in);
+  void settings(const Instr& in);
+  void warn_once(const std::string& keyword, const Instr& in);
+
+  motion::Location as_transformation(const Value& v);
+  Value eval(const Node& n);
+  Value function(const Node& n);
+  int signal_number(const Node& n, bool output);
+  Variable& variable(const Node& n) {
+    if (n.ref.scope == Scope::global) return *ctx_.globals[n.ref.slot];
+    return *stack_.back().params[static_cast<std::size_t>(n.ref.slot)];
+  }
+  Index index(const Node& n);
+  Value read(const Node& n);
+  const Value& lookup(const Node& n);
+  void store(const Node& target, Value value);
+  // The real fast path over Node::plain trees (no Value built): false, with nothing raised,
+  // when a variable holds another kind; the generic path then evaluates (plain trees only read).
+  bool try_real(const Node& n, double& out);
+  // The compiled form (Node::fast) when there is one and it handles the values met.
+  bool run_root(const RNode* r, double& out) {
+    try {
+      out = r->fn(*r, ctx_);
+      return true;
+    } catch (const Fallback&) {
+      return false;
+    }
+  }
+  bool run_fast(const Node& n, double& out) {
+    if (!n.fast) return false;
+    try {
+      out = n.fast->run(ctx_);
+      return true;
+    } catch (const Fallback&) {
+      return false;
+    }
+  }
+  double real(const Node& n, const char* what);
+  void store_real(const Node& target, double x);
+  bool store_in_place(const Node& target, double x);
+  bool defined(const Node& n);
+
+  motion::Simulator& sim_;
+  std::ostream& out_;
+  Memory& memory_;
+  const Limits& limits_;
+  FrameStack stack_;
+  const Program* current_program_ = nullptr;  // where the executing statement is
+  int current_line_ = 0;
+  const Program* motion_program_ = nullptr;   // where the last motion was started
+  int motion_line_ = 0;
+  double speed_always_ = 100;                 // SPEED ... ALWAYS
+  std::optional<double> speed_next_;          // SPEED for the next motion only
+  double speed_monitor_ = 100;
+  double duration_always_ = 0;                // DURATION ... ALWAYS [s]; 0 = off
+  std::optional<double> duration_next_;       // DURATION for the next motion only
+  std::istream* in_ = nullptr;                // PROMPT input (null: std::cin)
+  bool interactive_ = false;                  // PROMPT asks again on bad input
+  std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
+  std::optional<MotionRequest> last_motion_;  // the last motion started
+  std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
+  std::optional<motion::InterruptReport> halt_;  // this run's motion halted by Ctrl-C
+  std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
+  FastCtx ctx_;                               // globals_ and the running frame's slots
+};
+
+}  // namespace asimov::interpreter

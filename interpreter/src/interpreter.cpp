@@ -1,0 +1,179 @@
+// Interpreter: LOAD (parse -> check -> install atomically) and EXECUTE (evaluator).
+#include "asimov/interpreter/interpreter.hpp"
+
+#include "checker.hpp"
+#include "evaluator.hpp"
+#include "limits.hpp"
+#include "parser.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace asimov::interpreter {
+
+namespace {
+
+// Adds program and step to syntax errors found by the parser (which parses line by line).
+void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& diagnostics) {
+  for (Diagnostic& d : diagnostics) {
+    if (!d.program.empty() || d.line < 1) continue;
+    // The nearest .PROGRAM above the line, unless an .END closes it first.
+    for (int i = d.line - 2; i >= 0; --i) {
+      const auto& stmt = source.lines[static_cast<std::size_t>(i)].statement;
+      if (!stmt) continue;
+      if (const auto* h = boost::get<ast::ProgramHeader>(&*stmt)) {
+        d.program = normalize_name(h->name);
+        d.step = d.line - (i + 1);
+        break;
+      }
+      const auto* in = boost::get<ast::Instruction>(&*stmt);
+      if (in && in->kw == ast::Kw::dot_end) break;
+    }
+  }
+}
+
+}  // namespace
+
+struct Interpreter::Impl {
+  motion::Simulator& sim;
+  std::ostream& out;
+  Memory memory;
+  Limits limits;
+  std::unique_ptr<Evaluator> evaluator;  // kept between runs: the monitor speed persists
+  std::istream* input = nullptr;         // PROMPT (null: std::cin)
+  bool interactive = false;
+
+  Evaluator& eval() {
+    if (!evaluator) {
+      evaluator = std::make_unique<Evaluator>(sim, out, memory, limits);
+      evaluator->set_input(input, interactive);
+    }
+    return *evaluator;
+  }
+};
+
+Interpreter::Interpreter(motion::Simulator& sim, std::ostream& out)
+    : impl_(std::make_unique<Impl>(Impl{sim, out, {}, {}, {}, nullptr, false})) {}
+
+Interpreter::~Interpreter() = default;
+
+std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const std::string& file_name) {
+  ParsedSource parsed = parse_source(text, file_name);
+  Memory& m = impl_->memory;
+  CheckResult checked = check_source(parsed, m.symbols, impl_->sim.robot().joint_count());
+  locate_in_programs(parsed, parsed.errors);
+  // Syntax errors first, then checker errors, each group in line order; at most 20.
+  std::vector<Diagnostic> all = std::move(parsed.errors);
+  all.insert(all.end(), checked.errors.begin(), checked.errors.end());
+  std::stable_sort(all.begin(), all.end(), [](const Diagnostic& a, const Diagnostic& b) { return a.line < b.line; });
+  if (all.size() > kMaxLoadErrors) all.resize(kMaxLoadErrors);
+  if (!all.empty()) return all;  // nothing is loaded (the checker reports errors only)
+  m.programs.resize(m.symbols.programs.size());
+  m.globals.resize(m.symbols.globals.size());
+  for (DataItem& item : checked.data) {  // globals of the same name are replaced
+    Variable& v = m.globals[static_cast<std::size_t>(item.slot)];
+    if (item.subscripted) {
+      if (v.scalar) v = Variable{};
+      if (!v.elements.empty() && kind_of(v.elements.begin()->second) != kind_of(item.value)) v = Variable{};
+      v.elements[item.index] = std::move(item.value);
+    } else {
+      v = Variable{};
+      v.scalar = std::move(item.value);
+    }
+  }
+  std::vector<int> installed;  // program slots of this load
+  for (Program& p : checked.programs) {
+    const int slot = m.symbols.program(p.name);
+    installed.push_back(slot);
+    m.programs.resize(m.symbols.programs.size());
+    if (!m.programs[static_cast<std::size_t>(slot)]) m.load_order.push_back(p.name);
+    m.programs[static_cast<std::size_t>(slot)] = std::make_shared<const Program>(std::move(p));
+  }
+  // A CALL to a program that nothing loaded is a warning now, an error when it executes.
+  for (int slot : installed) {
+    const auto& p = m.programs[static_cast<std::size_t>(slot)];
+    for (const Instr& in : p->code) {
+      if (in.code != Code::call || m.programs[static_cast<std::size_t>(in.program)]) continue;
+      Diagnostic d;
+      d.message = "*Undefined program or variable name*";
+      d.detail = m.symbols.programs[static_cast<std::size_t>(in.program)];
+      locate_at(d, *p, in.line);
+      d.warning = true;
+      all.push_back(std::move(d));
+    }
+  }
+  return all;
+}
+
+std::vector<Diagnostic> Interpreter::load_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    Diagnostic d;
+    d.message = "*File not found*";
+    d.detail = path;
+    return {d};
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_source(text.str(), path);
+}
+
+std::vector<std::string> Interpreter::program_names() const { return impl_->memory.load_order; }
+
+bool Interpreter::has_program(const std::string& name) const {
+  const Memory& m = impl_->memory;
+  const auto it = m.symbols.program_slots.find(normalize_name(name));
+  return it != m.symbols.program_slots.end() && static_cast<std::size_t>(it->second) < m.programs.size()
+      && m.programs[static_cast<std::size_t>(it->second)];
+}
+
+RunResult Interpreter::run(const std::string& name) {
+  Memory& m = impl_->memory;
+  const int slot = m.symbols.program(normalize_name(name));
+  m.programs.resize(m.symbols.programs.size());
+  return impl_->eval().run(slot);
+}
+
+Limits& Interpreter::limits() { return impl_->limits; }
+
+void Interpreter::set_input(std::istream& in, bool interactive) {
+  impl_->input = &in;
+  impl_->interactive = interactive;
+  if (impl_->evaluator) impl_->evaluator->set_input(&in, interactive);
+}
+
+bool Interpreter::can_resume() const { return impl_->evaluator && impl_->evaluator->can_resume(); }
+
+RunResult Interpreter::proceed() {
+  return impl_->eval().resume(false);
+}
+
+RunResult Interpreter::retry() {
+  return impl_->eval().resume(true);
+}
+
+void Interpreter::abort() {
+  if (impl_->evaluator) impl_->evaluator->abort();
+}
+
+Memory& Interpreter::memory() { return impl_->memory; }
+
+RunResult Interpreter::run_detached(const std::string& name) {
+  Memory& m = impl_->memory;
+  const int slot = m.symbols.program(normalize_name(name));
+  m.programs.resize(m.symbols.programs.size());
+  return impl_->eval().run(slot, false);
+}
+
+double Interpreter::monitor_speed() const { return impl_->evaluator ? impl_->evaluator->monitor_speed() : 100.0; }
+
+void Interpreter::set_monitor_speed(double percent) { impl_->eval().set_monitor_speed(percent); }
+
+double Interpreter::program_speed() const { return impl_->evaluator ? impl_->evaluator->program_speed() : 100.0; }
+
+std::optional<double> Interpreter::next_program_speed() const {
+  return impl_->evaluator ? impl_->evaluator->next_speed() : std::nullopt;
+}
+
+}  // namespace asimov::interpreter

@@ -1,0 +1,434 @@
+// The VAL II grammar in Spirit X3. The only X3 translation unit of the project (compile time).
+// Each rule is preceded by its EBNF line. Keywords are case-insensitive and end at a
+// character that cannot continue a name, so `speed.x` is a name, not SPEED.
+#include "parser.hpp"
+
+#include "limits.hpp"
+
+#include <boost/fusion/include/adapt_struct.hpp>
+#include <boost/spirit/home/x3.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <string_view>
+
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::VarRef, name, subscript)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Unary, op, operand)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Operation, op, operand)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Expr, first, rest)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Call, name, args)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Instruction, kw, args, units, trailing)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Binding, kw, target, value)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ForStmt, var, from, to, step)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::IfStmt, cond, goto_label)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::CallStmt, name, args)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Format, code, width, decimals)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::TypeStmt, kw, items)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ProgramHeader, name, params)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Declaration, kw, names)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::TimerStmt, number, value)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Unsupported, keyword, rest)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::DataLine, name, indices, values, text)
+
+namespace asimov::interpreter {
+
+std::string normalize_name(const std::string& name) {
+  std::string out;
+  for (char c : name) {
+    if (c == '$' || c == '#') {
+      out += c;
+      continue;
+    }
+    if (out.size() - (out.size() && (out[0] == '$' || out[0] == '#')) >= kNameLength) break;
+    out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return out;
+}
+
+namespace {
+
+namespace x3 = boost::spirit::x3;
+using ast::Kw;
+using ast::Op;
+
+// Reserved words: they never parse as variable names (dialect §1).
+constexpr std::string_view kReserved[] = {
+    "and", "or", "xor", "not", "mod", "band", "bor", "bxor", "to", "step", "then", "else",
+    "end", "do", "until", "while", "for", "if", "goto", "call", "return", "stop", "set",
+    "decompose", "here", "move", "moves", "appro", "appros", "depart", "departs", "break",
+    "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
+    "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
+    "auto", "local", "global", "elseif", "elif", "ready", "draw", "righty", "lefty", "above",
+    "below", "flip", "noflip", "single", "multiple", "signal", "timer", "align", "drive", "wait",
+    "prompt", "open", "close", "relax", "openi", "closei", "relaxi", "movet", "movest",
+    "duration", "enable", "disable", "parameter", "switch"};
+
+bool is_reserved(const std::string& word) {
+  std::string lower = word;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return std::find(std::begin(kReserved), std::end(kReserved), lower) != std::end(kReserved);
+}
+
+// Reals without "nan"/"inf" spellings, unsigned (the sign is a unary operator).
+struct strict_real_policies : x3::ureal_policies<double> {
+  template <typename It, typename Attr>
+  static bool parse_nan(It&, It const&, Attr&) { return false; }
+  template <typename It, typename Attr>
+  static bool parse_inf(It&, It const&, Attr&) { return false; }
+};
+const x3::real_parser<double, strict_real_policies> real_literal;
+
+struct strict_signed_policies : x3::real_policies<double> {
+  template <typename It, typename Attr>
+  static bool parse_nan(It&, It const&, Attr&) { return false; }
+  template <typename It, typename Attr>
+  static bool parse_inf(It&, It const&, Attr&) { return false; }
+};
+const x3::real_parser<double, strict_signed_policies> signed_real;
+
+struct symbol_ops_table : x3::symbols<Op> {
+  symbol_ops_table() {
+    add("*", Op::mul)("/", Op::div)("+", Op::add)("-", Op::sub)("==", Op::eq)("<>", Op::ne)
+       ("<", Op::lt)(">", Op::gt)("<=", Op::le)(">=", Op::ge)("=<", Op::le)("=>", Op::ge)
+       (":", Op::compound);
+  }
+} const symbol_ops;
+
+struct word_ops_table : x3::symbols<Op> {
+  word_ops_table() {
+    add("mod", Op::mod)("and", Op::and_)("band", Op::band)("or", Op::or_)("xor", Op::xor_)
+       ("bor", Op::bor)("bxor", Op::bxor);
+  }
+} const word_ops;
+
+struct unary_ops_table : x3::symbols<Op> {
+  unary_ops_table() { add("-", Op::neg)("+", Op::plus); }
+} const unary_sign;
+
+// Instruction keywords parsed by the generic `instruction` rule.
+struct instruction_table : x3::symbols<Kw> {
+  instruction_table() {
+    add("here", Kw::here)("move", Kw::move)("moves", Kw::moves)("appro", Kw::appro)
+       ("appros", Kw::appros)("depart", Kw::depart)("departs", Kw::departs)
+       ("break", Kw::break_)("speed", Kw::speed)("goto", Kw::goto_)("return", Kw::return_)
+       ("stop", Kw::stop)("end", Kw::end)("else", Kw::else_)("while", Kw::while_)
+       ("do", Kw::do_)("until", Kw::until)("exit", Kw::exit)("next", Kw::next)
+       ("pause", Kw::pause)("halt", Kw::halt)(".end", Kw::dot_end)("elseif", Kw::elseif)
+       ("elif", Kw::elseif)("case", Kw::case_)("value", Kw::value)("any", Kw::any)
+       ("tool", Kw::tool)("base", Kw::base)("ready", Kw::ready)("draw", Kw::draw)
+       ("righty", Kw::righty)("lefty", Kw::lefty)("above", Kw::above)("below", Kw::below)
+       ("flip", Kw::flip)("noflip", Kw::noflip)("single", Kw::single)("multiple", Kw::multiple)
+       (".locations", Kw::dot_locations)(".reals", Kw::dot_reals)(".strings", Kw::dot_strings)
+       ("signal", Kw::signal)("align", Kw::align)("drive", Kw::drive)("wait", Kw::wait)
+       ("wait.event", Kw::wait_event)("prompt", Kw::prompt)("open", Kw::open)("close", Kw::close)
+       ("relax", Kw::relax)("openi", Kw::openi)("closei", Kw::closei)("relaxi", Kw::relaxi)
+       ("movet", Kw::movet)("movest", Kw::movest)("duration", Kw::duration)
+       ("enable", Kw::enable)("disable", Kw::disable);
+  }
+} const instruction_words;
+
+struct trailing_table : x3::symbols<Kw> {
+  trailing_table() {
+    add("always", Kw::always)("monitor", Kw::monitor)("do", Kw::do_)("then", Kw::then)("of", Kw::of);
+  }
+} const trailing_words;
+
+struct unit_table : x3::symbols<Kw> {
+  unit_table() { add("mmps", Kw::mmps)("ips", Kw::ips); }
+} const unit_words;
+
+struct declaration_table : x3::symbols<Kw> {
+  declaration_table() { add("auto", Kw::auto_)("local", Kw::local)("global", Kw::global); }
+} const declaration_words;
+
+struct type_word_table : x3::symbols<x3::unused_type> {
+  type_word_table() { add("real")("double")("loc"); }
+} const type_words;
+
+// Dialect §7: V+ constructs that load but stop the program (or warn) when they run.
+struct unsupported_table : x3::symbols<x3::unused_type> {
+  unsupported_table() {
+    for (const char* w : {"attach", "detach", "fopen", "fclose", "fcmnd", "read", "write", "select",
+                          "set.event", "clear.event", "execute", "abort", "kill",
+                          "cycle.end", "lock", "priority", "react", "reacti", "reacte", "ignore",
+                          "teach", "calls", "accel"})
+      add(w);
+  }
+} const unsupported_words;
+
+struct binding_table : x3::symbols<Kw> {
+  binding_table() { add("set", Kw::set)("decompose", Kw::decompose)("parameter", Kw::parameter); }
+} const binding_words;
+
+// Function words that need no parentheses.
+struct bare_function_table : x3::symbols<std::string> {
+  bare_function_table() {
+    for (const char* w : {"here", "dest", "pi", "true", "false", "null", "random", "tool", "base"})
+      add(w, std::string(w));
+  }
+} const bare_function_words;
+
+const auto name_char = x3::alnum | x3::char_("._");
+
+auto kw(const char* word) { return x3::lexeme[x3::no_case[x3::lit(word)] >> !name_char]; }
+template <typename P>
+auto word_of(const P& table) { return x3::lexeme[x3::no_case[table] >> !name_char]; }
+
+const auto check_not_reserved = [](auto& ctx) { x3::_pass(ctx) = !is_reserved(x3::_attr(ctx)); };
+const auto check_label = [](auto& ctx) { x3::_pass(ctx) = x3::_attr(ctx) <= kMaxLabel; };
+const auto check_finite = [](auto& ctx) { x3::_pass(ctx) = std::isfinite(x3::_attr(ctx)); };
+
+x3::rule<class word_class, std::string> const word = "name";
+x3::rule<class identifier_class, std::string, true> const identifier = "name";
+x3::rule<class number_class, double, true> const number = "number";
+x3::rule<class string_class, std::string> const string_literal = "string";
+x3::rule<class expression_class, ast::Expr> const expression = "expression";
+x3::rule<class operand_class, ast::Operand> const operand = "operand";
+x3::rule<class unary_class, ast::Unary> const unary = "operand";
+x3::rule<class primary_class, ast::Operand> const primary = "operand";
+x3::rule<class call_class, ast::Call> const call = "function";
+x3::rule<class function_name_class, std::string> const function_name = "function";
+x3::rule<class variable_class, ast::VarRef> const variable = "variable";
+x3::rule<class var_name_class, std::string> const var_name = "variable";
+x3::rule<class subscript_class, std::vector<ast::Expr>, true> const subscript = "subscript";
+x3::rule<class binary_op_class, Op> const binary_op = "operator";
+x3::rule<class args_class, std::vector<boost::optional<ast::Expr>>> const arguments = "arguments";
+x3::rule<class label_class, unsigned, true> const label = "label";
+x3::rule<class instruction_class, ast::Instruction> const instruction = "instruction";
+x3::rule<class binding_class, ast::Binding> const binding = "assignment";
+x3::rule<class for_class, ast::ForStmt> const for_stmt = "FOR";
+x3::rule<class if_class, ast::IfStmt> const if_stmt = "IF";
+x3::rule<class call_stmt_class, ast::CallStmt> const call_stmt = "CALL";
+x3::rule<class format_class, ast::Format> const format = "format";
+x3::rule<class type_item_class, ast::TypeItem> const type_item = "TYPE item";
+x3::rule<class type_class, ast::TypeStmt> const type_stmt = "TYPE";
+x3::rule<class encode_class, ast::TypeStmt> const encode = "$ENCODE";
+x3::rule<class param_class, std::string> const param = "parameter";
+x3::rule<class header_class, ast::ProgramHeader> const program_header = ".PROGRAM";
+x3::rule<class statement_class, ast::Statement> const statement = "statement";
+x3::rule<class data_line_class, ast::DataLine, true> const data_line = "data line";
+x3::rule<class optional_expression_class, ast::Expr> const optional_expression = "expression";
+x3::rule<class declaration_class, ast::Declaration> const declaration = "declaration";
+x3::rule<class timer_class, ast::TimerStmt> const timer_stmt = "TIMER";
+x3::rule<class unsupported_class, ast::Unsupported> const unsupported = "statement";
+x3::rule<class to_class> const to_keyword = "TO";
+
+// name = letter { letter | digit | "." | "_" }
+const auto word_def = x3::lexeme[x3::alpha >> *name_char];
+// identifier = name - keyword
+const auto identifier_def = word[check_not_reserved];
+// label = integer 0..65535
+const auto label_def = x3::lexeme[x3::uint_ >> !name_char][check_label];
+// number = real | "^D" real | "^B" binary | "^H" hex | "^" octal | "'" char   (^D: ignored)
+const auto number_def = real_literal[check_finite]
+    | x3::lexeme[x3::lit('^') >> x3::no_case['d'] >> real_literal[check_finite]]
+    | x3::lexeme[x3::lit('^') >> x3::no_case['b'] >> x3::bin]
+    | x3::lexeme[x3::lit('^') >> x3::no_case['h'] >> x3::hex]
+    | x3::lexeme[x3::lit('^') >> x3::oct]
+    | x3::lexeme[x3::lit('\'') >> x3::char_("\x20-\x7e")];
+// string = '"' { character - '"' } '"'
+const auto string_literal_def = x3::lexeme['"' > *(x3::char_("\x20-\x7e") - '"') > '"'];
+// expression = operand { binary_op operand }      (precedence: checker, dialect §3)
+const auto expression_def = operand >> *(binary_op > operand);
+// binary_op = "*" | "/" | "+" | "-" | ":" | relational | MOD | AND | BAND | OR | XOR | BOR | BXOR
+// (a ":" ending the line closes a CASE's VALUE list and is no operator)
+const auto binary_op_def = (symbol_ops - (x3::lit(':') >> x3::eoi)) | word_of(word_ops);
+// operand = ( "-" | "+" | NOT ) operand | primary
+const auto operand_def = unary | primary;
+const auto unary_def = (unary_sign | (kw("not") >> x3::attr(Op::not_))) > operand;
+// primary = number | string | encode | function | variable | "(" expression ")"
+const auto primary_def = number | string_literal | encode | call | variable
+    | ('(' > expression > ')');
+// encode = "$ENCODE" "(" type_item { "," type_item } ")"
+const auto encode_def = x3::attr(Kw::type) >> x3::lexeme[x3::no_case["$encode"] >> !name_char]
+    >> '(' > (type_item % ',') > ')';
+// function = [ "#" | "$" ] name "(" arguments ")" | HERE | DEST | PI | TRUE | FALSE | NULL | ...
+const auto function_name_def = x3::raw[x3::lexeme[-x3::char_("#$") >> word]];
+const auto call_def = (function_name >> '(' > arguments > ')')
+    | (word_of(bare_function_words) >> x3::attr(std::vector<boost::optional<ast::Expr>>()));
+// arguments = [ expression ] { "," [ expression ] }
+//   (SHIFT(t BY dx, dy, dz): BY separates like a comma)
+const auto arguments_def = -expression % (x3::lit(',') | kw("by"));
+// variable = [ "$" | "#" ] identifier [ "[" [ expression { "," expression } ] "]" ]
+const auto var_name_def = x3::raw[x3::lexeme[(x3::char_("$#") >> word) | identifier]];
+const auto variable_def = var_name >> -subscript;
+// subscript = "[" [ expression { "," expression } ] "]"   (a[] is kept as one Nil expression)
+const auto mark_whole_array = [](auto& ctx) { x3::_val(ctx).resize(1); };
+const auto subscript_def = '[' > ((&x3::lit(']'))[mark_whole_array] | (expression % ',')) > ']';
+
+// instruction = KEYWORD [ optional_expression { "," optional_expression } ] [ MMPS | IPS ]
+//               [ ALWAYS | MONITOR | DO | THEN | OF ] [ ":" ]
+const auto instruction_def = word_of(instruction_words) >> -(optional_expression % ',')
+    >> -word_of(unit_words) >> -word_of(trailing_words) >> x3::omit[-x3::lit(':')];
+// optional_expression = [ expression ]    (omitted: a Nil operand)
+const auto optional_expression_def = expression | x3::attr(ast::Expr());
+// assignment = ( SET | DECOMPOSE | PARAMETER ) variable "=" expression | variable "=" expression
+const auto binding_def = (word_of(binding_words) > variable > '=' > expression)
+    | (x3::attr(Kw::assign) >> variable >> '=' > expression);
+// for = FOR variable "=" expression TO expression [ STEP expression ]
+const auto to_keyword_def = kw("to");
+const auto for_stmt_def = kw("for") > variable > '=' > expression > to_keyword > expression
+    > -(kw("step") > expression);
+// if = IF expression ( GOTO label | [ THEN ] )
+const auto if_stmt_def = kw("if") > expression > -(kw("goto") > label) > -kw("then");
+// call = CALL name [ "(" arguments ")" ]
+const auto call_stmt_def = kw("call") > word > -('(' > arguments > ')');
+// format = "/D" | "/S" | "/F" w "." d | "/I" w | "/X" [n] | "/C" [n]
+const auto format_def = x3::lexeme['/' >> (
+    (x3::no_case[x3::char_("ds")] >> x3::attr(0u) >> x3::attr(0u))
+    | (x3::no_case[x3::char_('f')] >> x3::uint_ >> '.' >> x3::uint_)
+    | (x3::no_case[x3::char_('i')] >> x3::uint_ >> x3::attr(0u))
+    | (x3::no_case[x3::char_("xc")] >> (x3::uint_ | x3::attr(1u)) >> x3::attr(0u)))];
+// type_item = format | expression
+const auto type_item_def = format | expression;
+// type = TYPE [ type_item { "," type_item } ]
+const auto type_stmt_def = x3::attr(Kw::type) >> kw("type") >> -(type_item % ',');
+// param = [ "$" | "#" ] name [ "[" "]" ]
+const auto param_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word >> -(x3::lit('[') >> ']')]];
+// program_header = ".PROGRAM" name [ "(" [ param { "," param } ] ")" ]
+const auto program_header_def = kw(".program") > word > -('(' > -(param % ',') > ')');
+// declaration = ( AUTO | LOCAL | GLOBAL ) [ REAL | DOUBLE | LOC ] variable { "," variable }
+const auto declaration_def = word_of(declaration_words) >> x3::omit[-word_of(type_words)]
+    > (variable % ',');
+// timer = TIMER expression "=" expression
+const auto timer_stmt_def = kw("timer") > expression > '=' > expression;
+// unsupported = V+_KEYWORD { any }     (not followed by "=": `read = 1` is an assignment)
+const auto unsupported_def = x3::raw[word_of(unsupported_words)] >> !x3::lit('=')
+    >> x3::raw[x3::lexeme[*x3::char_]];
+// statement = program_header | declaration | type | for | if | call | timer | instruction
+//           | unsupported | assignment
+const auto statement_def = program_header | declaration | type_stmt | for_stmt | if_stmt
+    | call_stmt | timer_stmt | instruction | unsupported | binding;
+
+// data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
+const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
+    >> -('[' > (x3::int_ % ',') > ']')
+    >> *(x3::omit[-x3::lit(',')] >> signed_real[check_finite])
+    >> -string_literal;
+
+BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
+                    operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
+                    binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
+                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported, encode)
+
+// skipper = blank | ";" { any }
+const auto skipper = x3::blank | (';' >> *x3::char_);
+
+// Turns X3's description of what was expected into the detail of dialect §10.
+std::string expected_text(const std::string& which) {
+  std::string w = which;
+  if (w.size() >= 2 && w.front() == '\'' && w.back() == '\'') w = w.substr(1, w.size() - 2);
+  if (w == "\"") return "expected closing \"";
+  if (w.size() == 1) return "expected \"" + w + "\"";
+  if (w.find("boost") != std::string::npos) return "unexpected text";
+  return "expected " + w;
+}
+
+// A numeric literal at `where` that does not fit a double gets its own detail.
+std::string refine(std::string::const_iterator where, std::string::const_iterator last, std::string detail) {
+  if (where == last || !(std::isdigit(static_cast<unsigned char>(*where)) || *where == '.')) return detail;
+  const std::string rest(where, last);
+  const double v = std::strtod(rest.c_str(), nullptr);
+  return std::isfinite(v) ? detail : "number out of range";
+}
+
+}  // namespace
+
+ParsedSource parse_source(const std::string& source, const std::string& file) {
+  ParsedSource out;
+  out.file = file;
+  std::size_t start = 0;
+  while (start <= source.size()) {
+    std::size_t end = source.find('\n', start);
+    if (end == std::string::npos) end = source.size();
+    std::string line = source.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    out.text.push_back(line);
+    if (end == source.size()) break;
+    start = end + 1;
+  }
+  if (!out.text.empty() && out.text.back().empty()) out.text.pop_back();  // final newline
+  out.lines.resize(out.text.size());
+
+  bool in_data = false;  // inside .LOCATIONS / .REALS / .STRINGS
+  for (std::size_t i = 0; i < out.text.size(); ++i) {
+    const std::string& text = out.text[i];
+    auto first = text.begin();
+    const auto last = text.end();
+    ast::Line& line = out.lines[i];
+    auto fail = [&](std::string::const_iterator where, std::string detail) {
+      Diagnostic d;
+      d.message = "*Syntax error*";
+      d.detail = std::move(detail);
+      d.file = file;
+      d.line = static_cast<int>(i) + 1;
+      d.column = static_cast<int>(where - text.begin()) + 1;
+      d.source_line = text;
+      out.errors.push_back(std::move(d));
+      line = ast::Line{};
+    };
+    // Bytes outside ASCII are allowed only in comments (dialect §1).
+    bool in_string = false;
+    auto bad = text.end();
+    for (auto it = text.begin(); it != text.end(); ++it) {
+      if (*it == '"') in_string = !in_string;
+      if (*it == ';' && !in_string) break;
+      if (static_cast<unsigned char>(*it) > 126) {
+        bad = it;
+        break;
+      }
+    }
+    if (bad != text.end()) {
+      fail(bad, "character outside ASCII");
+      continue;
+    }
+    try {
+      unsigned number = 0;
+      if (x3::phrase_parse(first, last, label, skipper, number)) line.label = number;
+      x3::phrase_parse(first, last, x3::eps, skipper);
+      line.column = static_cast<int>(first - text.begin()) + 1;
+      ast::Statement stmt;
+      ast::DataLine data;
+      auto before = first;
+      if (first == last) {
+      } else if (in_data && !x3::phrase_parse(first, last, kw(".end"), skipper)) {
+        if (x3::phrase_parse(first, last, data_line, skipper, data)) line.data = std::move(data);
+        else first = before;
+      } else if (x3::phrase_parse(first = before, last, statement, skipper, stmt)) {
+        const auto* in = boost::get<ast::Instruction>(&stmt);
+        if (in && (in->kw == Kw::dot_locations || in->kw == Kw::dot_reals || in->kw == Kw::dot_strings))
+          in_data = true;
+        if (in && in->kw == Kw::dot_end) in_data = false;
+        line.statement = std::move(stmt);
+      } else {
+        first = before;
+      }
+      x3::phrase_parse(first, last, x3::eps, skipper);
+      if (first != last) {
+        std::string detail = line.statement ? "unexpected text" : "expected a statement";
+        const auto* keyword = line.statement ? boost::get<ast::Instruction>(&*line.statement) : nullptr;
+        if (*first == '=' && keyword && keyword->args.size() <= 1)
+          detail = "\"" + text.substr(static_cast<std::size_t>(line.column - 1),
+                                      text.find_first_of(" \t=", static_cast<std::size_t>(line.column - 1)) -
+                                          static_cast<std::size_t>(line.column - 1)) +
+                   "\" is a keyword, not a variable";
+        else if (*first == '=')
+          detail = "\"=\" is not an operator; use \"==\" to compare";
+        fail(first, refine(first, last, detail));
+      }
+    } catch (const x3::expectation_failure<std::string::const_iterator>& e) {
+      auto where = e.where();
+      while (where != last && (*where == ' ' || *where == '\t')) ++where;
+      std::string detail = expected_text(e.which());
+      if (where != last && *where == '=' && detail != "expected \"=\"")
+        detail = "\"=\" is not an operator; use \"==\" to compare";
+      fail(where, refine(where, last, detail));
+    }
+  }
+  return out;
+}
+
+}  // namespace asimov::interpreter

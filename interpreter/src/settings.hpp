@@ -1,0 +1,28 @@
+// Settings of dialect §6: PARAMETER name = value / PARAMETER(name), and ENABLE / DISABLE /
+// SWITCH(name) (names in upper case; an unknown one is an *Illegal value*); and the
+// configuration words of §5.
+#pragma once
+#include "ast.hpp"
+#include "asimov/motion/simulator.hpp"
+#include <string>
+
+namespace asimov::interpreter {
+
+// What the interpreter keeps between runs (the simulator holds the collision settings).
+struct Settings {
+  double hand_time_s = motion::kDefaultHandTime;  // PARAMETER HAND.TIME [s]
+  bool cp = true;                                 // ENABLE CP: accepted, no effect
+};
+
+double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim);
+void set_parameter(const std::string& name, double value, Settings& s, motion::Simulator& sim);
+
+bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim);
+// False for the switches V+ has and the simulation ignores with a warning (SCALE.ACCEL, §7).
+bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim);
+
+// RIGHTY, LEFTY, ABOVE, BELOW, FLIP, NOFLIP, SINGLE, MULTIPLE: a request for the next joint
+// motions to transformations (dialect §5).
+void request_configuration(ast::Kw word, robots::ConfigurationRequest& r);
+
+}  // namespace asimov::interpreter

@@ -1,0 +1,52 @@
+// The work cell as plain data: robot, BASE/TOOL, tool body, static objects, collision settings.
+// Loaded from YAML by app/; the built-in default cell is an embedded YAML document there.
+#pragma once
+#include "asimov/motion/location.hpp"
+#include "asimov/robots/robot.hpp"
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace asimov::motion {
+
+struct CellObject {
+  std::string name;
+  collision::Polyhedron mesh;  // local frame
+  Location pose = Location::Identity();  // object frame in the robot (world) frame
+};
+
+// How checked poses are spaced (docs/collision-method.md §6.3; docs/collision.md "Stepping"). fixed: no body
+// point moves more than step_mm between checked poses. gap: a pair whose step-2 containers are g
+// apart allows delta_A + delta_B <= max(c, step_mm, g - c); the poses are a subset of fixed's.
+enum class Stepping { fixed, gap };
+
+struct CollisionSettings {
+  int halvings = 9;            // M for every body unless a body says otherwise
+  double step_mm = 1.0;        // no body point moves more than this between checked poses
+  double clearance_mm = 0.0;   // contact when distance <= clearance
+  double toc_tolerance_s = 1e-6;  // contact time: bisect until t_hit - t_free <= this (docs/collision-method.md §6.4)
+  std::vector<std::pair<std::string, std::string>> ignore;  // user-disabled pairs (body names)
+  bool enabled = true;
+  // Step 1. false: joined pairs (adjacent links, tool-link n-1) and `ignore` are disabled, every
+  // other pair is tested. true: the generated matrix of `asimov pairs` (collision/auto_pairs.hpp:
+  // robot self-pairs touching at the start joints, in >= 95 % or in none of `pair_samples`
+  // random poses are disabled too; robot-object pairs stay tested).
+  bool generated_pairs = false;
+  int pair_samples = 10000;    // N of the generated matrix
+  std::string pairs_cache;     // its cache file (collision::generate_pairs_cached); empty: none
+  Stepping stepping = Stepping::gap;  // gap: 50x fewer checked poses than fixed on the demos, same contacts
+};
+
+struct Cell {
+  robots::Robot robot;
+  Location base = Location::Identity();  // robot base in the world (the cell's frame)
+  Location tool = Location::Identity();  // initial TOOL transformation
+  std::optional<collision::Polyhedron> tool_shape;  // in the flange frame; body name "tool"
+  std::vector<CellObject> objects;
+  CollisionSettings collision;
+  robots::JointVector start_joints;      // display [deg]; READY unless the cell says otherwise
+  std::vector<std::string> warnings;     // load-time notes on the cell's data (e.g. open meshes)
+};
+
+}  // namespace asimov::motion

@@ -1,0 +1,131 @@
+// One scene construction for the simulator and `asimov pairs` (motion/README.md, collision scene).
+#include "asimov/motion/scene.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+namespace asimov::motion {
+
+robots::JointVector start_joints(const Cell& cell) {
+  return cell.start_joints.size() == cell.robot.joint_count() ? cell.start_joints : robots::ready_joints(cell.robot);
+}
+
+Scene scene_bodies(const Cell& cell) {
+  const auto& robot = cell.robot;
+  const int n = robot.joint_count();
+  Scene s;
+  std::unordered_map<std::string, std::uint32_t> by_name;
+  auto add = [&](SceneBody b) {
+    by_name.emplace(b.name, static_cast<std::uint32_t>(s.bodies.size()));
+    s.bodies.push_back(std::move(b));
+  };
+  for (const auto& b : robot.bodies)
+    add({.name = b.name, .mesh = b.mesh, .group = b.link == 0 ? kStaticGroup : b.link, .is_static = b.link == 0,
+         .robot = true, .link = b.link});
+  if (cell.tool_shape) add({.name = "tool", .mesh = *cell.tool_shape, .group = n, .robot = true, .link = n});
+  for (std::size_t i = 0; i < cell.objects.size(); ++i)
+    add({.name = cell.objects[i].name, .mesh = cell.objects[i].mesh, .group = kStaticGroup, .is_static = true,
+         .object = static_cast<int>(i)});
+  // Joined parts: adjacent links touch at their joint; the tool is fixed to the flange, next to
+  // link n-1 (the J5 body of a 6-axis arm). Bodies of one link share a group anyway.
+  const std::uint32_t robot_bodies = static_cast<std::uint32_t>(robot.bodies.size());
+  for (std::uint32_t i = 0; i < robot_bodies; ++i)
+    for (std::uint32_t j = i + 1; j < robot_bodies; ++j)
+      if (std::abs(s.bodies[i].link - s.bodies[j].link) <= 1) s.adjacent.push_back({i, j});
+  if (cell.tool_shape)
+    for (std::uint32_t i = 0; i < robot_bodies; ++i)
+      if (s.bodies[i].link >= n - 1) s.adjacent.push_back({i, robot_bodies});
+  for (const auto& [a, b] : cell.collision.ignore) {
+    const auto ia = by_name.find(a), ib = by_name.find(b);
+    if (ia == by_name.end() || ib == by_name.end()) {
+      s.unknown_ignored.push_back(ia == by_name.end() ? a : b);
+      continue;
+    }
+    if (ia->second != ib->second) s.ignored.push_back({std::min(ia->second, ib->second), std::max(ia->second, ib->second)});
+  }
+  return s;
+}
+
+void scene_poses(const Cell& cell, const Scene& scene, const robots::JointVector& q, std::vector<collision::Pose>& frames,
+                 std::vector<collision::Pose>& poses) {
+  robots::link_frames(cell.robot, q, frames);
+  poses.resize(scene.bodies.size());
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const SceneBody& b = scene.bodies[i];
+    poses[i] = b.object >= 0 ? cell.objects[static_cast<std::size_t>(b.object)].pose
+                             : cell.base * frames[static_cast<std::size_t>(b.link)];
+  }
+}
+
+namespace {
+// Everything besides the meshes that decides where the bodies are: part of the cache key.
+std::string pose_source(const Cell& cell) {
+  const auto& r = cell.robot;
+  std::ostringstream o;
+  o.precision(17);
+  auto pose = [&o](const collision::Pose& p) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 4; ++j) o << p.matrix()(i, j) << ' ';
+  };
+  auto vec = [&o](const robots::JointVector& v) {
+    for (Eigen::Index i = 0; i < v.size(); ++i) o << v[i] << ' ';
+    o << '\n';
+  };
+  o << "robot " << r.name << " joints " << r.joint_count() << '\n';
+  for (const auto& d : r.dh) o << "dh " << d.d << ' ' << d.a << ' ' << d.alpha << '\n';
+  for (const auto& j : r.chain) {
+    o << "chain " << j.name << ' ' << static_cast<int>(j.type) << ' ' << j.axis.transpose() << ' ';
+    pose(j.origin);
+    o << '\n';
+  }
+  o << "flange ";
+  pose(r.flange_offset);
+  o << "\nmapping ";
+  for (const auto& m : r.mapping) o << m.sign << ' ' << m.offset << ' ';
+  o << "\nlower ";
+  vec(r.lower);
+  o << "upper ";
+  vec(r.upper);
+  o << "base ";
+  pose(cell.base);
+  o << "\nstart ";
+  vec(start_joints(cell));
+  for (const auto& obj : cell.objects) {
+    o << "object " << obj.name << ' ';
+    pose(obj.pose);
+    o << '\n';
+  }
+  return o.str();
+}
+}  // namespace
+
+collision::AutoPairsInput auto_pairs_input(const Cell& cell, const Scene& scene, int samples) {
+  collision::AutoPairsInput in;
+  for (const SceneBody& b : scene.bodies) {
+    in.names.push_back(b.name);
+    in.meshes.push_back(b.mesh);
+    in.groups.push_back(b.group);
+    in.is_static.push_back(b.is_static);
+    in.sampled.push_back(b.robot);
+  }
+  in.adjacent = scene.adjacent;
+  in.user_ignore = scene.ignored;
+  in.samples = samples;
+  in.clearance_mm = cell.collision.clearance_mm;
+  in.pose_source = pose_source(cell);
+  in.pose_default = [&cell, &scene, frames = std::vector<collision::Pose>()](std::vector<collision::Pose>& poses) mutable {
+    scene_poses(cell, scene, start_joints(cell), frames, poses);
+  };
+  in.pose_random = [&cell, &scene, frames = std::vector<collision::Pose>(), q = robots::JointVector()](
+                       std::mt19937_64& rng, std::vector<collision::Pose>& poses) mutable {
+    const auto& r = cell.robot;
+    q.resize(r.joint_count());
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int j = 0; j < r.joint_count(); ++j) q[j] = r.lower[j] + u(rng) * (r.upper[j] - r.lower[j]);
+    scene_poses(cell, scene, q, frames, poses);
+  };
+  return in;
+}
+
+}  // namespace asimov::motion

@@ -1,0 +1,105 @@
+// A serial arm: a standard DH chain (the built-in PUMA) or a chain of URDF-style joints (fixed
+// origin transform + axis, revolute or prismatic), display-angle mapping, limits, link bodies.
+// Joint values crossing this interface are DISPLAY values (VAL convention, degrees; mm for
+// prismatic joints); the internal values (DH angles [rad], or radians / mm for a joint chain)
+// are converted in exactly one place.
+#pragma once
+#include "asimov/collision/polyhedron.hpp"
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace asimov::robots {
+
+using collision::Pose;
+using collision::Vec3;
+
+constexpr int kMaxJoints = 8;
+// Fixed capacity, no heap: joint vectors live in the per-pose hot path.
+using JointVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxJoints, 1>;
+
+struct DhLink {
+  double d = 0, a = 0, alpha = 0;  // [mm], [mm], [rad]; A = Rz(theta) Tz(d) Tx(a) Rx(alpha)
+};
+
+// theta_dh [rad] = sign * display [deg] * pi/180 + offset [rad]
+struct JointMapping {
+  double sign = 1;
+  double offset = 0;
+};
+
+enum class JointType { revolute, prismatic };
+
+// One movable joint of a URDF-style chain: frame k+1 = frame k . origin . motion(q), where
+// motion is a rotation by q [rad] about `axis` (revolute) or a translation by q [mm] along it.
+struct ChainJoint {
+  std::string name;
+  Pose origin = Pose::Identity();  // [mm]; fixed joints before this one are folded in
+  Vec3 axis = Vec3::UnitZ();       // unit vector in the joint frame
+  JointType type = JointType::revolute;
+};
+
+struct LinkBody {
+  int link = 0;                  // 0 = base column (fixed), k = moves with DH frame k
+  std::string name;              // "link0" ... "link6"
+  collision::Polyhedron mesh;    // in frame `link` (DH frame, or chain frame)
+};
+
+struct Robot {
+  std::string name;
+  std::vector<DhLink> dh;        // standard DH chain (used when `chain` is empty)
+  std::vector<ChainJoint> chain; // URDF-style chain (when not empty, `dh` is unused)
+  Pose flange_offset = Pose::Identity();  // chain only: fixed joints after the last movable one
+  JointVector ready;             // READY pose (display); empty: (0, -90, 90, 0, 0, 0)
+  std::vector<JointMapping> mapping;
+  JointVector lower, upper;      // display limits [deg]
+  JointVector max_velocity;      // [deg/s] at SPEED 100
+  JointVector max_acceleration;  // [deg/s^2]
+  double max_tool_speed = 500;   // straight-line translation [mm/s]
+  double max_tool_accel = 2000;  // [mm/s^2]
+  double max_tool_rot_speed = 90;   // straight-line rotation [deg/s]
+  double max_tool_rot_accel = 360;  // [deg/s^2]
+  std::vector<LinkBody> bodies;
+  std::vector<std::string> warnings;  // load-time warnings (URDF mesh problems), for the user
+  int joint_count() const { return static_cast<int>(chain.empty() ? dh.size() : chain.size()); }
+  bool is_chain() const { return !chain.empty(); }
+  bool prismatic(int j) const { return is_chain() && chain[static_cast<std::size_t>(j)].type == JointType::prismatic; }
+};
+
+// The READY joints of the robot (robot.ready, or (0, -90, 90, 0, 0, 0) for a 6-axis arm).
+JointVector ready_joints(const Robot& robot);
+
+// True when the robot is a standard-DH 6R arm of the PUMA type (docs/kinematics.md §5: alpha =
+// (90, 0, -90, 90, -90, 0) deg, d1 = d2 = a1 = a4 = a5 = d5 = 0): the closed-form IK applies.
+bool is_puma_type(const Robot& robot);
+
+// Converts display joint values [deg] to DH angles [rad] and back (the only place that does).
+JointVector display_to_dh(const Robot& robot, const JointVector& display);
+JointVector dh_to_display(const Robot& robot, const JointVector& dh);
+
+// frames[0] = robot base (identity), frames[k] = frame of link k, k = 1..n; flange = frames[n]
+// (for a chain, frames[n] includes flange_offset).
+void link_frames(const Robot& robot, const JointVector& display, std::vector<Pose>& frames);
+Pose flange_pose(const Robot& robot, const JointVector& display);
+
+// Index of the first joint outside its limits, or -1.
+int first_limit_violation(const Robot& robot, const JointVector& display);
+
+// Bound [mm] of the distance between the origins of frames k and k+1 (0-based k) over all
+// joint values: sqrt(a^2 + d^2) for DH; |origin| (+ prismatic travel, + flange offset on the
+// last joint) for a chain.
+double link_offset_bound(const Robot& robot, int k);
+
+// Transform of joint k (0-based) at internal value q: A_k for DH, origin . motion(q) for a chain
+// (the last one with flange_offset appended).
+Pose joint_transform(const Robot& robot, int k, double q);
+
+// One standard DH link transform A = Rz(theta) Tz(d) Tx(a) Rx(alpha), theta in radians.
+Pose dh_transform(const DhLink& link, double theta);
+// Flange pose from internal values (DH angles [rad]; chain: rad / mm), no display mapping.
+Pose flange_pose_dh(const Robot& robot, const JointVector& dh);
+
+// Angle helpers [deg]: wrap into (-180, 180].
+double wrap_deg(double deg);
+
+}  // namespace asimov::robots

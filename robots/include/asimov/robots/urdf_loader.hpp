@@ -1,0 +1,37 @@
+// Robots from URDF files (tinyxml2): revolute, continuous, prismatic and fixed joints with
+// origins, axes and limits; collision geometry from box / cylinder / sphere (tessellated) and
+// STL meshes. Units are converted once, here: metres -> mm, radians -> display degrees.
+//
+// The arm is the longest chain of movable joints from the root link. Fixed joints are folded
+// into the next movable joint's origin (or into Robot::flange_offset after the last one), and
+// the geometry of every link is expressed in the frame of the movable joint that carries it.
+// Side branches are allowed only when they contain fixed joints (their geometry is attached).
+#pragma once
+#include "asimov/robots/robot.hpp"
+#include <stdexcept>
+#include <string>
+
+namespace asimov::robots {
+
+// Thrown at load time only. what() = "file:line: message" (line 0: no line known).
+class UrdfError : public std::runtime_error {
+ public:
+  UrdfError(std::string file, int line, const std::string& message);
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+
+ private:
+  std::string file_;
+  int line_ = 0;
+};
+
+// Loads `path`. Mesh file names are relative to the URDF file's folder (file:// accepted,
+// package:// refused). Joint values of the result are display values: degrees, mm.
+// Velocity limits come from <limit velocity>; accelerations are 4x the velocity per second
+// (docs/kinematics.md §3 ratio); READY is the zero pose clamped into the limits.
+Robot load_urdf(const std::string& path);
+
+// Same from text; `source_name` names it in errors, `base_dir` resolves relative mesh files.
+Robot load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir = ".");
+
+}  // namespace asimov::robots

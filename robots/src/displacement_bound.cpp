@@ -1,0 +1,44 @@
+#include "asimov/robots/displacement_bound.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace asimov::robots {
+
+BodyReach body_reach(const Robot& robot, const collision::Polyhedron& mesh, int link) {
+  BodyReach r;
+  if (link <= 0 || mesh.vertices.empty()) return r;
+  // Two bounding spheres, keep the smaller bound: centred at the frame origin, and centred at
+  // the centre of the body's box.
+  Vec3 lo = mesh.vertices.front(), hi = lo;
+  for (const auto& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const Vec3 centre = (lo + hi) / 2;
+  double rho_origin = 0, rho_centre = 0;
+  for (const auto& v : mesh.vertices) {
+    rho_origin = std::max(rho_origin, v.norm());
+    rho_centre = std::max(rho_centre, (v - centre).norm());
+  }
+  const double sphere = std::min(rho_origin, centre.norm() + rho_centre);
+  const int n = std::min(link, robot.joint_count());
+  for (int j = 0; j < n; ++j) {  // joint j+1 turns about an axis through o_j (DH) or o_{j+1} (chain)
+    if (robot.prismatic(j)) {     // every point of the body moves by exactly |dq| [mm]
+      r.radius[static_cast<std::size_t>(j)] = 180 / std::numbers::pi;
+      continue;
+    }
+    double chain = 0;            // |o_j - o_link| <= sum of the link offsets in between
+    for (int i = j; i < link; ++i) chain += link_offset_bound(robot, i);
+    r.radius[static_cast<std::size_t>(j)] = chain + sphere;
+  }
+  return r;
+}
+
+double max_displacement(const BodyReach& reach, const JointVector& delta_display) {
+  constexpr double kDeg = std::numbers::pi / 180;
+  double s = 0;
+  for (Eigen::Index j = 0; j < delta_display.size(); ++j)
+    s += std::abs(delta_display[j]) * kDeg * reach.radius[static_cast<std::size_t>(j)];
+  return s;
+}
+
+}  // namespace asimov::robots

@@ -1,0 +1,324 @@
+// URDF -> Robot (chain form). See urdf_loader.hpp for the folding rules.
+#include "asimov/robots/urdf_loader.hpp"
+
+#include "asimov/collision/mesh_io.hpp"
+
+#include <tinyxml2.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+namespace asimov::robots {
+namespace {
+using tinyxml2::XMLElement;
+constexpr double kMm = 1000;  // metres -> mm
+constexpr double kDeg = 180 / std::numbers::pi;
+constexpr int kCylinderSegments = 24;
+constexpr double kSphereToleranceMm = 0.5;  // chordal tolerance, at least 1e-3 of the radius
+
+struct Geometry {
+  Pose pose = Pose::Identity();  // in the URDF link frame [mm]
+  collision::Polyhedron mesh;
+};
+
+struct Link {
+  std::string name;
+  int line = 0;
+  std::vector<Geometry> geometry;
+};
+
+enum class Kind { fixed, revolute, continuous, prismatic };
+
+struct Joint {
+  std::string name, parent, child;
+  Kind kind = Kind::fixed;
+  Pose origin = Pose::Identity();  // [mm]
+  Vec3 axis = Vec3::UnitX();
+  double lower = 0, upper = 0, velocity = 0;  // display units: deg, mm
+  bool has_velocity = false;
+  int line = 0;
+};
+
+class Parser {
+ public:
+  Parser(std::string source, std::string base_dir) : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
+
+  [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
+    throw UrdfError(source_, e ? e->GetLineNum() : 0, what);
+  }
+
+  const char* required(const XMLElement* e, const char* attr) const {
+    const char* v = e->Attribute(attr);
+    if (!v) fail(e, std::string("<") + e->Name() + "> needs the attribute '" + attr + "'");
+    return v;
+  }
+
+  double number(const XMLElement* e, const char* attr, const std::string& text) const {
+    errno = 0;
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    while (end && *end == ' ') ++end;
+    if (end == text.c_str() || (end && *end) || errno == ERANGE || !std::isfinite(v))
+      fail(e, std::string("<") + e->Name() + " " + attr + "=\"" + text + "\">: a finite number is expected");
+    return v;
+  }
+
+  double number(const XMLElement* e, const char* attr) const { return number(e, attr, required(e, attr)); }
+
+  Vec3 triple(const XMLElement* e, const char* attr, const Vec3& fallback) const {
+    const char* v = e->Attribute(attr);
+    if (!v) return fallback;
+    std::istringstream in(v);
+    std::string a, b, c, extra;
+    if (!(in >> a >> b >> c) || (in >> extra))
+      fail(e, std::string("<") + e->Name() + " " + attr + "=\"" + v + "\">: three numbers are expected");
+    return {number(e, attr, a), number(e, attr, b), number(e, attr, c)};
+  }
+
+  // <origin xyz rpy>: R = Rz(yaw) Ry(pitch) Rx(roll), xyz in metres.
+  Pose origin(const XMLElement* parent) const {
+    Pose t = Pose::Identity();
+    const XMLElement* o = parent->FirstChildElement("origin");
+    if (!o) return t;
+    const Vec3 xyz = triple(o, "xyz", Vec3::Zero()), rpy = triple(o, "rpy", Vec3::Zero());
+    t.linear() = (Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+                  Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()))
+                     .toRotationMatrix();
+    t.translation() = xyz * kMm;
+    return t;
+  }
+
+  double positive(const XMLElement* e, const char* attr) const {
+    const double v = number(e, attr);
+    if (!(v > 0)) fail(e, std::string("<") + e->Name() + " " + attr + ">: must be > 0");
+    return v;
+  }
+
+  collision::Polyhedron shape(const XMLElement* geometry) const {
+    if (!geometry) return {};
+    if (const XMLElement* b = geometry->FirstChildElement("box")) {
+      const Vec3 s = triple(b, "size", Vec3::Zero());
+      if (!b->Attribute("size") || !(s.minCoeff() > 0)) fail(b, "<box size>: three numbers > 0 are expected");
+      return collision::make_box(s * kMm);
+    }
+    if (const XMLElement* c = geometry->FirstChildElement("cylinder"))
+      return collision::make_cylinder(positive(c, "radius") * kMm, positive(c, "length") * kMm, kCylinderSegments);
+    if (const XMLElement* s = geometry->FirstChildElement("sphere")) {
+      const double r = positive(s, "radius") * kMm;
+      return collision::make_sphere(r, std::max(kSphereToleranceMm, r * 1e-3));  // as cell files
+    }
+    if (const XMLElement* m = geometry->FirstChildElement("mesh")) {
+      std::string file = required(m, "filename");
+      if (file.rfind("package://", 0) == 0)
+        fail(m, "package:// mesh URIs are not supported; give a path relative to the URDF file");
+      if (file.rfind("file://", 0) == 0) file = file.substr(7);
+      std::filesystem::path p(file);
+      if (p.is_relative()) p = std::filesystem::path(base_dir_) / p;
+      const Vec3 scale = triple(m, "scale", Vec3::Ones()) * kMm;
+      try {  // STL or OBJ by extension; collision::MeshError names the file and face
+        collision::LoadedMesh loaded = collision::read_mesh(p.string(), scale);
+        for (auto& w : loaded.warnings) warnings_.push_back(source_ + ":" + std::to_string(m->GetLineNum()) + ": " + w);
+        return std::move(loaded.mesh);
+      } catch (const collision::MeshError& err) {
+        fail(m, err.what());
+      }
+    }
+    fail(geometry, "<geometry> needs a box, cylinder, sphere or mesh");
+  }
+
+  Link link(const XMLElement* e) const {
+    Link l;
+    l.name = required(e, "name");
+    l.line = e->GetLineNum();
+    for (const XMLElement* c = e->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision")) {
+      const XMLElement* g = c->FirstChildElement("geometry");
+      if (!g) fail(c, "<collision> needs a <geometry>");
+      l.geometry.push_back({origin(c), shape(g)});
+    }
+    return l;
+  }
+
+  Joint joint(const XMLElement* e) const {
+    Joint j;
+    j.name = required(e, "name");
+    j.line = e->GetLineNum();
+    const std::string type = required(e, "type");
+    if (type == "fixed") j.kind = Kind::fixed;
+    else if (type == "revolute") j.kind = Kind::revolute;
+    else if (type == "continuous") j.kind = Kind::continuous;
+    else if (type == "prismatic") j.kind = Kind::prismatic;
+    else fail(e, "joint '" + j.name + "': unsupported joint type '" + type + "' (revolute, continuous, prismatic, fixed)");
+    const XMLElement* parent = e->FirstChildElement("parent");
+    const XMLElement* child = e->FirstChildElement("child");
+    if (!parent) fail(e, "joint '" + j.name + "' needs a <parent link>");
+    if (!child) fail(e, "joint '" + j.name + "' needs a <child link>");
+    j.parent = required(parent, "link");
+    j.child = required(child, "link");
+    j.origin = origin(e);
+    if (j.kind == Kind::fixed) return j;
+    if (const XMLElement* a = e->FirstChildElement("axis")) {
+      j.axis = triple(a, "xyz", Vec3::UnitX());
+      if (!(j.axis.norm() > 1e-12)) fail(a, "joint '" + j.name + "': the axis must not be zero");
+      j.axis.normalize();
+    }
+    const XMLElement* lim = e->FirstChildElement("limit");
+    const double unit = j.kind == Kind::prismatic ? kMm : kDeg;
+    if (j.kind == Kind::continuous) {
+      j.lower = -360, j.upper = 360;
+    } else {
+      if (!lim) fail(e, "joint '" + j.name + "' (" + type + ") needs <limit lower upper velocity>");
+      j.lower = number(lim, "lower") * unit;
+      j.upper = number(lim, "upper") * unit;
+      if (!(j.lower <= j.upper)) fail(lim, "joint '" + j.name + "': lower limit above the upper one");
+    }
+    if (lim && lim->Attribute("velocity")) {
+      j.velocity = positive(lim, "velocity") * unit;
+      j.has_velocity = true;
+    }
+    return j;
+  }
+
+  Robot robot(const XMLElement* root) const {
+    if (!root || std::string(root->Name()) != "robot") fail(root, "the root element must be <robot>");
+    std::map<std::string, Link> links;
+    std::vector<Joint> joints;
+    for (const XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag == "link") {
+        Link l = link(e);
+        if (links.count(l.name)) fail(e, "duplicate link '" + l.name + "'");
+        links.emplace(l.name, std::move(l));
+      } else if (tag == "joint") {
+        joints.push_back(joint(e));
+      }
+    }
+    if (links.empty()) fail(root, "no <link>");
+    std::map<std::string, std::vector<const Joint*>> children;
+    std::map<std::string, const Joint*> parent_of;
+    for (const auto& j : joints) {
+      for (const auto* name : {&j.parent, &j.child})
+        if (!links.count(*name)) throw UrdfError(source_, j.line, "joint '" + j.name + "': unknown link '" + *name + "'");
+      if (parent_of.count(j.child))
+        throw UrdfError(source_, j.line, "link '" + j.child + "' has two parent joints");
+      parent_of[j.child] = &j;
+      children[j.parent].push_back(&j);
+    }
+    std::vector<std::string> roots;
+    for (const auto& [name, l] : links)
+      if (!parent_of.count(name)) roots.push_back(name);
+    if (roots.size() != 1)
+      fail(root, roots.empty() ? "the joints form a loop (no root link)" : "more than one root link ('" + roots[0] + "', '" + roots[1] + "')");
+
+    // Longest path in movable joints from each link (ties: the first joint in file order).
+    std::function<int(const std::string&, int)> depth = [&](const std::string& l, int guard) -> int {
+      if (guard > static_cast<int>(joints.size())) fail(root, "the joints form a loop");
+      int best = 0;
+      for (const Joint* j : children[l]) best = std::max(best, (j->kind != Kind::fixed) + depth(j->child, guard + 1));
+      return best;
+    };
+    if (depth(roots[0], 0) > kMaxJoints)
+      fail(root, "more than " + std::to_string(kMaxJoints) + " movable joints in the chain");
+
+    Robot r;
+    r.name = root->Attribute("name") ? root->Attribute("name") : "urdf";
+    std::vector<Joint> chain;                       // movable joints, origins with fixed ones folded in
+    std::vector<std::pair<int, std::pair<std::string, Pose>>> placed;  // frame, (link, pose in frame)
+    std::function<void(const std::string&, int, const Pose&)> attach_fixed = [&](const std::string& l, int frame, const Pose& pose) {
+      placed.push_back({frame, {l, pose}});
+      for (const Joint* j : children[l]) {
+        if (j->kind != Kind::fixed)
+          throw UrdfError(source_, j->line, "joint '" + j->name + "' is on a side branch of the arm; only fixed side branches are supported");
+        attach_fixed(j->child, frame, pose * j->origin);
+      }
+    };
+    std::string at = roots[0];
+    Pose acc = Pose::Identity();  // from the current movable frame to link `at`
+    int frame = 0;
+    placed.push_back({0, {at, acc}});
+    while (!children[at].empty()) {
+      const Joint* next = nullptr;
+      int best = -1;
+      for (const Joint* j : children[at]) {
+        const int d = (j->kind != Kind::fixed) + depth(j->child, 0);
+        if (d > best) best = d, next = j;
+      }
+      for (const Joint* j : children[at])
+        if (j != next) attach_fixed(j->child, frame, acc * j->origin);
+      if (next->kind == Kind::fixed) {
+        acc = acc * next->origin;
+      } else {
+        Joint j = *next;
+        j.origin = acc * next->origin;
+        chain.push_back(j);
+        acc = Pose::Identity();
+        ++frame;
+      }
+      at = next->child;
+      placed.push_back({frame, {at, acc}});
+    }
+    if (chain.empty()) fail(root, "no movable joint (revolute, continuous or prismatic)");
+    const int n = static_cast<int>(chain.size());
+    r.flange_offset = acc;
+    r.lower.resize(n), r.upper.resize(n), r.max_velocity.resize(n), r.max_acceleration.resize(n), r.ready.resize(n);
+    for (int i = 0; i < n; ++i) {
+      const Joint& j = chain[static_cast<std::size_t>(i)];
+      r.chain.push_back({j.name, j.origin, j.axis, j.kind == Kind::prismatic ? JointType::prismatic : JointType::revolute});
+      r.mapping.push_back({1.0, 0.0});
+      r.lower[i] = j.lower, r.upper[i] = j.upper;
+      const double v = j.has_velocity ? j.velocity : (j.kind == Kind::prismatic ? 250.0 : 180.0);
+      r.max_velocity[i] = v;
+      r.max_acceleration[i] = 4 * v;
+      r.ready[i] = std::clamp(0.0, j.lower, j.upper);
+    }
+    // Bodies: one per URDF link with collision geometry, in the frame of its movable joint;
+    // frame n includes flange_offset, so the last frame's geometry is mapped back through it.
+    const Pose to_flange = r.flange_offset.inverse();
+    for (const auto& [f, item] : placed) {
+      const Link& l = links.at(item.first);
+      if (l.geometry.empty()) continue;
+      collision::Polyhedron body;
+      const Pose in_frame = f == n ? to_flange * item.second : item.second;
+      for (const auto& g : l.geometry) body = collision::merged(body, collision::transformed(g.mesh, in_frame * g.pose));
+      r.bodies.push_back({f, l.name, std::move(body)});
+    }
+    r.warnings = warnings_;
+    return r;
+  }
+
+ private:
+  std::string source_;
+  std::string base_dir_;
+  mutable std::vector<std::string> warnings_;  // mesh warnings, "urdf:line: mesh: face N: ..."
+};
+}  // namespace
+
+UrdfError::UrdfError(std::string file, int line, const std::string& message)
+    : std::runtime_error(file + ":" + std::to_string(line) + ": " + message), file_(std::move(file)), line_(line) {}
+
+Robot load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
+    throw UrdfError(source_name, doc.ErrorLineNum(), std::string("XML error: ") + doc.ErrorStr());
+  return Parser(source_name, base_dir).robot(doc.RootElement());
+}
+
+Robot load_urdf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UrdfError(path, 0, "cannot open the URDF file");
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  return load_urdf_text(xml, path, dir.empty() ? "." : dir.string());
+}
+
+}  // namespace asimov::robots
