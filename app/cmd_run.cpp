@@ -136,8 +136,9 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       err << fmt::format("Program completed: {}\n", main);
       break;
     case interpreter::RunStatus::error:
+    case interpreter::RunStatus::interrupted:
       err << interpreter::format_diagnostic(summary.result.error) << interpreter::format_interrupt(summary.result);
-      rc = interpreter::is_interrupt(summary.result.error) ? kExitInterrupted : kExitProgramError;
+      rc = summary.result.status == interpreter::RunStatus::interrupted ? kExitInterrupted : kExitProgramError;
       break;
     case interpreter::RunStatus::paused:  // PAUSE / HALT end a batch run: nobody can PROCEED here
     case interpreter::RunStatus::halted:

@@ -454,12 +454,6 @@ class Checker {
         return;
       }
       case Kw::value: case Kw::any: return case_part(i);
-      case Kw::righty: case Kw::lefty: case Kw::above: case Kw::below: case Kw::flip:
-      case Kw::noflip: case Kw::single: case Kw::multiple:
-        expect_args(i, 0, 0, "a configuration word");
-        simple(i, Code::configure);
-        prog_.code.back().word = i.kw;
-        return;
       case Kw::enable: case Kw::disable: return switches(i);
       case Kw::prompt: return prompt(i);
       case Kw::here: {

@@ -31,11 +31,11 @@ std::string_view error_message(ErrorKind kind) {
 }
 
 void raise(ErrorKind kind, std::string detail) {
-  throw RuntimeError{std::string(error_message(kind)), std::move(detail)};
+  throw RuntimeError{kind, std::string(error_message(kind)), std::move(detail)};
 }
 
 void raise_text(std::string message, std::string detail) {
-  throw RuntimeError{std::move(message), std::move(detail)};
+  throw RuntimeError{ErrorKind::motion, std::move(message), std::move(detail)};
 }
 
 std::string format_pause(const RunResult& r) {
@@ -43,8 +43,6 @@ std::string format_pause(const RunResult& r) {
   return fmt::format("Program {}: {}, step {}", r.status == RunStatus::paused ? "paused" : "halted", r.program,
                      r.step);
 }
-
-bool is_interrupt(const Diagnostic& d) { return d.message == error_message(ErrorKind::interrupted); }
 
 std::string format_interrupt(const RunResult& r) {
   if (!r.interrupt) return {};

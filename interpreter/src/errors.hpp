@@ -17,6 +17,7 @@ std::string_view error_message(ErrorKind kind);
 
 // What raise() throws; caught only by Evaluator::run.
 struct RuntimeError {
+  ErrorKind kind = ErrorKind::motion;  // motion: raise_text (the simulator's own text)
   std::string message;  // "*Illegal value*", or the simulator's text for motion errors
   std::string detail;
 };

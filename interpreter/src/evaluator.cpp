@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -94,7 +95,7 @@ RunResult Evaluator::resume(bool retry) {
     // RETRY after an error re-runs the failing step; PROCEED after an error skips it.
     // After PAUSE both continue with the next step.
     // After Ctrl-C (or PAUSE) both run the step not yet run.
-    if (s.status == RunStatus::paused || s.interrupted) return;
+    if (s.status == RunStatus::paused || s.status == RunStatus::interrupted) return;
     if (!stack_.empty() && (retry || s.status == RunStatus::collision)) --stack_.back().pc;
     if (retry && s.status == RunStatus::collision && last_motion_) start_motion(*last_motion_);
   });
@@ -105,6 +106,7 @@ RunResult Evaluator::resume(bool retry) {
 RunResult Evaluator::protected_run(const std::string& name, const std::function<void()>& setup) {
   RunResult result;
   warnings_.clear();
+  motion_sites_.clear();
   halt_.reset();
   // The simulator reads the Ctrl-C flag while this run goes on, and only then.
   struct InterruptWiring {
@@ -139,7 +141,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     loop();
     finish_motion();  // the last motion completes at the end of the run
   } catch (const RuntimeError& e) {
-    result.status = RunStatus::error;
+    result.status = e.kind == ErrorKind::interrupted ? RunStatus::interrupted : RunStatus::error;
     result.error.message = e.message;
     result.error.detail = e.detail;
     locate(result.error, current_program_, current_line_);
@@ -166,14 +168,18 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     result.line = result.step = 0;
   } else if (!stack_.empty() || result.status == RunStatus::collision || halt_) {
     stopped_ = Stopped{stack_.take(), result.status, name, speed_always_, speed_next_, last_motion_,
-                       duration_always_, duration_next_,
-                       result.error.message == error_message(ErrorKind::interrupted), halt_.has_value(),
-                       memory_.programs};
+                       duration_always_, duration_next_, halt_.has_value(), memory_.programs};
   }
   result.interrupt = halt_;
   stack_.clear();
   result.warnings = std::move(warnings_);
   warnings_.clear();
+  for (const auto& [program, line] : motion_sites_) {
+    Diagnostic at;
+    locate_at(at, *program, line);
+    at.source_line.erase(0, at.source_line.find_first_not_of(" \t"));
+    result.motions.push_back({at.step, at.program, line, std::move(at.source_line)});
+  }
   return result;
 }
 
@@ -311,9 +317,8 @@ void Evaluator::execute(const Instr& in) {
       return;
     }
     case Code::type: return type(in);
-    case Code::move: case Code::moves: case Code::appro: case Code::appros:
-    case Code::depart: case Code::departs: case Code::ready: case Code::draw: case Code::align:
-    case Code::drive:
+#define ASIMOV_MOTION(kw, ...) case Code::kw:
+#include "instructions.def"
       return motion(in);
     case Code::signal:  // SIGNAL n, ...: n > 0 on, n < 0 off, 0 ignored
       for (const Node& n : in.args) {
@@ -331,7 +336,6 @@ void Evaluator::execute(const Instr& in) {
     case Code::unsupported:
       if (!in.always) raise(ErrorKind::not_supported, in.target.text);
       return warn_once(in.target.text, in);
-    case Code::movet: case Code::movest: return motion(in);
     case Code::hand: {
       using motion::HandState;
       const ast::Kw w = in.word;
@@ -433,7 +437,7 @@ void Evaluator::execute(const Instr& in) {
 void Evaluator::call(const Instr& in) {
   const auto& program = memory_.programs[static_cast<std::size_t>(in.program)];
   if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(in.program)]);
-  if (static_cast<int>(stack_.size()) >= std::min(limits_.max_call_depth, kMaxCallDepth))
+  if (static_cast<int>(stack_.size()) >= limits_.max_call_depth)
     raise(ErrorKind::too_many_calls, fmt::format("{} levels", stack_.size()));
   if (in.args.size() > program->params.size())
     raise(ErrorKind::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
@@ -511,8 +515,7 @@ void Evaluator::check_motion(const motion::MotionResult& r) {
 
 void Evaluator::motion(const Instr& in) {
   finish_motion();  // a motion instruction waits for the previous motion to end
-  const bool straight = in.code == Code::moves || in.code == Code::appros || in.code == Code::departs
-      || in.code == Code::draw || in.code == Code::movest;
+  const bool straight = straight_path(in.code);
   std::optional<Value> target;
   switch (in.code) {
     case Code::ready: target = motion::ready_target(sim_.robot()); break;  // the robot's READY
@@ -590,6 +593,8 @@ void Evaluator::resume_halted_motion() {
 // Starts a resolved motion (also RETRY's restart of an interrupted one).
 void Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
+  if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
+    motion_sites_.emplace_back(m.program, m.line);
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
   if (r.status == motion::MotionStatus::interrupted) check_motion(r);  // the previous motion's halt

@@ -118,7 +118,6 @@ class Evaluator {
     std::optional<MotionRequest> motion;
     double duration_always = 0;
     std::optional<double> duration_next;
-    bool interrupted = false;                   // Ctrl-C: pc is the step not yet run
     bool motion_halted = false;                 // Ctrl-C halted `motion`: its rest runs first
     std::vector<std::shared_ptr<const Program>> pinned;  // the frames' programs, even if reloaded
   };
@@ -196,6 +195,7 @@ class Evaluator {
   std::istream* in_ = nullptr;                // PROMPT input (null: std::cin)
   bool interactive_ = false;                  // PROMPT asks again on bad input
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
+  std::vector<std::pair<const Program*, int>> motion_sites_;  // this execution's motions (RunResult::motions)
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
   std::optional<motion::InterruptReport> halt_;  // this run's motion halted by Ctrl-C
