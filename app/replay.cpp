@@ -91,20 +91,20 @@ std::string replay_asset_dir() {
   return ASIMOV_REPLAY_DIR;
 }
 
-bool load_replay_assets(ReplayAssets& assets, std::string& why) {
+Result<ReplayAssets> load_replay_assets() {
+  ReplayAssets assets;
   const std::filesystem::path dir = replay_asset_dir();
   const std::pair<const char*, std::string*> files[] = {
       {"three.module.min.js", &assets.three}, {"OrbitControls.js", &assets.orbit_controls}, {"viewer.js", &assets.viewer}};
   for (const auto& [name, text] : files) {
-    if (dir.empty() || !read_file(dir / name, *text)) {
-      why = fmt::format("{} is missing: install three.js with scripts/install-deps.sh (npm ci in app/replay), "
-                        "then re-run cmake; or point ASIMOV_REPLAY_DIR at a folder holding "
-                        "three.module.min.js, OrbitControls.js and viewer.js",
-                        (dir / name).string());
-      return false;
-    }
+    if (dir.empty() || !read_file(dir / name, *text))
+      return Error{fmt::format("{} is missing: install three.js with scripts/install-deps.sh (npm ci in app/replay), "
+                               "then re-run cmake; or point ASIMOV_REPLAY_DIR at a folder holding "
+                               "three.module.min.js, OrbitControls.js and viewer.js",
+                               (dir / name).string()),
+                   {}, (dir / name).string(), 0};
   }
-  return true;
+  return assets;
 }
 
 nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result) {

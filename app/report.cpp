@@ -121,8 +121,8 @@ nlohmann::json trace_document(const std::string& program, const robots::Robot& r
           {"samples", std::move(rows)}};
 }
 
-bool write_json_file(const std::string& path, const nlohmann::json& doc, std::string& why) {
-  return write_file_atomically(path, doc.dump(2) + "\n", why);
+Result<void> write_json_file(const std::string& path, const nlohmann::json& doc) {
+  return write_file_atomically(path, doc.dump(2) + "\n");
 }
 
 std::string collision_lines(const motion::CollisionReport& c) {

@@ -34,8 +34,8 @@ nlohmann::json trace_document(const std::string& program, const robots::Robot& r
                               const std::vector<motion::TraceSample>& samples);
 
 // Writes `doc` to `path` through a temporary file and a rename, so a reader never sees half a
-// file. Returns false (and fills `why`) when the file cannot be written.
-bool write_json_file(const std::string& path, const nlohmann::json& doc, std::string& why);
+// file; the error when the file cannot be written.
+Result<void> write_json_file(const std::string& path, const nlohmann::json& doc);
 
 // The human-readable lines that follow "*Collision*" (dialect §10).
 std::string collision_lines(const motion::CollisionReport& c);

@@ -456,8 +456,8 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
   if (!a.exit_note.empty()) return {"not updated: the run did not finish (" + a.exit_note + ")"};
   std::vector<std::string> notes;
   const auto write = [&](const fs::path& p, const std::string& text) {
-    std::string why;
-    notes.push_back(write_file_atomically(p.string(), text, why) ? "wrote " + p.lexically_normal().generic_string() : "not updated: " + why);
+    const Result<void> written = write_file_atomically(p.string(), text);
+    notes.push_back(written ? "wrote " + p.lexically_normal().generic_string() : "not updated: " + written.error().message);
   };
   if (c.kind == CaseKind::out_files) {
     const bool completed = a.exit_code == 0 && a.err.rfind("Program completed: ", 0) == 0 &&

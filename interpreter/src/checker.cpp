@@ -152,9 +152,8 @@ class Checker {
   }
 
   void data_line(const ast::DataLine& d) {
-    std::string why;
-    if (auto item = compile_data_line(d, data_kind_, joint_count_, symbols_, why)) out_.data.push_back(std::move(*item));
-    else error(why);
+    if (auto item = compile_data_line(d, data_kind_, joint_count_, symbols_)) out_.data.push_back(std::move(*item));
+    else error(item.error().message);
   }
 
   // --- programs ------------------------------------------------------------------------

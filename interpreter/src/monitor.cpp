@@ -594,9 +594,8 @@ CommandStatus Monitor::cmd_store(Args rest, bool locations_only) {
   if (programs.empty()) programs = interp_.program_names();
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && confirm && !confirm("Replace file? (Y/N) ")) return CommandStatus::ok;
-  std::string why;
-  if (!write_file_atomic(path, store_text(interp_.memory(), programs, locations_only), why))
-    return fail("*Cannot write file*", why);
+  if (const auto written = write_file_atomic(path, store_text(interp_.memory(), programs, locations_only)); !written)
+    return fail("*Cannot write file*", written.error().message);
   return CommandStatus::ok;
 }
 

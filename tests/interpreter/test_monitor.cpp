@@ -200,14 +200,15 @@ TEST_CASE("write_file_atomic replaces whole files and leaves nothing on failure"
   const fs::path dir = fs::temp_directory_path() / ("asimov-storage-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string path = (dir / "f.v2").string();
-  std::string why;
-  REQUIRE(interpreter::write_file_atomic(path, "old\n", why));
-  REQUIRE(interpreter::write_file_atomic(path, "new\n", why));
+  REQUIRE(interpreter::write_file_atomic(path, "old\n").ok());
+  REQUIRE(interpreter::write_file_atomic(path, "new\n").ok());
   CHECK(slurp(path) == "new\n");
   fs::create_directories(dir / "taken.v2");  // rename onto a folder fails
-  CHECK_FALSE(interpreter::write_file_atomic((dir / "taken.v2").string(), "x\n", why));
-  CHECK(why.find("rename failed") != std::string::npos);
-  CHECK_FALSE(interpreter::write_file_atomic((dir / "missing" / "f.v2").string(), "x\n", why));
+  const auto taken = interpreter::write_file_atomic((dir / "taken.v2").string(), "x\n");
+  REQUIRE_FALSE(taken.ok());
+  CHECK(taken.error().message.find("rename failed") != std::string::npos);
+  CHECK(taken.error().file == (dir / "taken.v2").string());
+  CHECK_FALSE(interpreter::write_file_atomic((dir / "missing" / "f.v2").string(), "x\n").ok());
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) {
     ++files;
