@@ -108,7 +108,10 @@ std::optional<Expectation> parse_expectation(const json& doc, CaseKind kind, con
     return std::nullopt;
   }
   Expectation e;
-  for (const auto& [key, value] : doc.items()) {
+  for (const auto& item : doc.items()) {
+    // Plain references, not a structured binding: clang 14 cannot capture those in a lambda.
+    const std::string& key = item.key();
+    const json& value = item.value();
     const auto wrong = [&](const char* type) {
       why = fmt::format("{}: \"{}\" must be {}", where, key, type);
       return std::nullopt;
@@ -278,7 +281,7 @@ fs::path session_folder(const Case& c, const fs::path& scratch, const std::strin
 }  // namespace
 
 Actual run_case(const Case& c, const Expectation& e, const std::string& executable, const fs::path& scratch,
-                const std::string& tag, std::chrono::seconds timeout) {
+                const std::string& tag, std::chrono::seconds timeout, const std::atomic<bool>* stop) {
   using Clock = std::chrono::steady_clock;
   Actual a;
   const fs::path out_file = scratch / (tag + ".stdout"), err_file = scratch / (tag + ".stderr");
@@ -324,6 +327,12 @@ Actual run_case(const Case& c, const Expectation& e, const std::string& executab
     if (done == pid) break;
     if (done < 0) {
       a.exit_note = "lost the process";
+      break;
+    }
+    if (stop && stop->load()) {
+      ::kill(pid, SIGKILL);  // our own child, never anything else
+      ::waitpid(pid, &status, 0);
+      a.exit_note = "interrupted";
       break;
     }
     if (Clock::now() - start > timeout) {

@@ -4,6 +4,7 @@
 #pragma once
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <optional>
@@ -68,9 +69,10 @@ std::vector<std::string> run_arguments(const Case& c, const Expectation& e, cons
 // Runs the case: a program in its folder with stdin from /dev/null, a session in a fresh copy
 // of its folder (under `scratch`) with NAME.session on stdin, so STORE never writes into the
 // sources. Outputs go to files under `scratch` (tag keeps parallel runs apart). Thread-safe;
-// kills the run after `timeout`.
+// kills the run after `timeout`, or when `stop` is set (Ctrl-C; exit_note says "interrupted").
 Actual run_case(const Case& c, const Expectation& e, const std::string& executable,
-                const std::filesystem::path& scratch, const std::string& tag, std::chrono::seconds timeout);
+                const std::filesystem::path& scratch, const std::string& tag, std::chrono::seconds timeout,
+                const std::atomic<bool>* stop = nullptr);
 
 // Every difference between expected and actual, one short line each; empty: the case passed.
 // Beyond the expectation, a report may hold no NaN or infinity (written as null).
