@@ -76,6 +76,75 @@ bool is_range(const json& expected) {
   return true;
 }
 
+}  // namespace
+
+// ---- discovery ---------------------------------------------------------------------------
+
+Discovery discover(const std::vector<std::string>& paths) {
+  Discovery d;
+  std::map<std::string, Case> found;
+  // Adds the case `file` belongs to; false when it belongs to none.
+  const auto consider = [&](const fs::path& file, bool named) {
+    const std::string filename = file.filename().string();
+    std::string stem;
+    for (const char* ext : {kExpectSuffix, kSessionSuffix, ".v2"})
+      if (ends_with(filename, ext) && filename.size() > std::string(ext).size()) {
+        stem = filename.substr(0, filename.size() - std::string(ext).size());
+        break;
+      }
+    if (stem.empty()) return false;
+    const fs::path parent = file.parent_path();
+    Case c;
+    c.dir = parent.empty() ? fs::path(".") : parent;
+    c.stem = stem;
+    c.kind = is_file(c.file(kSessionSuffix)) ? CaseKind::session : CaseKind::program;
+    // A program without NAME.expect.json is none (a session may load it); a session always is.
+    if (c.kind == CaseKind::program && !is_file(c.file(kExpectSuffix))) {
+      if (named)
+        d.errors.push_back(fmt::format("*Not a test case*  {}: no {}{} beside it",
+                                       file.lexically_normal().generic_string(), stem, kExpectSuffix));
+      return named;
+    }
+    c.name = (parent / stem).lexically_normal().generic_string();
+    found.emplace(c.name, c);
+    return true;
+  };
+  for (const std::string& p : paths) {
+    std::error_code ec;
+    const fs::path path(p);
+    if (fs::is_directory(path, ec)) {
+      auto it = fs::recursive_directory_iterator(path, fs::directory_options::skip_permission_denied, ec);
+      for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+        const std::string filename = it->path().filename().string();
+        std::error_code entry_ec;  // a dangling link is no case, not a folder error
+        if (it->is_directory(entry_ec) && !filename.empty() && filename[0] == '.') {
+          it.disable_recursion_pending();  // .git, editor folders
+          continue;
+        }
+        if (it->is_regular_file(entry_ec)) consider(it->path(), false);
+      }
+      if (ec) d.errors.push_back(fmt::format("*Cannot read folder*  {}: {}", p, ec.message()));
+    } else if (is_file(path)) {
+      if (!consider(path, true))
+        d.errors.push_back(fmt::format("*Not a test case*  {}: expected NAME.v2, NAME{} or NAME{}", p,
+                                       kSessionSuffix, kExpectSuffix));
+    } else {
+      d.errors.push_back(fmt::format("*File not found*  {}", p));
+    }
+  }
+  for (auto& [name, c] : found) d.cases.push_back(std::move(c));
+  return d;
+}
+
+bool filter_matches(const std::string& pattern, const std::string& name) {
+  if (pattern.find_first_of("*?[") != std::string::npos) return ::fnmatch(pattern.c_str(), name.c_str(), 0) == 0;
+  return name.find(pattern) != std::string::npos;
+}
+
+// ---- the expected file -------------------------------------------------------------------
+
+namespace {
+
 // stdout and stderr are a string (the exact text) or an array of lines, each ending in a newline.
 std::optional<std::string> output_text(const json& value) {
   if (value.is_string()) return value.get<std::string>();
@@ -150,71 +219,6 @@ std::optional<Expectation> parse_expectation(const json& doc, CaseKind kind, con
 }
 
 }  // namespace
-
-// ---- discovery ---------------------------------------------------------------------------
-
-Discovery discover(const std::vector<std::string>& paths) {
-  Discovery d;
-  std::map<std::string, Case> found;
-  // Adds the case `file` belongs to; false when it belongs to none.
-  const auto consider = [&](const fs::path& file, bool named) {
-    const std::string filename = file.filename().string();
-    std::string stem;
-    for (const char* ext : {kExpectSuffix, kSessionSuffix, ".v2"})
-      if (ends_with(filename, ext) && filename.size() > std::string(ext).size()) {
-        stem = filename.substr(0, filename.size() - std::string(ext).size());
-        break;
-      }
-    if (stem.empty()) return false;
-    const fs::path parent = file.parent_path();
-    Case c;
-    c.dir = parent.empty() ? fs::path(".") : parent;
-    c.stem = stem;
-    c.kind = is_file(c.file(kSessionSuffix)) ? CaseKind::session : CaseKind::program;
-    // A program without NAME.expect.json is none (a session may load it); a session always is.
-    if (c.kind == CaseKind::program && !is_file(c.file(kExpectSuffix))) {
-      if (named)
-        d.errors.push_back(fmt::format("*Not a test case*  {}: no {}{} beside it",
-                                       file.lexically_normal().generic_string(), stem, kExpectSuffix));
-      return named;
-    }
-    c.name = (parent / stem).lexically_normal().generic_string();
-    found.emplace(c.name, c);
-    return true;
-  };
-  for (const std::string& p : paths) {
-    std::error_code ec;
-    const fs::path path(p);
-    if (fs::is_directory(path, ec)) {
-      auto it = fs::recursive_directory_iterator(path, fs::directory_options::skip_permission_denied, ec);
-      for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-        const std::string filename = it->path().filename().string();
-        std::error_code entry_ec;  // a dangling link is no case, not a folder error
-        if (it->is_directory(entry_ec) && !filename.empty() && filename[0] == '.') {
-          it.disable_recursion_pending();  // .git, editor folders
-          continue;
-        }
-        if (it->is_regular_file(entry_ec)) consider(it->path(), false);
-      }
-      if (ec) d.errors.push_back(fmt::format("*Cannot read folder*  {}: {}", p, ec.message()));
-    } else if (is_file(path)) {
-      if (!consider(path, true))
-        d.errors.push_back(fmt::format("*Not a test case*  {}: expected NAME.v2, NAME{} or NAME{}", p,
-                                       kSessionSuffix, kExpectSuffix));
-    } else {
-      d.errors.push_back(fmt::format("*File not found*  {}", p));
-    }
-  }
-  for (auto& [name, c] : found) d.cases.push_back(std::move(c));
-  return d;
-}
-
-bool filter_matches(const std::string& pattern, const std::string& name) {
-  if (pattern.find_first_of("*?[") != std::string::npos) return ::fnmatch(pattern.c_str(), name.c_str(), 0) == 0;
-  return name.find(pattern) != std::string::npos;
-}
-
-// ---- the expected file -------------------------------------------------------------------
 
 std::optional<Expectation> load_expectation(const Case& c, std::string& why) {
   const fs::path file = c.file(kExpectSuffix);
@@ -471,6 +475,8 @@ std::vector<std::string> compare(const Expectation& e, const Actual& a) {
   }
   return diffs;
 }
+
+// ---- --update ----------------------------------------------------------------------------
 
 namespace {
 

@@ -473,13 +473,17 @@ TEST_CASE("asimov test --update rewrites the exact values of failed cases, keepi
 }
 
 // Every program of programs/ is a case, except in programs/monitor, where sessions load them;
-// every case folder is a CTest test "programs: FOLDER" (tests/CMakeLists.txt).
-TEST_CASE("every sample program outside programs/monitor has its NAME.expect.json") {
+// every case folder is a CTest test "programs: FOLDER" (tests/CMakeLists.txt). Expected files
+// of the old formats (NAME.out, NAME.err, a session NAME.txt) would be silently skipped.
+TEST_CASE("every sample program outside programs/monitor has its NAME.expect.json, and no old format is left") {
   std::size_t programs = 0;
   for (const auto& entry : fs::recursive_directory_iterator(asimov::test::source_path("programs"))) {
     const fs::path p = entry.path();
-    if (p.extension() != ".v2" || p.parent_path().filename() == "monitor") continue;
     INFO(p.string());
+    CHECK(p.extension() != ".out");
+    CHECK(p.extension() != ".err");
+    CHECK(p.extension() != ".txt");
+    if (p.extension() != ".v2" || p.parent_path().filename() == "monitor") continue;
     ++programs;
     CHECK(fs::exists(fs::path(p).replace_extension(".expect.json")));
   }
