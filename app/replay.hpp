@@ -2,6 +2,7 @@
 // (three.js + OrbitControls + app/replay/viewer.js inlined; the scene and the frames as JSON with
 // base64 typed arrays). Format and asset lookup: app/README.md.
 #pragma once
+#include "asimov/core/result.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include <nlohmann/json.hpp>
 #include <string>

@@ -1,5 +1,6 @@
 // The --report and --trace JSON documents of `asimov run` (schema in README.md).
 #pragma once
+#include "asimov/core/result.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include <nlohmann/json.hpp>
 #include <string>

@@ -9,7 +9,7 @@
 namespace asimov::interpreter {
 
 Result<DataItem> compile_data_line(const ast::DataLine& d, ast::Kw section, int joint_count, Symbols& symbols) {
-  auto fail = [](std::string text) -> Result<DataItem> { return Error{std::move(text)}; };
+  auto fail = [](std::string text) -> Result<DataItem> { return Error{std::move(text), {}, {}, 0}; };
   DataItem item;
   const std::string name = normalize_name(d.name);
   const char prefix = name.empty() ? '\0' : name[0];

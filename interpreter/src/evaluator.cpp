@@ -274,6 +274,7 @@ RunStatus Evaluator::execute(const Instr& in) {
       return motion(in);
     case Code::hand: return hand(in);
     case Code::wait: case Code::wait_event: return wait(in);
+    case Code::break_: return finish_motion();
     case Code::pause: case Code::halt:  // PAUSE and HALT wait for the motion
       if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
       return in.code == Code::halt ? RunStatus::halted : RunStatus::paused;
@@ -410,7 +411,6 @@ void Evaluator::statement(const Instr& in) {
       return;
     }
     case Code::configure: return request_configuration(in.word, sim_.request());
-    case Code::break_: return finish_motion();
     case Code::speed: {
       const double s = to_real(eval(in.args[0]));
       if (!(s > 0 && s <= 100)) raise(Message::illegal_value, fmt::format("SPEED {}", format_number(s)));
