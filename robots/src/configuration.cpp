@@ -35,6 +35,13 @@ Configuration configuration_of(const Robot& robot, const JointVector& display) {
   return c;
 }
 
+bool configuration_word_applies(const Robot& robot, ConfigurationWord word) {
+  if (is_puma_type(robot) || is_viper_type(robot)) return true;
+  if (ScaraModel sm; scara_model(robot, sm)) return word == ConfigurationWord::arm;
+  SphericalWristModel m;
+  return spherical_wrist_model(robot, m);
+}
+
 Configuration requested_configuration(const Configuration& current, const ConfigurationRequest& r) {
   Configuration c = current;
   if (r.righty >= 0) c.righty = r.righty == 1;

@@ -6,6 +6,7 @@
 #include "asimov/robots/ik.hpp"
 #include "asimov/robots/ik_viper.hpp"
 #include "asimov/robots/urdf_loader.hpp"
+#include "asimov/robots/puma560.hpp"
 #include "asimov/robots/viper_s650.hpp"
 
 #include "support/joints.hpp"
@@ -288,5 +289,39 @@ TEST_CASE("viper_s650 link bodies: adjacent joined, others apart", "[viper_s650]
         else
           CHECK_FALSE(hit);
       }
+  }
+}
+
+TEST_CASE("viper_pick_place's picks: the Viper reaches them tool down, no PUMA configuration does", "[viper_s650]") {
+  // programs/cells/viper_pick_place.v2 in viper_cell.yaml / puma_floor_cell.yaml: parts at
+  // (250, -100 + 100 k, 450), their approaches 60 mm above, the drop (200, 220, 500) and its
+  // approach 50 mm above, tool (120 mm along flange Z) pointing down; the PUMA's base 672 mm up.
+  // Tool down = TRANS(0, 0, 0, 0, 180, 0) = Ry(180).
+  const Robot viper = viper_s650();
+  const Robot puma = asimov::robots::puma560();
+  Pose tool = Pose::Identity();
+  tool.translation() = Vec3(0, 0, 120);
+  Pose puma_base = Pose::Identity();
+  puma_base.translation() = Vec3(0, 0, 672);
+  const Vec3 places[] = {{250, -100, 450}, {250, 0, 450}, {250, 100, 450}, {250, -100, 510}, {250, 0, 510},
+                         {250, 100, 510}, {200, 220, 500}, {200, 220, 550}};
+  for (int k = 0; k < 8; ++k) {
+    Pose part = Pose::Identity();
+    part.linear() = Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitY()).toRotationMatrix();
+    part.translation() = places[k];
+    const Pose flange = part * tool.inverse();
+    const JointVector vstart = jv({0, -90, 180, 0, 90, 0});
+    const IkResult v = solve_ik(viper, flange, vstart, configuration_of(viper, vstart), true);
+    INFO("place " << k);
+    CHECK(v.status == IkStatus::ok);
+    const Pose pf = puma_base.inverse() * flange;
+    for (int c = 0; c < 8; ++c) {
+      const Configuration want{(c & 4) == 0, (c & 2) == 0, (c & 1) == 0};
+      for (const bool single : {true, false}) {
+        const IkResult p = solve_ik(puma, pf, ready_joints(puma), want, single);
+        INFO("PUMA configuration " << c);
+        CHECK(p.status != IkStatus::ok);
+      }
+    }
   }
 }
