@@ -292,8 +292,8 @@ TEST_CASE("viper_s650 link bodies: adjacent joined, others apart", "[viper_s650]
   }
 }
 
-TEST_CASE("viper_pick_place's picks: the Viper reaches them tool down, no PUMA configuration does", "[viper_s650]") {
-  // programs/cells/viper_pick_place.v2 in viper_cell.yaml / puma_floor_cell.yaml: parts at
+TEST_CASE("viper_pick's picks: the Viper reaches them tool down, no PUMA configuration does", "[viper_s650]") {
+  // programs/cells/viper_pick.v2 in viper_cell.yaml / puma_floor_cell.yaml: parts at
   // (250, -100 + 100 k, 450), their approaches 60 mm above, the drop (200, 220, 500) and its
   // approach 50 mm above, tool (120 mm along flange Z) pointing down; the PUMA's base 672 mm up.
   // Tool down = TRANS(0, 0, 0, 0, 180, 0) = Ry(180).
