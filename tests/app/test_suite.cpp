@@ -336,5 +336,5 @@ TEST_CASE("asimov test runs the demo and cell samples of the repository") {
                          asimov::test::source_path("programs/cells"));
   INFO(r.out << r.err);
   CHECK(r.exit_code == 0);
-  CHECK(r.out.find("3 passed, 0 failed, 3 cases") != std::string::npos);
+  CHECK(r.out.find("5 passed, 0 failed, 5 cases") != std::string::npos);
 }
