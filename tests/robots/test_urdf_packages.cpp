@@ -188,4 +188,6 @@ TEST_CASE("COLLADA X_UP, other assimp formats, and bad or missing meshes", "[urd
   CHECK(message(one_link("package://nopkg/m.dae")).find("package 'nopkg' not found") != std::string::npos);
   write(d / "bad.dae", "<COLLADA><library_geometries><geometry>");
   CHECK(message(one_link("bad.dae")).find("bad.dae") != std::string::npos);
+  write(d / "part.unknownformat", "not a mesh\n");
+  CHECK(message(one_link("part.unknownformat")).find("part.unknownformat") != std::string::npos);
 }
