@@ -6,6 +6,8 @@
 #include <assimp/scene.h>
 #include <tinyxml2.h>
 
+#include "asimov/collision/text_file.hpp"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -49,6 +51,10 @@ collision::LoadedMesh read_mesh_file(const std::string& path, const Vec3& scale)
   if (ext == ".stl" || ext == ".obj") return collision::read_mesh(path, scale);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw MeshError(path + ": cannot open the mesh file");
+  // The limits of STL / OBJ (docs/limits.md), before assimp reads anything.
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > collision::kMaxMeshFileBytes)
+    throw MeshError(path + ": larger than " + std::to_string(collision::kMaxMeshFileBytes >> 20) + " MiB");
   Assimp::Importer importer;
   // The file's own coordinates: its units and up axis are applied below, the same way for
   // every assimp version (assimp folds them into the root node otherwise).
@@ -83,6 +89,9 @@ collision::LoadedMesh read_mesh_file(const std::string& path, const Vec3& scale)
         const Eigen::Vector4d p = t * Eigen::Vector4d(am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z, 1);
         mesh.vertices.push_back(p.head<3>().cwiseProduct(scale));
       }
+      if (mesh.triangles.size() + am->mNumFaces > collision::kMaxMeshFaces)
+        throw MeshError(path + ": more than " + std::to_string(collision::kMaxMeshFaces) + " faces; a mesh has at most " +
+                        std::to_string(collision::kMaxMeshFaces));
       for (unsigned f = 0; f < am->mNumFaces; ++f) {
         ++face_number;
         const aiFace& face = am->mFaces[f];
