@@ -34,6 +34,10 @@ Fault fault(Message kind, std::string detail) { return Fault{kind, std::string(m
 
 void raise(Message kind, std::string detail) { throw fault(kind, std::move(detail)); }
 
+void raise_text(std::string message, std::string detail) {
+  throw Fault{Message::motion, std::move(message), std::move(detail)};
+}
+
 std::string format_pause(const RunResult& r) {
   if (r.status != RunStatus::paused && r.status != RunStatus::halted) return {};
   return fmt::format("Program {}: {}, step {}", r.status == RunStatus::paused ? "paused" : "halted", r.program,

@@ -28,5 +28,7 @@ struct Fault {
 
 Fault fault(Message kind, std::string detail = {});
 [[noreturn]] void raise(Message kind, std::string detail = {});
+// A VAL error with its own text (the cell's devices and parts: "*Nothing in the gripper*").
+[[noreturn]] void raise_text(std::string message, std::string detail);
 
 }  // namespace asimov::interpreter

@@ -294,6 +294,9 @@ RunStatus Evaluator::hand(const Instr& in) {
     sim_.request_hand(h);
     return RunStatus::completed;
   }
+  // The hand acts where the motion ended, then HAND.TIME.
+  if (const RunStatus s = check_motion(sim_.finish_motion()); s != RunStatus::completed) return s;
+  hand_changed(h, in.line);
   return check_motion(sim_.hand_immediate(h, memory_.settings.hand_time_s));  // OPENI ...
 }
 
@@ -358,9 +361,7 @@ void Evaluator::statement(const Instr& in) {
       return;  // execute()
     case Code::signal:  // SIGNAL n, ...: n > 0 on, n < 0 off, 0 ignored
       for (const Node& n : in.args) {
-        const int k = signal_number(n, true);
-        if (k > 0) memory_.signals.insert(k);
-        if (k < 0) memory_.signals.erase(-k);
+        set_signal(signal_number(n, true));
       }
       return;
     case Code::timer: {
@@ -633,6 +634,7 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
   if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
     motion_sites_.emplace_back(m.program, m.line);
+  const bool hand_pending = sim_.hand_pending();  // OPEN / CLOSE act as this motion starts
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
   if (r.status == motion::MotionStatus::interrupted) return check_motion(r);  // the previous motion's halt
@@ -645,6 +647,7 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
     contact_ = r.collision;
     return RunStatus::collision;
   }
+  if (hand_pending && !sim_.hand_pending()) hand_changed(sim_.hand(), m.line);
   return RunStatus::completed;
 }
 
@@ -680,13 +683,15 @@ RunStatus Evaluator::wait(const Instr& in) {
   }
   if (in.args.empty()) return check_motion(sim_.wait(limits_.tick_s));
   const double give_up = sim_.time_s() + limits_.max_wait_s;
+  waited_.clear();
   while (to_real(eval(in.args[0]), "WAIT condition") == 0) {
     if (limits_.interrupt && limits_.interrupt->load(std::memory_order_relaxed)) {
       --stack_.back().pc;  // as between steps: PROCEED waits again
       return stop(fault(Message::interrupted));
     }
     if (sim_.time_s() >= give_up)
-      return stop(fault(Message::wait_limit, fmt::format("still false after {} s", format_number(limits_.max_wait_s))));
+      return stop(fault(Message::wait_limit,
+                        fmt::format("still false after {} s{}", format_number(limits_.max_wait_s), undriven_signals())));
     if (const RunStatus s = check_motion(sim_.wait(limits_.tick_s)); s != RunStatus::completed) return s;
   }
   return RunStatus::completed;
