@@ -68,6 +68,21 @@ int check_command(const std::string& file, std::ostream& out, std::ostream& err)
 
 int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (!require_file(opt.file, err)) return kExitUsage;
+  // Output files are checked before anything runs (exit 1 means nothing ran): the folder must
+  // exist (it is never created) and the name must not be a folder.
+  for (const std::string* path : {&opt.report, &opt.trace, &opt.replay}) {
+    if (path->empty()) continue;
+    std::error_code ec;
+    const auto folder = std::filesystem::path(*path).parent_path();
+    if (!folder.empty() && !std::filesystem::is_directory(folder, ec)) {
+      err << fmt::format("*Cannot write file*  {}: no folder {}\n", *path, folder.string());
+      return kExitUsage;
+    }
+    if (std::filesystem::is_directory(*path, ec)) {
+      err << fmt::format("*Cannot write file*  {}: is a folder\n", *path);
+      return kExitUsage;
+    }
+  }
   ReplayAssets replay_assets;  // read before the run: a missing viewer is a usage error, not a late surprise
   if (std::string why; !opt.replay.empty() && !load_replay_assets(replay_assets, why)) {
     err << "*Cannot write replay*  " << why << '\n';
