@@ -206,6 +206,18 @@ TEST_CASE("clearance: contact when distance <= c, with the distance reported", "
   CHECK(r.contact.distance <= 2.5);
   CHECK(brute_force_collides(make_box(Vec3(10, 10, 10)), at(0, 0, 0), make_box(Vec3(10, 10, 10)), at(12, 3, 1), 2.5));
   CHECK_FALSE(brute_force_collides(make_box(Vec3(10, 10, 10)), at(0, 0, 0), make_box(Vec3(10, 10, 10)), at(12, 3, 1), 1.5));
+  // A query carries its own clearance; the default (check()) is not changed by it.
+  const QueryResult near = e.query({.clearance_mm = 2.5});
+  e.set_default_clearance(0);
+  REQUIRE(near.collided);
+  CHECK(near.contact.kind == ContactKind::clearance);
+  CHECK_FALSE(e.check().collided);
+  CHECK_FALSE(e.query({.clearance_mm = 1.5}).collided);
+  CHECK_FALSE(e.query({.clearance_mm = -3}).collided);  // negative: 0
+  CHECK(e.query({.clearance_mm = 2.5, .contact = false}).counts.pairs_enabled == 0);  // nothing asked
+  e.set_default_clearance(2.5);
+  CHECK(e.check().collided);
+  CHECK_FALSE(e.query({}).collided);  // the request's clearance (0), not the default
   e.set_default_clearance(0);
   e.set_pose(b, at(10, 3, 1));
   CHECK(e.check().contact.kind == ContactKind::faces);  // touching: distance 0 counts
@@ -419,22 +431,4 @@ TEST_CASE("query: per-pair gaps from the engine's own containers, also past a co
   CHECK(e.query({.contact = false, .gaps = true}).gaps.size() == 2);
   e.set_pose(b, at(50, 0, 0));
   CHECK_FALSE(e.query({.gaps = true}).collided);
-}
-
-TEST_CASE("query: the clearance travels with the request, nothing is kept between queries", "[engine]") {
-  Engine e;
-  const BodyId a = e.add_body({.name = "a", .mesh = make_box(Vec3(10, 10, 10))});
-  const BodyId b = e.add_body({.name = "b", .mesh = make_box(Vec3(10, 10, 10))});
-  e.set_pose(a, at(0, 0, 0));
-  e.set_pose(b, at(12, 3, 1));  // a 2 mm gap
-  const QueryResult near = e.query({.clearance_mm = 2.5});
-  REQUIRE(near.collided);
-  CHECK(near.contact.kind == ContactKind::clearance);
-  CHECK_FALSE(e.check().collided);                           // default clearance 0: unchanged
-  CHECK_FALSE(e.query({.clearance_mm = 1.5}).collided);
-  CHECK_FALSE(e.query({.clearance_mm = -3}).collided);       // negative: 0
-  CHECK(e.query({.clearance_mm = 2.5, .contact = false}).counts.pairs_enabled == 0);  // nothing asked
-  e.set_default_clearance(2.5);
-  CHECK(e.check().collided);
-  CHECK_FALSE(e.query({}).collided);  // a request's own clearance, not the default
 }
