@@ -197,7 +197,7 @@ Row pair_row(const std::string& name, const Polyhedron& fixed, const Polyhedron&
 }
 
 // (c) The PUMA default cell: links, tool and cell objects, adjacent pairs disabled as in
-// motion/simulator.cpp; FCL gets the same bodies in a DynamicAABBTree manager and a callback
+// motion/world.cpp; FCL gets the same bodies in a DynamicAABBTree manager and a callback
 // that skips disabled pairs and stops at the first contact.
 struct FclScene {
   Engine* engine = nullptr;

@@ -116,11 +116,12 @@ AutoPairs generate_pairs(const AutoPairsInput& in) {
     Engine engine;
     for (std::size_t i = 0; i < n; ++i)
       engine.add_body({.name = out.names[i], .mesh = in.meshes[i], .halvings = kAutoHalvings});
-    engine.set_clearance(in.clearance_mm);
     std::vector<Pose> poses(n, Pose::Identity());
+    QueryResult r;
     auto in_contact = [&](std::size_t k) {
       const BodyPair p = out.entries[k].pair;
-      return engine.check_pairs(std::span(&p, 1)).collided;
+      engine.query({.clearance_mm = in.clearance_mm, .pairs = std::span(&p, 1)}, r);
+      return r.collided;
     };
     auto place = [&] {
       for (std::size_t i = 0; i < n; ++i) engine.set_pose(static_cast<BodyId>(i), poses[i]);

@@ -1,4 +1,4 @@
-#include "asimov/collision/container_gap.hpp"
+#include "container_gap.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,12 +4,13 @@
 // and reused, so after the first checks no query allocates.
 #include "asimov/collision/engine.hpp"
 
+#include "container_gap.hpp"
 #include "containment.hpp"
 #include "distance_descent.hpp"
 #include "face_distance.hpp"
 #include "face_plane.hpp"
 #include "face_test.hpp"
-#include "asimov/collision/minimax.hpp"
+#include "minimax.hpp"
 #include "asimov/collision/participation.hpp"
 #include "tree_descent.hpp"
 #include "voxel_grid.hpp"
@@ -123,7 +124,8 @@ struct Engine::Impl {
   std::vector<Body> bodies;
   Participation participation;
   std::vector<std::uint32_t> pair_count;  // enabled pairs per body (step 2 test order)
-  double clearance = 0;
+  double default_clearance = 0;           // check() / check_pairs()
+  double clearance = 0;                   // of the query running (QueryRequest::clearance_mm)
   // A faces of the current voxel pair (index, world face), reused (no allocation per pose).
   // Its plane (face_plane.hpp) is computed here on first use: most kept faces never reach the
   // prefilter, and a plane per cached face made the cache a third larger.
@@ -374,6 +376,16 @@ struct Engine::Impl {
     return false;
   }
 
+  // Gap stepping's lower bound on the pair's distance (docs/collision-method.md §6.3), from the
+  // world boxes and sphere centres step 2 caches per pose, so a body is placed once per pose.
+  double pair_gap(BodyId ia, BodyId ib) {
+    Body& a = bodies[ia];
+    Body& b = bodies[ib];
+    const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
+    return container_gap(PlacedContainer{world_box(a), world_sphere_centre(a), a.container.radius},
+                         PlacedContainer{world_box(b), world_sphere_centre(b), b.container.radius}, margin);
+  }
+
   bool test_pair(BodyId ia, BodyId ib, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
@@ -594,7 +606,7 @@ void Engine::set_pair_enabled(BodyId a, BodyId b, bool enabled) {
 bool Engine::pair_enabled(BodyId a, BodyId b) const { return impl_->participation.enabled(a, b); }
 bool Engine::has_enabled_pairs() const { return !impl_->participation.pairs().empty(); }
 
-void Engine::set_clearance(double clearance_mm) { impl_->clearance = clearance_mm > 0 ? clearance_mm : 0.0; }
+void Engine::set_default_clearance(double clearance_mm) { impl_->default_clearance = clearance_mm; }
 
 void Engine::set_pose(BodyId id, const Pose& local_to_world) {
   Body& b = impl_->bodies.at(id);
@@ -602,24 +614,51 @@ void Engine::set_pose(BodyId id, const Pose& local_to_world) {
   ++b.version;
 }
 
-QueryResult Engine::check() {
-  QueryResult res;
-  for (const BodyPair& p : impl_->participation.pairs()) {
-    ++res.counts.pairs_enabled;
-    if (impl_->test_pair(p.a, p.b, res)) return res;
+void Engine::query(const QueryRequest& req, QueryResult& res) {
+  res.clear();
+  Impl& s = *impl_;
+  s.clearance = req.clearance_mm > 0 ? req.clearance_mm : 0.0;
+  // Calls f(a, b) for each requested pair (a < b) until it returns true.
+  auto each_pair = [&](auto&& f) {
+    if (!req.pairs) {
+      for (const BodyPair& p : s.participation.pairs())
+        if (f(p.a, p.b)) return;
+      return;
+    }
+    for (BodyPair p : *req.pairs) {
+      if (p.a > p.b) std::swap(p.a, p.b);
+      if (p.a == p.b || p.b >= body_count() || !s.participation.enabled(p.a, p.b)) continue;
+      if (f(p.a, p.b)) return;
+    }
+  };
+  if (!req.gaps) {  // the contact query of every checked pose: nothing else in the loop
+    if (req.contact)
+      each_pair([&](BodyId a, BodyId b) {
+        ++res.counts.pairs_enabled;
+        return s.test_pair(a, b, res);
+      });
+    return;
   }
+  each_pair([&](BodyId a, BodyId b) {
+    res.gaps.push_back(s.pair_gap(a, b));
+    if (req.contact && !res.collided) {
+      ++res.counts.pairs_enabled;
+      s.test_pair(a, b, res);
+    }
+    return false;
+  });
+}
+
+QueryResult Engine::query(const QueryRequest& req) {
+  QueryResult res;
+  query(req, res);
   return res;
 }
 
+QueryResult Engine::check() { return query({.clearance_mm = impl_->default_clearance}); }
+
 QueryResult Engine::check_pairs(std::span<const BodyPair> pairs) {
-  QueryResult res;
-  for (BodyPair p : pairs) {
-    if (p.a > p.b) std::swap(p.a, p.b);
-    if (p.a == p.b || p.b >= body_count() || !impl_->participation.enabled(p.a, p.b)) continue;
-    ++res.counts.pairs_enabled;
-    if (impl_->test_pair(p.a, p.b, res)) return res;
-  }
-  return res;
+  return query({.clearance_mm = impl_->default_clearance, .pairs = pairs});
 }
 
 DistanceResult Engine::distance(BodyId a, BodyId b, const DistanceRequest& request) {

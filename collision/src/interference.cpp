@@ -1,6 +1,6 @@
 #include "interference.hpp"
 
-#include "asimov/collision/minimax.hpp"
+#include "minimax.hpp"
 
 namespace asimov::collision {
 

@@ -1,4 +1,4 @@
-#include "asimov/collision/minimax.hpp"
+#include "minimax.hpp"
 
 #include <algorithm>
 #include <cfloat>

@@ -2,7 +2,7 @@
 // cell side, each voxel listing (CSR) every face that touches it.
 #pragma once
 #include "face_test.hpp"
-#include "asimov/collision/minimax.hpp"
+#include "minimax.hpp"
 #include "asimov/collision/polyhedron.hpp"
 
 #include <array>

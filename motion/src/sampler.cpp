@@ -132,8 +132,7 @@ double max_body_displacement(std::span<const robots::BodyReach> reach, const Joi
   }
   if (body_max) *body_max = m;
   for (const auto& [a, b] : pairs)
-    if (static_cast<std::size_t>(std::max(a, b)) < std::min(reach.size(), kMaxBodies))
-      m = std::max(m, d[static_cast<std::size_t>(a)] + d[static_cast<std::size_t>(b)]);
+    if (std::size_t{std::max(a, b)} < std::min(reach.size(), kMaxBodies)) m = std::max(m, d[a] + d[b]);
   return m;
 }
 

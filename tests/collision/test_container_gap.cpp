@@ -1,5 +1,5 @@
 // container_gap (gap stepping, docs/collision-method.md §6.3): a lower bound on the distance of two bodies.
-#include "asimov/collision/container_gap.hpp"
+#include "collision/src/container_gap.hpp"
 #include "collision/src/face_distance.hpp"
 #include "asimov/collision/polyhedron.hpp"
 

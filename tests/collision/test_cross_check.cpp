@@ -196,7 +196,7 @@ TEST_CASE("four steps equal brute force when bodies nest (containment, cavities)
 
 TEST_CASE("four steps equal brute force with a clearance", "[cross_check]") {
   Scene s({{test::make_merged_part(), 8}, {make_cylinder(10, 40, 16), 6}, {make_box(Vec3(30, 12, 8)), 5}});
-  s.engine.set_clearance(2.0);
+  s.engine.set_default_clearance(2.0);
   std::mt19937_64 rng(62);
   Tally t;
   for (int n = 0; n < 4000; ++n) {
@@ -218,7 +218,7 @@ TEST_CASE("four steps equal brute force at other scales and far from the origin"
     auto scaled = [&](const Polyhedron& m) { return transformed(m, s); };
     Scene sc({{scaled(test::make_merged_part()), 9}, {scaled(make_cylinder(10, 40, 16)), 6}, {scaled(make_box(Vec3(30, 12, 8))), 5}});
     const double c = 0.5 * scale;
-    sc.engine.set_clearance(c);
+    sc.engine.set_default_clearance(c);
     std::mt19937_64 rng(1000);
     Tally t;
     for (int n = 0; n < 2000; ++n) {
@@ -281,7 +281,7 @@ TEST_CASE("four steps equal brute force on 200000 pose and mesh cases", "[cross_
     Engine e;
     const BodyId a = e.add_body({.name = "a", .mesh = ma, .halvings = h});
     const BodyId b = e.add_body({.name = "b", .mesh = mb, .halvings = h});
-    e.set_clearance(c);
+    e.set_default_clearance(c);
     const Pose pa = test::random_pose(rng, 5 * s);
     e.set_pose(a, pa);
     for (int k = 0; k < kPosesPerCase; ++k) {

@@ -1,6 +1,7 @@
 // The engine: participation (step 1), per-step counts, contact reports, static bodies,
 // clearance, containment and the allocation-free per-pose path.
 #include "asimov/collision/engine.hpp"
+#include "collision/src/container_gap.hpp"
 #include "collision/src/voxel_grid.hpp"
 #include "collision/src/face_distance.hpp"
 #include "scenes.hpp"
@@ -195,9 +196,9 @@ TEST_CASE("clearance: contact when distance <= c, with the distance reported", "
   e.set_pose(a, at(0, 0, 0));
   e.set_pose(b, at(12, 3, 1));  // a 2 mm gap
   CHECK_FALSE(e.check().collided);
-  e.set_clearance(1.5);
+  e.set_default_clearance(1.5);
   CHECK_FALSE(e.check().collided);
-  e.set_clearance(2.5);
+  e.set_default_clearance(2.5);
   const QueryResult r = e.check();
   REQUIRE(r.collided);
   CHECK(r.contact.kind == ContactKind::clearance);
@@ -205,7 +206,19 @@ TEST_CASE("clearance: contact when distance <= c, with the distance reported", "
   CHECK(r.contact.distance <= 2.5);
   CHECK(brute_force_collides(make_box(Vec3(10, 10, 10)), at(0, 0, 0), make_box(Vec3(10, 10, 10)), at(12, 3, 1), 2.5));
   CHECK_FALSE(brute_force_collides(make_box(Vec3(10, 10, 10)), at(0, 0, 0), make_box(Vec3(10, 10, 10)), at(12, 3, 1), 1.5));
-  e.set_clearance(0);
+  // A query carries its own clearance; the default (check()) is not changed by it.
+  const QueryResult near = e.query({.clearance_mm = 2.5});
+  e.set_default_clearance(0);
+  REQUIRE(near.collided);
+  CHECK(near.contact.kind == ContactKind::clearance);
+  CHECK_FALSE(e.check().collided);
+  CHECK_FALSE(e.query({.clearance_mm = 1.5}).collided);
+  CHECK_FALSE(e.query({.clearance_mm = -3}).collided);  // negative: 0
+  CHECK(e.query({.clearance_mm = 2.5, .contact = false}).counts.pairs_enabled == 0);  // nothing asked
+  e.set_default_clearance(2.5);
+  CHECK(e.check().collided);
+  CHECK_FALSE(e.query({}).collided);  // the request's clearance (0), not the default
+  e.set_default_clearance(0);
   e.set_pose(b, at(10, 3, 1));
   CHECK(e.check().contact.kind == ContactKind::faces);  // touching: distance 0 counts
 }
@@ -375,4 +388,47 @@ TEST_CASE("check_pairs tests only the given enabled pairs, in the order given", 
   CHECK_FALSE(e.check_pairs(std::span(&ab, 1)).collided);  // disabled pairs are skipped
   CHECK(e.check_pairs(std::span(&ab, 1)).counts.pairs_enabled == 0);
   CHECK(e.check_pairs({}).counts.pairs_enabled == 0);
+}
+
+TEST_CASE("query: per-pair gaps from the engine's own containers, also past a contact", "[engine]") {
+  Engine e;
+  const Polyhedron box = make_box(Vec3(10, 10, 10));
+  const BodyId a = e.add_body({.name = "a", .mesh = box});
+  const BodyId b = e.add_body({.name = "b", .mesh = box});
+  const BodyId c = e.add_body({.name = "c", .mesh = box});
+  Pose pc = at(100, 20, 0);
+  pc.linear() = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  e.set_pose(a, at(0, 0, 0));
+  e.set_pose(b, at(8, 0, 0));  // a-b overlap
+  e.set_pose(c, pc);
+  const Container k = make_container(box.vertices);
+  const double gap_ac = container_gap(k, at(0, 0, 0), k, pc), gap_bc = container_gap(k, at(8, 0, 0), k, pc);
+  CHECK(gap_ac > 60);
+  CHECK(gap_bc < gap_ac);
+
+  QueryResult r = e.query({.gaps = true});
+  CHECK(r.collided);  // a-b, the first pair
+  CHECK((r.contact.body_a == a && r.contact.body_b == b));
+  CHECK(r.counts.pairs_enabled == 1);  // the contact search stops there, the gaps go on
+  REQUIRE(r.gaps.size() == 3);         // enabled_pairs() order: ab, ac, bc
+  CHECK(r.gaps[0] == 0);
+  CHECK(r.gaps[1] == gap_ac);          // bit-identical to the containers placed by hand
+  CHECK(r.gaps[2] == gap_bc);
+
+  e.query({.contact = false, .gaps = true}, r);  // gaps only, result reused
+  CHECK_FALSE(r.collided);
+  CHECK(r.counts.pairs_enabled == 0);
+  REQUIRE(r.gaps.size() == 3);
+  CHECK(r.gaps[1] == gap_ac);
+
+  const std::array<BodyPair, 2> some{BodyPair{c, b}, BodyPair{a, a}};  // either order; a-a is no pair
+  e.query({.pairs = some, .gaps = true}, r);
+  REQUIRE(r.gaps.size() == 1);
+  CHECK(r.gaps[0] == gap_bc);
+  CHECK_FALSE(r.collided);
+
+  e.set_pair_enabled(a, c, false);  // disabled pairs get no gap
+  CHECK(e.query({.contact = false, .gaps = true}).gaps.size() == 2);
+  e.set_pose(b, at(50, 0, 0));
+  CHECK_FALSE(e.query({.gaps = true}).collided);
 }

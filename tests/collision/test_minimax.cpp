@@ -1,5 +1,5 @@
 // Step 2: containers and minimax boxes.
-#include "asimov/collision/minimax.hpp"
+#include "collision/src/minimax.hpp"
 #include "scenes.hpp"
 
 #include <catch2/catch.hpp>

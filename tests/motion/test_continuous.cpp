@@ -121,7 +121,7 @@ TEST_CASE("continuous: with a clearance the halt comes at distance c, not at tou
   Slide s;
   build(s, 0.1, 0.5, 100);
   ContinuousChecker checker(s.engine, 2.0, 1e-6, 10);
-  s.engine.set_clearance(2.0);
+  s.engine.set_default_clearance(2.0);
   const ContinuousPath path = s.path();
   const double t_touch = (100 - 0.05 - 0.25) / s.speed, t_clear = t_touch - 2.0 / s.speed;
   path.pose(s.q(0.2));

@@ -69,7 +69,7 @@ TEST_CASE("a box resting exactly on the table touches, one ulp above it does not
     Scene s(table, box_between({600, -50, kAbove400}, {700, 50, 500}));
     CHECK_FALSE(s.engine.check().collided);
     // Any clearance >= the gap turns it into a clearance contact.
-    s.engine.set_clearance(1e-12);
+    s.engine.set_default_clearance(1e-12);
     const QueryResult r = s.engine.check();
     REQUIRE(r.collided);
     CHECK(r.contact.kind == ContactKind::clearance);

@@ -1,5 +1,6 @@
 // The four-step collision engine (Garcia-Alonso): participation -> minimax -> voxels -> faces.
-// Bodies are added once (preprocessing); each checked pose sets body poses and calls check().
+// Bodies are added once (preprocessing); each checked pose sets body poses and calls query()
+// (contact, and the per-pair gaps of gap stepping), the one world every caller shares.
 #pragma once
 #include "asimov/collision/distance.hpp"
 #include "asimov/collision/participation.hpp"
@@ -49,15 +50,20 @@ class Engine {
   bool has_enabled_pairs() const;
   std::span<const BodyPair> enabled_pairs() const;  // sorted, a < b
 
-  void set_clearance(double clearance_mm);  // contact when distance <= clearance (default 0)
   void set_pose(BodyId id, const Pose& local_to_world);
 
-  // Runs the four steps over every enabled pair at the current poses; stops at the first
-  // contact (pairs tested in a fixed order, so the answer is deterministic).
+  // The query at the current poses (QueryRequest: clearance, pairs, contact and/or gaps).
+  // Pairs are tested in a fixed order, so the answer is deterministic. The second form reuses
+  // `out` (its gaps keep their capacity): after the first queries it does not allocate.
+  QueryResult query(const QueryRequest& request);
+  void query(const QueryRequest& request, QueryResult& out);
+
+  // Shorthands with the default clearance (set_default_clearance; 0 unless set): check() runs
+  // the four steps over every enabled pair; check_pairs() over a subset, in the order given
+  // (contact-time bisection re-checks only the pairs that collided at the later pose,
+  // docs/collision-method.md §6.4).
+  void set_default_clearance(double clearance_mm);
   QueryResult check();
-  // The same on a subset of pairs, in the order given (either body order; pairs that are not
-  // enabled are skipped). For contact-time bisection: only the pairs that collided at the
-  // later pose need re-checking between the last free pose and it (docs/collision-method.md §6.4).
   QueryResult check_pairs(std::span<const BodyPair> pairs);
 
   // Minimum distance between two bodies at the current poses, with witness points

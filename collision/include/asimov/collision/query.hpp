@@ -1,6 +1,11 @@
-// Result of one collision query: status, bodies, contact point and per-step counts.
+// One collision query: what it asks (QueryRequest: clearance, pairs, contact and/or gaps) and
+// what it answers (QueryResult: status, bodies, contact point, per-pair gaps, per-step counts).
 #pragma once
+#include "asimov/collision/participation.hpp"
 #include "asimov/collision/types.hpp"
+#include <optional>
+#include <span>
+#include <vector>
 
 namespace asimov::collision {
 
@@ -29,11 +34,33 @@ struct Contact {
   Vec3 point = Vec3::Zero();             // world point on both surfaces [mm] (reporting only)
 };
 
+// What a query asks, in the way Coal's CollisionRequest carries security_margin and
+// break_distance: the query carries its own clearance, nothing is kept in the engine between
+// queries.
+struct QueryRequest {
+  double clearance_mm = 0;  // contact when distance <= clearance (negative: 0)
+  // Pairs to test, in this order (either body order; pairs that are not enabled are skipped).
+  // nullopt: every enabled pair, in enabled_pairs() order.
+  std::optional<std::span<const BodyPair>> pairs = std::nullopt;
+  bool contact = true;      // run the four steps; stop at the first contact
+  // Fill QueryResult::gaps: per tested pair, a lower bound [mm] on its bodies' distance from
+  // their step-2 containers (world minimax boxes, vertex spheres, less the rounding margin
+  // epsilon_r; 0 when they overlap). Gap stepping (docs/collision-method.md §6.3) spaces the
+  // checked poses with it. Every pair gets its gap, also past a contact.
+  bool gaps = false;
+};
+
 struct QueryResult {
   bool collided = false;
   Contact contact;
   StepCounts counts;
-  void clear() { *this = QueryResult{}; }
+  std::vector<double> gaps;  // QueryRequest::gaps: one per tested pair, in request order
+  void clear() {
+    collided = false;
+    contact = Contact{};
+    counts = StepCounts{};
+    gaps.clear();  // keeps its capacity: a reused result does not allocate
+  }
 };
 
 }  // namespace asimov::collision

@@ -10,6 +10,7 @@
 // allows delta_A + delta_B <= max(c, step_mm, g - c), and the next checked pose is the farthest one
 // every pair allows (gap_intervals, gap_next_sample).
 #pragma once
+#include "asimov/collision/participation.hpp"
 #include "asimov/motion/interpolation.hpp"
 #include "asimov/robots/configuration.hpp"
 #include "asimov/robots/displacement_bound.hpp"
@@ -20,9 +21,10 @@
 
 namespace asimov::motion {
 
-// Two moving bodies (indices into the reach list) that are tested against each other: their
-// relative displacement is bounded by delta_a + delta_b (docs/collision-method.md §6.3 step rule).
-using BodyPair = std::pair<int, int>;
+// Two moving bodies (BodyIds, which index the reach list: motion/world.hpp) that are tested
+// against each other: their relative displacement is bounded by delta_a + delta_b
+// (docs/collision-method.md §6.3 step rule). The engine's pair type, not a copy of it.
+using collision::BodyPair;
 
 // Bound [mm] for a display joint step: max over bodies of delta_k and over `pairs` of
 // delta_a + delta_b (static bodies have delta = 0, so body-vs-static pairs need only delta_k).
@@ -38,9 +40,9 @@ struct PoseError {
 };
 PoseError pose_error(const Location& a, const Location& b);
 
-// Gap stepping. One enabled pair: its bodies' indices into the reach list (-1: a body that never
-// moves, delta = 0), their links (frame index, 0 for fixed bodies) and what the pair allows,
-// gap_allowance(g, c, step_mm).
+// Gap stepping. One enabled pair: its bodies' BodyIds, which index the reach list (-1: a body
+// that never moves, delta = 0), their links (frame index, 0 for fixed bodies) and what the
+// pair allows, gap_allowance(g, c, step_mm) with g the engine's gap (QueryRequest::gaps).
 struct GapPair {
   int a = -1, b = -1;
   int link_a = 0, link_b = 0;

@@ -1,5 +1,7 @@
-// The simulated arm in its cell: current state, motion planning (IK, profiles), sampling of
-// checked poses and the collision check at each of them. The interpreter drives it.
+// The simulated arm in its cell, the facade the interpreter (and app/, the monitor) drives:
+// the arm's state, the hand, and the wiring of planner (planner.hpp: request -> trajectory),
+// walker (walker.hpp: trajectory -> checked poses -> collision world) and recorders
+// (recorders.hpp: trace, replay, accuracy, counts, timing, watching the walk).
 //
 // Forward processing (dialect §5): start_*() validates and plans a motion and returns at once;
 // the motion is carried out (clock advances, poses are checked) by finish_motion(), which the
@@ -11,7 +13,9 @@
 #pragma once
 #include "asimov/collision/query.hpp"
 #include "asimov/motion/cell.hpp"
-#include "asimov/motion/sampler.hpp"
+#include "asimov/motion/motion_result.hpp"
+#include "asimov/motion/recorders.hpp"
+#include "asimov/motion/trajectory.hpp"
 #include "asimov/robots/configuration.hpp"
 #include <atomic>
 #include <functional>
@@ -21,92 +25,6 @@
 #include <vector>
 
 namespace asimov::motion {
-
-enum class MotionStatus { ok, error, collision, interrupted };
-
-struct MotionError {
-  std::string message;  // VAL text: "*Location out of reach*", "*Joint limit exceeded*", ...
-  std::string detail;   // short detail, e.g. "J3 = 231.000 > 225.000"
-};
-
-// Contact time (docs/collision-method.md §6.4): when the checked pose at t_{k+1} collides and the one at
-// t_k was found free, the time is bisected on the exact path between them with the pairs that
-// collide at t_{k+1}, until time_s - time_free_s <= CollisionSettings::toc_tolerance_s. The arm
-// halts at the pose of time_free_s (collision-free); body names, point, faces and joints are
-// those of the contact at time_s.
-struct CollisionReport {
-  std::string body_a, body_b;
-  collision::Vec3 point = collision::Vec3::Zero();  // world [mm], on both bodies' surfaces
-  double time_s = 0;                                // contact time t_hit [s] (simulated clock)
-  double time_free_s = 0;                           // time of the halting pose t_free [s] (= time_s when
-                                                    //   the start pose already collides)
-  robots::JointVector joints;                       // display [deg] at t_hit
-  std::uint32_t face_a = 0, face_b = 0;             // triangle indices in body_a's / body_b's mesh
-                                                    //   (0 for a containment contact)
-  int step = 0;                                     // program step of the motion instruction
-};
-
-// Where an interrupted motion stopped: at its last checked pose (collision-free when checking
-// is on), which is also where the simulated clock stopped.
-struct InterruptReport {
-  double time_s = 0;         // time of the halting pose [s] (simulated clock)
-  double path_fraction = 0;  // path parameter there: 0 = start, 1 = target
-  robots::JointVector joints;  // display [deg]
-  int step = 0;              // program step of the motion instruction
-};
-
-struct TraceSample {
-  double time_s = 0;
-  robots::JointVector joints;   // display [deg]
-  Location tool;                // world pose of the tool point (BASE . FK . TOOL)
-};
-
-// One pose of the replay recording (set_replay; app/replay.*): the arm's joints at a simulated
-// instant, on the path the simulator carries out.
-struct ReplaySample {
-  double time_s = 0;
-  robots::JointVector joints;   // display [deg]
-  int step = 0;                 // program step of the motion it belongs to
-  bool checked = false;         // a checked pose (also in trace())
-};
-
-struct MotionResult {
-  MotionStatus status = MotionStatus::ok;
-  MotionError error;            // when status == error
-  CollisionReport collision;    // when status == collision
-  InterruptReport interrupt;    // when status == interrupted
-};
-
-struct SpeedSettings {
-  double monitor = 100;  // monitor speed [%]
-  double program = 100;  // program speed for this motion [%]
-  double rotation = -1;  // program speed of straight-line rotation [%]; < 0: same as program
-  double duration_s = 0; // DURATION: minimum motion time [s]; 0 = off
-};
-
-// What the run's settings cost in accuracy, measured along the run (README "accuracy").
-struct RunAccuracy {
-  // Largest docs/collision-method.md §6.3 bound on the displacement of any body point (links, tool) between
-  // two consecutive checked poses [mm]: an upper bound, real points move less.
-  double step_displacement_mm = 0;
-  std::uint64_t contacts = 0;     // contacts reported (collision results)
-  double contact_bracket_s = 0;   // largest t_hit - t_free of those contacts
-  PoseError ik_residual;          // largest |FK(IK(target)) - target| (flange) over every IK solve
-  std::uint64_t ik_solves = 0;    //   of motion targets, straight-line samples and their bisection
-  PoseError line_deviation;       // straight lines: largest deviation of the tool pose at the joint
-                                  //   midpoint of two checked poses from the line at the mid sigma
-  std::uint64_t line_intervals = 0;
-  std::uint64_t motions = 0;      // motions carried out (finish_motion with a pending motion)
-};
-
-// Wall time [s] (steady_clock) spent in each phase. parse and the cell file part of preprocess
-// are added by the caller (add_parse_time, add_preprocess_time).
-struct RunTiming {
-  double parse_s = 0;       // program files: load and check
-  double preprocess_s = 0;  // cell load, engine preprocessing (incl. the checks that built a lazy grid)
-  double motion_s = 0;      // planning, IK, sampling, FK
-  double collision_s = 0;   // engine queries at checked poses and contact-time bisection
-};
 
 // Hand (dialect §5): OPEN / CLOSE / RELAX take effect when the next motion starts; OPENI /
 // CLOSEI / RELAXI wait for the current motion, set the hand, then wait HAND.TIME seconds.
@@ -135,9 +53,8 @@ class Simulator {
   double time_s() const;                        // simulated clock
   std::uint64_t poses_checked() const;
 
-  // Motions. `step` is the program step of the instruction (the interpreter's; the simulator
-  // only carries it) and comes back in collision, interrupt and replay reports. Targets are
-  // validated before anything moves.
+  // Motions. `step` identifies the instruction (the interpreter passes its step) and comes
+  // back in collision reports. Targets are validated before anything moves.
   MotionResult start_joint_move(const robots::JointVector& target_display, SpeedSettings speed, int step);
   MotionResult start_move(const Location& target, bool straight, SpeedSettings speed, int step);
   MotionResult finish_motion();  // carries out the pending motion, if any

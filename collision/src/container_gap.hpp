@@ -2,7 +2,7 @@
 // between their world minimax boxes. Nothing inside the two containers is closer than this, so a
 // pair with gap g cannot meet while the two bodies together move less than g.
 #pragma once
-#include "asimov/collision/minimax.hpp"
+#include "minimax.hpp"
 
 namespace asimov::collision {
 

@@ -1,0 +1,131 @@
+// Recorders: what a run keeps of its walks, each a WalkObserver (walk_observer.hpp) that the
+// Simulator registers with its walker: the trace of checked poses, the replay frames, the
+// accuracy figures, the query counts and the wall time per phase.
+#pragma once
+#include "asimov/motion/walk_observer.hpp"
+
+#include <chrono>
+#include <vector>
+
+namespace asimov::motion {
+
+struct TraceSample {
+  double time_s = 0;
+  robots::JointVector joints;   // display [deg]
+  Location tool;                // world pose of the tool point (BASE . FK . TOOL)
+};
+
+// One pose of the replay recording (app/replay.*): the arm's joints at a simulated instant,
+// on the path the simulator carries out.
+struct ReplaySample {
+  double time_s = 0;
+  robots::JointVector joints;   // display [deg]
+  int step = 0;                  // program step of the motion it belongs to
+  bool checked = false;         // a checked pose (also in the trace)
+};
+
+// What the run's settings cost in accuracy, measured along the run (README "accuracy").
+struct RunAccuracy {
+  // Largest docs/collision-method.md §6.3 bound on the displacement of any body point (links, tool) between
+  // two consecutive checked poses [mm]: an upper bound, real points move less.
+  double step_displacement_mm = 0;
+  std::uint64_t contacts = 0;     // contacts reported (collision results)
+  double contact_bracket_s = 0;   // largest t_hit - t_free of those contacts
+  PoseError ik_residual;          // largest |FK(IK(target)) - target| (flange) over every IK solve
+  std::uint64_t ik_solves = 0;    //   of motion targets, straight-line samples and their bisection
+  PoseError line_deviation;       // straight lines: largest deviation of the tool pose at the joint
+                                  //   midpoint of two checked poses from the line at the mid sigma
+  std::uint64_t line_intervals = 0;
+  std::uint64_t motions = 0;      // motions carried out (finish_motion with a pending motion)
+};
+
+// Wall time [s] (steady_clock) spent in each phase. parse and the cell file part of preprocess
+// are added by the caller (add_parse_time, add_preprocess_time).
+struct RunTiming {
+  double parse_s = 0;       // program files: load and check
+  double preprocess_s = 0;  // cell load, engine preprocessing (incl. the checks that built a lazy grid)
+  double motion_s = 0;      // planning, IK, sampling, FK
+  double collision_s = 0;   // engine queries at checked poses and contact-time bisection
+};
+
+// Every checked pose with the tool's world pose, when `on`. BASE and TOOL are read at the
+// pose (the program's, as HERE).
+struct TraceRecorder final : WalkObserver {
+  TraceRecorder(const robots::Robot& robot, const Location& base, const Location& tool)
+      : robot(robot), base(base), tool(tool) {}
+  void on_checked_pose(double t, const robots::JointVector& q, bool contact) override;
+  bool on = false;
+  std::vector<TraceSample> samples;
+
+ private:
+  const robots::Robot& robot;
+  const Location &base, &tool;
+};
+
+// Replay frames, when grid_s > 0 (off: one branch per event). Every checked pose, the exact
+// path at the simulated instants k * grid_s between them, and after a contact the halting pose
+// at time_free_s (later samples dropped). Times strictly increase; a sample at the instant of
+// the previous one replaces it.
+struct ReplayRecorder final : WalkObserver {
+  explicit ReplayRecorder(const robots::Robot& robot) : robot(robot) {}
+  void on_walk_begin(const Trajectory& tr) override { current = &tr; }
+  void on_stretch(const Trajectory& tr, const Stretch& s) override;
+  void on_checked_pose(double t, const robots::JointVector& q, bool contact) override;
+  void on_contact(const CollisionReport& report, const robots::JointVector& q_halt, double search_s) override;
+  double grid_s = 0;
+  std::vector<ReplaySample> samples;
+
+ private:
+  void push(double t, const robots::JointVector& q, bool checked);
+  const robots::Robot& robot;
+  const Trajectory* current = nullptr;
+};
+
+// Accuracy figures: step bounds, straight-line deviation, IK residuals, contact brackets.
+struct AccuracyRecorder final : WalkObserver {
+  explicit AccuracyRecorder(const robots::Robot& robot) : robot(robot) {}
+  void on_walk_begin(const Trajectory&) override { ++figures.motions; }
+  void on_stretch(const Trajectory& tr, const Stretch& s) override;
+  void on_ik(const PoseError& residual, std::uint64_t solves) override;
+  void on_contact(const CollisionReport& report, const robots::JointVector& q_halt, double search_s) override;
+  RunAccuracy figures;
+
+ private:
+  const robots::Robot& robot;
+};
+
+// Engine work: poses checked, bisection poses, step counts summed over every query.
+struct CountRecorder final : WalkObserver {
+  void on_checked_pose(double, const robots::JointVector&, bool) override { ++poses; }
+  void on_query(const collision::QueryResult& r, const QueryCost& cost) override;
+  std::uint64_t poses = 0;
+  std::uint64_t bisection = 0;
+  collision::StepCounts counts;
+};
+
+// Wall time per phase. A walk's checked-pose queries go to collision (or preprocessing when
+// they built a lazy grid), converted from ticks with the walk's steady_clock time; its contact
+// search to collision; the rest of it to motion. The facade times planning and engine building
+// itself (ScopeTimer).
+struct TimingRecorder final : WalkObserver {
+  using Clock = std::chrono::steady_clock;
+  void on_walk_begin(const Trajectory&) override;
+  void on_query(const collision::QueryResult& r, const QueryCost& cost) override;
+  void on_contact(const CollisionReport&, const robots::JointVector&, double search_s) override;
+  void on_walk_end() override;
+  RunTiming timing;
+
+ private:
+  Clock::time_point t0_;
+  std::uint64_t k0_ = 0, query_ticks_ = 0, grid_ticks_ = 0;
+  double other0_ = 0;
+};
+
+// Adds the wall time of a scope to `acc`.
+struct ScopeTimer {
+  double& acc;
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  ~ScopeTimer() { acc += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+};
+
+}  // namespace asimov::motion

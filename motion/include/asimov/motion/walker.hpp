@@ -1,0 +1,58 @@
+// The walker: carries out a planned motion (trajectory.hpp) over its checked poses, querying
+// the collision world at each (world.hpp), spacing them by the §6.3 step rule or by the
+// engine's gaps (gap stepping), bisecting the contact time when one collides (§6.4), stopping
+// at an interrupt. Recorders watch it through WalkObserver; it keeps nothing of its own
+// between walks but scratch space.
+#pragma once
+#include "asimov/motion/cell.hpp"
+#include "asimov/motion/walk_observer.hpp"
+#include "asimov/motion/world.hpp"
+
+#include <atomic>
+#include <vector>
+
+namespace asimov::motion {
+
+// Where the walk stands: the arm's joints and the simulated clock. walk() advances them.
+struct WalkState {
+  robots::JointVector joints;  // display [deg]
+  double time_s = 0;
+  bool start_checked = false;  // the start pose of the first motion was checked
+  bool last_free = false;      // the last visited pose was checked and found free
+};
+
+// Step rule (docs/collision-method.md §6.3): pairs may move max(c, step_mm) relative to each
+// other between checked poses. The one place the step is derived from the settings.
+double step_mm(const CollisionSettings& settings);
+
+class Walker {
+ public:
+  // `settings` is read at each walk (ENABLE / DISABLE COLLISION and the clearance change at run
+  // time); robot, world and settings must outlive the walker.
+  Walker(const robots::Robot& robot, World& world, const CollisionSettings& settings);
+
+  // Observers are called in the order added; they must outlive the walker.
+  void add_observer(WalkObserver& observer);
+  // Read (relaxed) before each checked pose; when true the walk stops there (interrupted).
+  void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
+
+  // Carries `tr` out from `state` (its joints must be tr.from). ok: the arm at tr.to, the clock
+  // at tr.end_time(). collision: the arm at the last free pose, the clock at the contact time.
+  // interrupted: the arm and clock at the last checked pose.
+  MotionResult walk(const Trajectory& tr, WalkState& state);
+
+ private:
+  struct Walk;
+  const robots::Robot& robot_;
+  World& world_;
+  const CollisionSettings& settings_;
+  const std::atomic<bool>* interrupt_ = nullptr;
+  std::vector<WalkObserver*> observers_;
+  // Scratch, reused across walks (no allocation per checked pose).
+  std::vector<GapPair> gap_pairs_;
+  std::vector<double> pair_mm_, sums_;
+  std::vector<collision::BodyPair> hit_pairs_;
+  collision::QueryResult result_;
+};
+
+}  // namespace asimov::motion

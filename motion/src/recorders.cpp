@@ -1,0 +1,102 @@
+// Recorders of a walk (motion/README.md: trace, replay, accuracy and timing).
+#include "asimov/motion/recorders.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace asimov::motion {
+
+void TraceRecorder::on_checked_pose(double t, const robots::JointVector& q, bool) {
+  if (on) samples.push_back({t, q, base * robots::flange_pose(robot, q) * tool});
+}
+
+void ReplayRecorder::push(double t, const robots::JointVector& q, bool checked) {
+  if (!samples.empty() && t <= samples.back().time_s) {
+    if (t < samples.back().time_s) return;
+    checked = checked || samples.back().checked;  // same instant (a zero-length motion)
+    samples.pop_back();
+  }
+  samples.push_back({t, q, current->step, checked});
+}
+
+void ReplayRecorder::on_stretch(const Trajectory& tr, const Stretch& s) {
+  if (!(grid_s > 0)) return;
+  // The grid instants strictly between two checked poses, joints on the exact path (straight
+  // lines: seeded with the last replay joints).
+  for (double k = std::floor(s.t_from / grid_s) + 1; k * grid_s < s.t_to; ++k) {
+    const double t = k * grid_s;
+    push(t,
+         tr.kind == PathKind::joint
+             ? joint_path_at(tr, t)
+             : line_path_between(robot, tr, s.sample_from, s.sample_to, t, samples.empty() ? nullptr : &samples.back().joints)
+                   .joints,
+         false);
+  }
+}
+
+void ReplayRecorder::on_checked_pose(double t, const robots::JointVector& q, bool) {
+  if (grid_s > 0) push(t, q, true);
+}
+
+void ReplayRecorder::on_contact(const CollisionReport& report, const robots::JointVector& q_halt, double) {
+  if (!(grid_s > 0)) return;
+  // The arm stands at the halting pose from time_free_s on.
+  while (!samples.empty() && samples.back().time_s > report.time_free_s) samples.pop_back();
+  push(report.time_free_s, q_halt, false);
+}
+
+void AccuracyRecorder::on_stretch(const Trajectory& tr, const Stretch& s) {
+  figures.step_displacement_mm = std::max(figures.step_displacement_mm, s.bound_mm);
+  if (tr.kind != PathKind::line) return;
+  const LineSample &a = tr.line.samples[s.sample_from], &b = tr.line.samples[s.sample_to];
+  const robots::JointVector mid = interpolate_joints(a.joints, b.joints, 0.5);
+  figures.line_deviation.merge(
+      pose_error(tr.base * robots::flange_pose(robot, mid) * tr.tool, line_pose(tr.path, (a.s + b.s) / 2)));
+  ++figures.line_intervals;
+}
+
+void AccuracyRecorder::on_ik(const PoseError& residual, std::uint64_t solves) {
+  figures.ik_residual.merge(residual);
+  figures.ik_solves += solves;
+}
+
+void AccuracyRecorder::on_contact(const CollisionReport& report, const robots::JointVector&, double) {
+  ++figures.contacts;
+  figures.contact_bracket_s = std::max(figures.contact_bracket_s, report.time_s - report.time_free_s);
+}
+
+void CountRecorder::on_query(const collision::QueryResult& r, const QueryCost& cost) {
+  counts.pairs_enabled += r.counts.pairs_enabled;
+  counts.pairs_after_minimax += r.counts.pairs_after_minimax;
+  counts.pairs_after_voxels += r.counts.pairs_after_voxels;
+  counts.voxel_pairs += r.counts.voxel_pairs;
+  counts.face_pairs += r.counts.face_pairs;
+  if (cost.kind == QueryKind::bisection_pose) ++bisection;
+}
+
+void TimingRecorder::on_walk_begin(const Trajectory&) {
+  t0_ = Clock::now();
+  k0_ = cpu_ticks();
+  query_ticks_ = grid_ticks_ = 0;
+  other0_ = timing.collision_s + timing.preprocess_s;
+}
+
+void TimingRecorder::on_query(const collision::QueryResult&, const QueryCost& cost) {
+  if (cost.kind != QueryKind::checked_pose) return;  // bisection: timed as a whole (on_contact)
+  (cost.built_grid ? grid_ticks_ : query_ticks_) += cost.ticks;
+}
+
+void TimingRecorder::on_contact(const CollisionReport&, const robots::JointVector&, double search_s) {
+  timing.collision_s += search_s;
+}
+
+void TimingRecorder::on_walk_end() {
+  const double wall = std::chrono::duration<double>(Clock::now() - t0_).count();
+  const std::uint64_t k = cpu_ticks() - k0_;
+  const double per_tick = k > 0 ? wall / static_cast<double>(k) : 0.0;
+  timing.collision_s += static_cast<double>(query_ticks_) * per_tick;
+  timing.preprocess_s += static_cast<double>(grid_ticks_) * per_tick;
+  timing.motion_s += wall - (timing.collision_s + timing.preprocess_s - other0_);
+}
+
+}  // namespace asimov::motion

@@ -1,0 +1,271 @@
+// The walk over a trajectory's checked poses (docs/collision-method.md §6.3-§6.4).
+#include "asimov/motion/walker.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace asimov::motion {
+namespace {
+using robots::JointVector;
+
+constexpr int kMaxBisectionRounds = 4;  // contact-time bisections per contact (another pair met)
+}  // namespace
+
+double step_mm(const CollisionSettings& s) { return std::max({s.clearance_mm, s.step_mm, kMinStepMm}); }
+
+Walker::Walker(const robots::Robot& robot, World& world, const CollisionSettings& settings)
+    : robot_(robot), world_(world), settings_(settings) {}
+
+void Walker::add_observer(WalkObserver& observer) { observers_.push_back(&observer); }
+
+// One walk: the trajectory, the state it advances and the observers it tells.
+struct Walker::Walk {
+  Walker& w;
+  const Trajectory& tr;
+  WalkState& st;
+  collision::Engine* engine;  // null: nothing to check (no engine, or collision disabled)
+  double clearance;
+
+  template <class F>
+  void tell(F&& f) {
+    for (WalkObserver* o : w.observers_) f(*o);
+  }
+
+  // Fills `report` (bodies, point, faces, joints `q`) from a query that found a contact.
+  bool record(const collision::QueryResult& r, QueryCost cost, const JointVector& q, CollisionReport& report) {
+    tell([&](WalkObserver& o) { o.on_query(r, cost); });
+    if (!r.collided) return false;
+    report.body_a = engine->body_name(r.contact.body_a);
+    report.body_b = engine->body_name(r.contact.body_b);
+    report.point = r.contact.point;
+    report.face_a = r.contact.face_a;
+    report.face_b = r.contact.face_b;
+    report.joints = q;
+    return true;
+  }
+
+  // The engine at q, on `pairs` (nullopt: every enabled pair).
+  const collision::QueryResult& query(const JointVector& q,
+                                      std::optional<std::span<const collision::BodyPair>> pairs = std::nullopt) {
+    w.world_.pose(q);
+    engine->query({.clearance_mm = clearance, .pairs = pairs}, w.result_);
+    return w.result_;
+  }
+
+  // One checked pose at time t: checks it, tells the observers. True on contact (`report`).
+  bool visit(const JointVector& q, double t, CollisionReport& report) {
+    bool contact = false;
+    if (engine) {
+      w.world_.pose(q);
+      const std::uint64_t k0 = cpu_ticks();
+      engine->query({.clearance_mm = clearance}, w.result_);
+      const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
+      contact = record(w.result_, cost, q, report);
+    }
+    tell([&](WalkObserver& o) { o.on_checked_pose(t, q, contact); });
+    if (!contact) {
+      st.last_free = engine != nullptr;
+      return false;
+    }
+    report.time_s = report.time_free_s = t;
+    return true;
+  }
+
+  // Allowance of every enabled pair at the current engine poses (the last checked pose).
+  void update_gaps() {
+    engine->query({.clearance_mm = clearance, .contact = false, .gaps = true}, w.result_);
+    const double c = w.settings_.clearance_mm, step = step_mm(w.settings_);
+    for (std::size_t i = 0; i < w.gap_pairs_.size(); ++i)
+      w.gap_pairs_[i].allow_mm = gap_allowance(w.result_.gaps[i], c, step);
+  }
+
+  // Contact time (docs/collision-method.md §6.4). `report` holds the contact at the checked
+  // pose of report.time_s; the pose `q_free` at `t_free` was checked free against every pair.
+  // Bisects in time on the exact path `at(t, q_ref)` (joints at time t; q_ref: the nearest
+  // free joints, an IK seed) with only the pairs that collide at the colliding pose, until
+  // t_hit - t_free <= toc_tolerance_s, then checks the halting pose against every pair: should
+  // another pair meet there (a contact between the samples that the sampled poses missed),
+  // that contact is bisected from the start again. Leaves the report at t_hit, time_free_s =
+  // t_free and `q_free` at the halting pose; returns false when the halting pose could not be
+  // verified free (then it is the original free pose).
+  template <class PathAt>
+  bool bisect_contact(double t_free, JointVector& q_free, PathAt&& at, CollisionReport& report) {
+    const double t_start = t_free;
+    const JointVector q_start = q_free;
+    const double tol = w.settings_.toc_tolerance_s >= 0 ? w.settings_.toc_tolerance_s : 1e-6;
+    std::vector<collision::BodyPair>& hit_pairs = w.hit_pairs_;
+    for (int round = 0; round < kMaxBisectionRounds; ++round) {
+      w.world_.pose(report.joints);
+      hit_pairs.clear();
+      CollisionReport probe;
+      for (const collision::BodyPair& pair : engine->enabled_pairs()) {
+        engine->query({.clearance_mm = clearance, .pairs = std::span(&pair, 1)}, w.result_);
+        if (record(w.result_, {QueryKind::probe}, report.joints, probe)) hit_pairs.push_back(pair);
+      }
+      if (hit_pairs.empty()) break;  // cannot happen (the full query found one)
+      double t_hit = report.time_s;
+      while (t_hit - t_free > tol) {
+        const double t = t_free + (t_hit - t_free) / 2;
+        if (!(t > t_free && t < t_hit)) break;  // the bracket is one ulp wide
+        const JointVector q = at(t, q_free);
+        if (record(query(q, hit_pairs), {QueryKind::bisection_pose}, q, report)) {
+          t_hit = t;
+        } else {
+          t_free = t;
+          q_free = q;
+        }
+      }
+      report.time_s = t_hit;
+      report.time_free_s = t_free;
+      if (t_free == t_start) return true;  // q_start: checked against every pair already
+      CollisionReport other;
+      if (!record(query(q_free), {QueryKind::bisection_pose}, q_free, other)) return true;
+      other.time_s = t_free;  // an earlier contact of another pair: bisect it from the start
+      report = std::move(other);
+      t_free = t_start;
+      q_free = q_start;
+    }
+    report.time_free_s = t_start;
+    q_free = q_start;
+    return false;
+  }
+
+  MotionResult collision_result(CollisionReport report, double search_s) {
+    report.step = tr.step;
+    tell([&](WalkObserver& o) { o.on_contact(report, st.joints, search_s); });
+    MotionResult r;
+    r.status = MotionStatus::collision;
+    r.collision = std::move(report);
+    return r;
+  }
+
+  // Halts on the contact found at the checked pose of `report.time_s`; `t_prev` is the time of
+  // the pose before (the current joints), `was_free` whether it was checked and free (then the
+  // contact time is bisected). The arm stays at the last free pose, the clock at the contact.
+  template <class PathAt>
+  MotionResult halt(CollisionReport report, double t_prev, bool was_free, PathAt&& at) {
+    const auto t0 = std::chrono::steady_clock::now();
+    report.time_free_s = t_prev;
+    st.last_free = was_free && bisect_contact(t_prev, st.joints, at, report);
+    st.time_s = report.time_s;
+    return collision_result(std::move(report), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+
+  bool interrupt_requested() const { return w.interrupt_ && w.interrupt_->load(std::memory_order_relaxed); }
+
+  // Stops at the current joints (the last checked pose, of time t_halt, at path parameter
+  // `fraction`).
+  MotionResult interrupt_halt(double t_halt, double fraction) {
+    st.time_s = t_halt;
+    MotionResult r;
+    r.status = MotionStatus::interrupted;
+    r.interrupt = InterruptReport{t_halt, fraction, st.joints, tr.step};
+    return r;
+  }
+
+  void stretch(const Stretch& s) {
+    tell([&](WalkObserver& o) { o.on_stretch(tr, s); });
+  }
+
+  MotionResult line(bool gap) {
+    const auto& samples = tr.line.samples;
+    double t_prev = st.time_s;  // time of the current joints
+    CollisionReport report;
+    for (std::size_t i = 0; i + 1 < samples.size();) {
+      if (interrupt_requested()) return interrupt_halt(t_prev, samples[i].s);
+      // Next checked sample j: the next one, or with gap stepping the farthest the gaps allow.
+      std::size_t j = i + 1;
+      double bound = samples[j].bound_mm;
+      if (gap) {
+        update_gaps();
+        j = gap_next_sample(w.world_.reach(), samples, i, w.gap_pairs_, w.sums_, bound);
+      }
+      const LineSample &a = samples[i], &b = samples[j];
+      const double t = tr.t0 + tr.profile.time_at(b.s);
+      stretch({t_prev, t, a.s, b.s, i, j, bound});
+      const bool was_free = st.last_free;
+      if (visit(b.joints, t, report)) {
+        // Between samples: the line's pose at sigma(t) by IK seeded with the nearest free
+        // joints, as plan_line solves its samples (line_path_at).
+        const auto at = [this, &a, &b](double tm, const JointVector& ref) {
+          const LinePoint lp = line_path_at(w.robot_, tr, a, b, tm, ref);
+          if (lp.ik_used) {
+            const PoseError e = pose_error(robots::flange_pose(w.robot_, lp.joints), lp.flange);
+            tell([&](WalkObserver& o) { o.on_ik(e, 1); });
+          }
+          return lp.joints;
+        };
+        return halt(std::move(report), t_prev, was_free, at);
+      }
+      st.joints = b.joints;
+      t_prev = t;
+      i = j;
+    }
+    return {};
+  }
+
+  MotionResult joint(bool gap) {
+    const auto at = [this](double tm, const JointVector&) { return joint_path_at(tr, tm); };
+    // Bound per grid interval of each body: the bound is linear in the joint step.
+    const JointVector step = (tr.to - tr.from) / tr.intervals;
+    double body_max = 0;
+    for (const robots::BodyReach& r : w.world_.reach()) body_max = std::max(body_max, robots::max_displacement(r, step));
+    if (gap) {
+      w.pair_mm_.resize(w.gap_pairs_.size());
+      for (std::size_t k = 0; k < w.gap_pairs_.size(); ++k)
+        w.pair_mm_[k] = pair_displacement(w.world_.reach(), w.gap_pairs_[k], step);
+    }
+    double t_prev = st.time_s;
+    JointVector q(st.joints.size());
+    CollisionReport report;
+    for (int i = 0; i < tr.intervals;) {
+      if (interrupt_requested()) return interrupt_halt(t_prev, static_cast<double>(i) / tr.intervals);
+      int k = 1;
+      if (gap) {
+        update_gaps();
+        k = gap_intervals(w.pair_mm_, w.gap_pairs_, tr.intervals - i);
+      }
+      const double sigma_from = static_cast<double>(i) / tr.intervals;
+      i += k;
+      const double sigma = static_cast<double>(i) / tr.intervals;
+      q = i == tr.intervals ? tr.to : interpolate_joints(tr.from, tr.to, sigma);
+      const double t = tr.t0 + tr.profile.time_at(sigma);
+      stretch({t_prev, t, sigma_from, sigma, 0, 0, k * body_max});
+      const bool was_free = st.last_free;
+      if (visit(q, t, report)) return halt(std::move(report), t_prev, was_free, at);
+      st.joints = q;
+      t_prev = t;
+    }
+    return {};
+  }
+
+  MotionResult run() {
+    CollisionReport report;
+    if (!st.start_checked) {  // the start pose of the first motion
+      st.start_checked = true;
+      if (visit(st.joints, st.time_s, report)) return collision_result(std::move(report), 0);
+    }
+    // Gap stepping needs the engine: the gaps are its containers' (at the current pose).
+    const bool gap = engine && w.settings_.stepping == Stepping::gap;
+    if (gap) {
+      w.gap_pairs_.assign(w.world_.gap_pairs().begin(), w.world_.gap_pairs().end());
+      w.world_.pose(st.joints);
+    }
+    MotionResult r = tr.kind == PathKind::line ? line(gap) : joint(gap);
+    if (r.status != MotionStatus::ok) return r;
+    st.joints = tr.to;
+    st.time_s = tr.end_time();
+    return {};
+  }
+};
+
+MotionResult Walker::walk(const Trajectory& tr, WalkState& state) {
+  collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
+  Walk walk{*this, tr, state, engine, settings_.clearance_mm};
+  walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
+  MotionResult r = walk.run();
+  walk.tell([](WalkObserver& o) { o.on_walk_end(); });
+  return r;
+}
+
+}  // namespace asimov::motion
