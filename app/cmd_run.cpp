@@ -38,7 +38,13 @@ const interpreter::Diagnostic* first_error(const std::vector<interpreter::Diagno
   return nullptr;
 }
 
-int write_report(const std::string& path, const nlohmann::json& doc, std::ostream& err) {
+// `path` "-" is standard output (`out`, after anything the program printed).
+int write_report(const std::string& path, const nlohmann::json& doc, std::ostream& out, std::ostream& err) {
+  if (path == "-") {
+    out << doc.dump(2) << '\n';
+    out.flush();
+    return out ? kExitCompleted : kExitUsage;
+  }
   std::string why;
   if (path.empty() || write_json_file(path, doc, why)) return kExitCompleted;
   err << "*Cannot write file*  " << why << '\n';
@@ -68,6 +74,10 @@ int check_command(const std::string& file, std::ostream& out, std::ostream& err)
 
 int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (!require_file(opt.file, err)) return kExitUsage;
+  if (opt.report == "-" && opt.trace == "-") {  // two documents on one stream parse as neither
+    err << "*Invalid argument*  --report - and --trace - cannot both write to stdout\n";
+    return kExitUsage;
+  }
   ReplayAssets replay_assets;  // read before the run: a missing viewer is a usage error, not a late surprise
   if (std::string why; !opt.replay.empty() && !load_replay_assets(replay_assets, why)) {
     err << "*Cannot write replay*  " << why << '\n';
@@ -89,7 +99,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   const auto diags = interp.load_file(opt.file);
   sim.add_parse_time(since(parse_start));
   if (print_diagnostics(diags, err)) {
-    const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), err);
+    const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), out, err);
     return rc != kExitCompleted ? rc : kExitProgramError;
   }
 
@@ -114,20 +124,10 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   sigint_flag().store(false);
   interp.limits().interrupt = &sigint_flag();
   install_sigint(true);
-  RunSummary summary;
-  summary.file = opt.file;
-  summary.result = interp.run(main);
+  interpreter::RunResult result = interp.run(main);
   signal(SIGINT, SIG_DFL);
   out.flush();
-  summary.sim_time_s = sim.time_s();
-  summary.poses_checked = sim.poses_checked();
-  summary.counts = sim.collision_counts();
-  summary.engine_used = sim.collision_engine_used();
-  summary.bisection_checks = sim.bisection_checks();
-  summary.stepping = sim.cell().collision.stepping;
-  summary.accuracy = sim.accuracy();
-  summary.timing = sim.timing();
-  summary.wall_s = since(start);
+  const RunSummary summary = summarize_run(opt.file, std::move(result), sim, since(start));
 
   for (const auto& w : summary.result.warnings) err << "Warning: " << interpreter::format_diagnostic(w);
   int rc = kExitCompleted;
@@ -148,8 +148,8 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       rc = kExitCollision;
       break;
   }
-  if (int w = write_report(opt.report, run_report(summary), err); w != kExitCompleted) return w;
-  if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.trace()), err);
+  if (int w = write_report(opt.report, run_report(summary), out, err); w != kExitCompleted) return w;
+  if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.trace()), out, err);
       w != kExitCompleted)
     return w;
   if (std::string why; !opt.replay.empty() &&

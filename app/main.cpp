@@ -3,6 +3,7 @@
 // has the contract).
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "asimov/version.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
   using namespace asimov::app;
   CLI::App cli{"asimov: VAL II programs in simulation, halted on contact"};
   cli.require_subcommand(0, 1);  // none: the monitor
+  cli.set_version_flag("--version", std::string("asimov ") + asimov::kVersion, "print the version and exit");
   cli.footer("Without a subcommand asimov starts the monitor (as `asimov monitor`).");
 
   RunOptions run;
@@ -19,8 +21,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("file", run.file, "the .v2 file")->required();
   run_cmd->add_option("--main", run.main, "program to run (default: the first in the file)");
   run_cmd->add_option("--cell", run.cell, "cell file (YAML); default: the built-in cell");
-  run_cmd->add_option("--report", run.report, "write a JSON report of the run");
-  run_cmd->add_option("--trace", run.trace, "write every checked pose as JSON");
+  run_cmd->add_option("--report", run.report, "write a JSON report of the run (- : stdout)");
+  run_cmd->add_option("--trace", run.trace, "write every checked pose as JSON (- : stdout)");
   run_cmd->add_option("--replay", run.replay, "write a self-contained HTML page replaying the run in 3D");
 
   std::string check_file;
@@ -53,6 +55,8 @@ int main(int argc, char** argv) {
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return cli.exit(e);
   } catch (const CLI::ParseError& e) {
     cli.exit(e);

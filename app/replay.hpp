@@ -16,8 +16,9 @@ struct ReplayAssets {
   std::string three, orbit_controls, viewer;
 };
 
-// The folder the assets are read from: $ASIMOV_REPLAY_DIR when set, else the build tree's copy
-// (CMake configures its absolute path into the binary, app/replay/replay.cmake).
+// The folder the assets are read from: $ASIMOV_REPLAY_DIR when set, else share/asimov/replay
+// beside the executable's folder (BUILD/share/asimov/replay in the build tree,
+// PREFIX/share/asimov/replay installed; app/replay/replay.cmake).
 std::string replay_asset_dir();
 // Reads the three files; false (with `why` naming the missing file and the fix) when one is missing.
 bool load_replay_assets(ReplayAssets& assets, std::string& why);

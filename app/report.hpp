@@ -6,6 +6,10 @@
 
 namespace asimov::app {
 
+// "schema_version" of every JSON document asimov writes (report, trace, replay data, test
+// results); docs/schema/*.schema.json. Raised when a field changes meaning or goes away.
+constexpr int kSchemaVersion = 1;
+
 struct RunSummary {
   std::string file;                 // the .v2 file run
   interpreter::RunResult result;
@@ -19,6 +23,11 @@ struct RunSummary {
   motion::RunTiming timing;
   double wall_s = 0;                // whole command: cell load to the end of the run
 };
+
+// The summary of a run that ended with `result` on `sim` (clock, counts, accuracy, timing);
+// `wall_s`: the whole command so far. `asimov run` and the Python module report through it.
+RunSummary summarize_run(const std::string& file, interpreter::RunResult result, const motion::Simulator& sim,
+                         double wall_s);
 
 // The "accuracy" and "timing" objects of the report.
 nlohmann::json accuracy_json(const RunSummary& summary);
