@@ -18,7 +18,7 @@ print("asimov", asimov.__version__)
 report = asimov.run("programs/demo/crash.v2", trace=True)
 print(report["status"], report["collision"]["bodies"], "at t =", round(report["collision"]["time_s"], 3), "s")
 trace = report["trace"]
-print("checked poses:", trace["joints"].shape, "- J1 swept from", trace["joints"][0, 0], "to",
+print("checked poses:", trace["joints"].shape, "- J1 ends at",
       round(trace["joints"][-1, 0], 3), "deg")
 
 # %% [markdown]
@@ -27,14 +27,14 @@ print("checked poses:", trace["joints"].shape, "- J1 swept from", trace["joints"
 # %%
 cell = asimov.load_cell({
     "robot": "puma560",
-    "objects": [{"name": "pillar", "box": [100, 100, 1500], "at": [600, 0, -300, 0, 0, 0]}],
+    "objects": [{"name": "pillar", "box": [100, 100, 1500], "at": [500, -150, -300, 0, 0, 0]}],
 })
 session = asimov.Session(cell)
-session.execute("POINT above = TRANS(500, 200, 100, 0, 180, 0)")
-session.execute("DO MOVE above")
+session.execute("POINT hover = TRANS(500, 200, 100, 0, 180, 0)")
+session.execute("DO MOVE hover")
 print(session.execute("WHERE"))
 try:
-    session.execute("DO MOVES TRANS(500, -200, 100, 0, 180, 0)")  # straight line through the pillar
+    session.execute("DO MOVES TRANS(500, -400, 100, 0, 180, 0)")  # straight line through the pillar
 except asimov.CommandError as e:
     print("stopped:", e.message)
 
