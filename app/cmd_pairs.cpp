@@ -49,8 +49,10 @@ int pairs_command(const PairsOptions& opt, std::ostream& out, std::ostream& err)
   out << collision::format_pairs(pairs);
   if (cache.empty()) return kExitCompleted;
   try {
+    // Only the built-in cell's cache folder (~/.cache/asimov) is created; a --cache or CELL.yaml
+    // folder that does not exist is the user's mistake, reported below, not made.
     const auto dir = std::filesystem::path(cache).parent_path();
-    if (!dir.empty()) std::filesystem::create_directories(dir);
+    if (opt.cache.empty() && opt.cell.empty() && !dir.empty()) std::filesystem::create_directories(dir);
     collision::save_pairs(pairs, cache);
     err << "pairs: generated, written to " << cache << '\n';
   } catch (const std::exception& e) {

@@ -78,6 +78,21 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
     err << "*Invalid argument*  --report - and --trace - cannot both write to stdout\n";
     return kExitUsage;
   }
+  // Output files are checked before anything runs (exit 1 means nothing ran): the folder must
+  // exist (it is never created) and the name must not be a folder.
+  for (const std::string* path : {&opt.report, &opt.trace, &opt.replay}) {
+    if (path->empty() || (*path == "-" && path != &opt.replay)) continue;  // "-": stdout
+    std::error_code ec;
+    const auto folder = std::filesystem::path(*path).parent_path();
+    if (!folder.empty() && !std::filesystem::is_directory(folder, ec)) {
+      err << fmt::format("*Cannot write file*  {}: no folder {}\n", *path, folder.string());
+      return kExitUsage;
+    }
+    if (std::filesystem::is_directory(*path, ec)) {
+      err << fmt::format("*Cannot write file*  {}: is a folder\n", *path);
+      return kExitUsage;
+    }
+  }
   ReplayAssets replay_assets;  // read before the run: a missing viewer is a usage error, not a late surprise
   if (std::string why; !opt.replay.empty() && !load_replay_assets(replay_assets, why)) {
     err << "*Cannot write replay*  " << why << '\n';

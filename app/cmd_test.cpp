@@ -3,12 +3,15 @@
 #include "app/atomic_file.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "app/sigint.hpp"
 #include "app/suite.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <condition_variable>
 #include <filesystem>
 #include <mutex>
@@ -75,7 +78,7 @@ std::string junit_document(const std::vector<suite::Case>& cases, const std::vec
 }
 
 Outcome run_one(const suite::Case& c, const TestOptions& opt, const std::string& executable, const fs::path& scratch,
-                std::size_t index) {
+                std::size_t index, const std::atomic<bool>& stop) {
   Outcome o;
   std::string why;
   o.expectation = suite::load_expectation(c, why);
@@ -84,7 +87,7 @@ Outcome run_one(const suite::Case& c, const TestOptions& opt, const std::string&
     return o;
   }
   o.actual = suite::run_case(c, *o.expectation, executable, scratch, std::to_string(index),
-                             std::chrono::seconds(opt.timeout_s));
+                             std::chrono::seconds(opt.timeout_s), &stop);
   o.diffs = suite::compare(*o.expectation, o.actual);
   if (opt.update && !o.diffs.empty()) o.updates = suite::update_expectation(c, *o.expectation, o.actual);
   return o;
@@ -135,6 +138,12 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
     return kExitUsage;
   }
 
+  // Ctrl-C: running cases are killed, no new one starts, the scratch folder is removed and the
+  // command exits 130 after the lines of the cases that finished.
+  std::atomic<bool>& interrupted = sigint_flag();
+  interrupted.store(false);
+  install_sigint(false);
+
   // Cases run on `jobs` threads, each waiting for its own `asimov run` process; lines are
   // printed in case order as soon as every earlier case is done.
   std::vector<Outcome> outcomes(cases.size());
@@ -147,10 +156,10 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
       std::size_t i;
       {
         std::lock_guard lock(mutex);
-        if (next == cases.size()) return;
+        if (next == cases.size() || interrupted.load()) return;
         i = next++;
       }
-      Outcome o = run_one(cases[i], opt, executable, scratch, i);
+      Outcome o = run_one(cases[i], opt, executable, scratch, i, interrupted);
       std::lock_guard lock(mutex);
       outcomes[i] = std::move(o);
       done[i] = true;
@@ -161,13 +170,20 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
   std::vector<std::thread> workers;
   for (int j = 0; j < jobs; ++j) workers.emplace_back(worker);
 
-  std::size_t width = 0, failed = 0;
+  std::size_t width = 0, failed = 0, reported = 0;
   for (const auto& c : cases) width = std::max(width, c.name.size());
   for (std::size_t i = 0; i < cases.size(); ++i) {
     {
+      // Woken by each finished case; the wait also ends, once interrupted, at the first case no
+      // worker started (polled: the signal handler cannot notify).
       std::unique_lock lock(mutex);
-      ready.wait(lock, [&] { return done[i]; });
+      while (!done[i] && !(interrupted.load() && i >= next)) ready.wait_for(lock, std::chrono::milliseconds(50));
+      if (!done[i]) break;
     }
+    if (interrupted.load() && (outcomes[i].actual.exit_note == "interrupted" ||
+                               outcomes[i].actual.exit_code == kExitInterrupted))
+      break;  // stopped by the Ctrl-C, not a result
+    ++reported;
     const Outcome& o = outcomes[i];
     const bool pass = o.diffs.empty();
     failed += pass ? 0 : 1;
@@ -178,6 +194,12 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
   }
   for (auto& w : workers) w.join();
   fs::remove_all(scratch, ec);
+  signal(SIGINT, SIG_DFL);
+  if (interrupted.load()) {
+    out << fmt::format("Interrupted: {} of {} case{} run, {} failed\n", reported, cases.size(),
+                       cases.size() == 1 ? "" : "s", failed);
+    return kExitInterrupted;
+  }
 
   const double total_s = std::chrono::duration<double>(Clock::now() - start).count();
   out << fmt::format("{} passed, {} failed, {} case{} in {:.2f} s\n", cases.size() - failed, failed, cases.size(),

@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
   PairsOptions pairs;
   auto* pairs_cmd = cli.add_subcommand("pairs", "print the generated collision pair matrix of a cell (cached)");
   pairs_cmd->add_option("cell", pairs.cell, "cell file (YAML); default: the built-in cell");
-  pairs_cmd->add_option("--samples", pairs.samples, "random poses for NEVER (default 10000)")->check(CLI::NonNegativeNumber);
+  pairs_cmd->add_option("--samples", pairs.samples, "random poses for NEVER (default 10000)")
+      ->check(CLI::Range(1, 10000000));  // as collision.pair_samples in a cell
   pairs_cmd->add_option("--cache", pairs.cache, "cache file (default: CELL.yaml.pairs)");
   pairs_cmd->add_flag("--no-cache", pairs.no_cache, "neither read nor write a cache");
 

@@ -122,7 +122,10 @@ std::optional<Expectation> load_json_expectation(const Case& c, std::string& why
     return std::nullopt;
   }
   Expectation e;
-  for (const auto& [key, value] : doc.items()) {
+  for (const auto& item : doc.items()) {
+    // Plain references, not a structured binding: clang 14 cannot capture those in a lambda.
+    const std::string& key = item.key();
+    const json& value = item.value();
     const auto wrong = [&](const char* type) {
       why = fmt::format("{}: \"{}\" must be {}", where, key, type);
       return std::nullopt;
@@ -264,7 +267,7 @@ std::vector<std::string> run_arguments(const Case& c, const Expectation& e, cons
 }
 
 Actual run_case(const Case& c, const Expectation& e, const std::string& executable, const fs::path& scratch,
-                const std::string& tag, std::chrono::seconds timeout) {
+                const std::string& tag, std::chrono::seconds timeout, const std::atomic<bool>* stop) {
   using Clock = std::chrono::steady_clock;
   Actual a;
   const fs::path out_file = scratch / (tag + ".stdout"), err_file = scratch / (tag + ".stderr");
@@ -303,6 +306,12 @@ Actual run_case(const Case& c, const Expectation& e, const std::string& executab
     if (done == pid) break;
     if (done < 0) {
       a.exit_note = "lost the process";
+      break;
+    }
+    if (stop && stop->load()) {
+      ::kill(pid, SIGKILL);  // our own child, never anything else
+      ::waitpid(pid, &status, 0);
+      a.exit_note = "interrupted";
       break;
     }
     if (Clock::now() - start > timeout) {

@@ -4,6 +4,7 @@
 #pragma once
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <optional>
@@ -65,8 +66,10 @@ std::vector<std::string> run_arguments(const Case& c, const Expectation& e, cons
 // Runs the case through `executable run ...` in the case folder, stdin from /dev/null, files for
 // the outputs under `scratch` (tag keeps parallel runs apart). Thread-safe; kills the run after
 // `timeout`.
+// `stop` set (Ctrl-C): the case's process is killed and exit_note says "interrupted".
 Actual run_case(const Case& c, const Expectation& e, const std::string& executable,
-                const std::filesystem::path& scratch, const std::string& tag, std::chrono::seconds timeout);
+                const std::filesystem::path& scratch, const std::string& tag, std::chrono::seconds timeout,
+                const std::atomic<bool>* stop = nullptr);
 
 // Every difference between expected and actual, one short line each; empty: the case passed.
 std::vector<std::string> compare(const Expectation& e, const Actual& a);

@@ -2,6 +2,7 @@
 
 #include "asimov/collision/mesh_io.hpp"
 #include "asimov/collision/engine.hpp"
+#include "asimov/collision/text_file.hpp"
 #include "asimov/robots/puma560.hpp"
 #include "asimov/robots/urdf_loader.hpp"
 
@@ -12,7 +13,9 @@
 #include <filesystem>
 #include <fstream>
 #include <ostream>
+#include <optional>
 #include <set>
+#include <string_view>
 #include <sstream>
 
 namespace asimov::cell {
@@ -50,6 +53,18 @@ class Reader {
     }
     if (!std::isfinite(v)) fail(node, fmt::format("{} must be finite", what));
     return v;
+  }
+
+  bool boolean(const YAML::Node& node, const std::string& what) const {
+    bool v = false;
+    if (!node.IsScalar() || !YAML::convert<bool>::decode(node, v))
+      fail(node, fmt::format("{} must be true or false, got '{}'", what, node.IsScalar() ? node.Scalar() : "a list or map"));
+    return v;
+  }
+
+  std::string text(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsScalar()) fail(node, fmt::format("{} must be a name, not a list or map", what));
+    return node.Scalar();
   }
 
   double positive(const YAML::Node& node, const std::string& what) const {
@@ -106,7 +121,11 @@ class Reader {
       const double r = positive(sphere["radius"] ? sphere["radius"] : sphere, what + ".sphere.radius");
       const double tol = sphere["tolerance_mm"] ? positive(sphere["tolerance_mm"], what + ".sphere.tolerance_mm")
                                                 : std::max(0.5, r * 1e-3);
-      return collision::make_sphere(r, tol);
+      try {
+        return collision::make_sphere(r, tol);
+      } catch (const collision::MeshError& e) {
+        fail(sphere, fmt::format("{}.sphere: {}", what, e.what()));
+      }
     }
     if (const auto box = node["box"]) {
       const auto s = numbers(box, 3, what + ".box");
@@ -120,8 +139,10 @@ class Reader {
       const double h = positive(cyl["height"] ? cyl["height"] : cyl, what + ".cylinder.height");
       int segments = 24;
       if (const auto s = cyl["segments"]) {
-        segments = static_cast<int>(number(s, what + ".cylinder.segments"));
-        if (segments < 3 || segments > 4096) fail(s, what + ".cylinder.segments must be 3..4096");
+        // Range first: casting 1e300 to int is undefined behaviour.
+        const double v = number(s, what + ".cylinder.segments");
+        if (!(v >= 3 && v <= 4096) || v != std::floor(v)) fail(s, what + ".cylinder.segments must be an integer 3..4096");
+        segments = static_cast<int>(v);
       }
       return collision::make_cylinder(r, h, segments);
     }
@@ -129,9 +150,10 @@ class Reader {
   }
 
   void expect_keys(const YAML::Node& node, std::initializer_list<const char*> keys, const std::string& what) const {
+    if (!node.IsMap()) fail(node, what + " must be a map");
     const std::set<std::string> known(keys.begin(), keys.end());
     for (const auto& kv : node) {
-      const auto key = kv.first.as<std::string>();
+      const auto key = text(kv.first, "a key in " + what);
       if (!known.count(key)) {
         std::string list;
         for (const auto* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
@@ -159,6 +181,9 @@ class Reader {
   // 1e-16 of their size: at 1e18 mm a whole link rounds away) and overflow its products near
   // 1e150 mm (an arm inside a 1e150 mm box went unseen): a cell error (docs/stiff-cases.md).
   static constexpr double kMaxCoordinateMm = 1e9;
+  // Objects in one cell (docs/limits.md): far above a real cell, low enough that loading and
+  // the pair set-up of the biggest one stay within seconds.
+  static constexpr std::size_t kMaxObjects = 100000;
   void within_extent(const YAML::Node& node, const collision::Polyhedron& mesh, const collision::Pose& pose,
                      const std::string& what) const {
     double far = pose.translation().cwiseAbs().maxCoeff();
@@ -198,11 +223,14 @@ class Reader {
     names.insert("tool");
     if (const auto objects = root["objects"]) {
       if (!objects.IsSequence()) fail(objects, "objects must be a list");
+      if (objects.size() > kMaxObjects)
+        fail(objects, fmt::format("{} objects; a cell has at most {}", objects.size(), kMaxObjects));
       for (const auto& o : objects) {
+        if (!o.IsMap()) fail(o, "an object is a map like {name: n, box: [x, y, z], at: [x, y, z, o, a, t]}");
         expect_keys(o, {"name", "box", "cylinder", "sphere", "mesh", "scale", "at"}, "an object");
         if (!o["name"]) fail(o, "every object needs a name");
         motion::CellObject obj;
-        obj.name = o["name"].as<std::string>();
+        obj.name = text(o["name"], "an object's name");
         if (!names.insert(obj.name).second) fail(o["name"], fmt::format("duplicate body name '{}'", obj.name));
         obj.mesh = shape(o, "object '" + obj.name + "'", cell.warnings);
         obj.pose = pose(o["at"], "object '" + obj.name + "' at");
@@ -224,13 +252,16 @@ class Reader {
       }
       if (c["step_mm"]) {
         s.step_mm = positive(c["step_mm"], "collision.step_mm");
-        if (s.step_mm < 1e-6) fail(c["step_mm"], fmt::format("collision.step_mm must be >= 1e-6, got {}", s.step_mm));
+        // The simulator never steps finer than motion::kMinStepMm: a smaller value would be raised
+        // silently while the report claims it, so it is refused here.
+        if (s.step_mm < motion::kMinStepMm)
+          fail(c["step_mm"], fmt::format("collision.step_mm must be >= {:g}, got {:g}", motion::kMinStepMm, s.step_mm));
       }
       if (c["clearance_mm"]) {
         s.clearance_mm = number(c["clearance_mm"], "collision.clearance_mm");
         if (s.clearance_mm < 0) fail(c["clearance_mm"], "collision.clearance_mm must be >= 0");
       }
-      if (c["enabled"]) s.enabled = c["enabled"].as<bool>();
+      if (c["enabled"]) s.enabled = boolean(c["enabled"], "collision.enabled");
       if (c["toc_tolerance_s"]) s.toc_tolerance_s = positive(c["toc_tolerance_s"], "collision.toc_tolerance_s");
       if (const auto pairs = c["pairs"]) {
         const auto v = pairs.IsScalar() ? pairs.Scalar() : std::string();
@@ -253,7 +284,7 @@ class Reader {
         if (!ig.IsSequence()) fail(ig, "collision.ignore must be a list of [body, body] pairs");
         for (const auto& pair : ig) {
           if (!pair.IsSequence() || pair.size() != 2) fail(pair, "collision.ignore entries are [body, body]");
-          const auto a = pair[0].as<std::string>(), b = pair[1].as<std::string>();
+          const auto a = text(pair[0], "a body in collision.ignore"), b = text(pair[1], "a body in collision.ignore");
           for (const auto& [node, name] : {std::pair{pair[0], a}, std::pair{pair[1], b}})
             if (!names.count(name)) fail(node, fmt::format("collision.ignore: unknown body '{}'", name));
           s.ignore.emplace_back(a, b);
@@ -271,6 +302,74 @@ class Reader {
 
 }  // namespace
 
+namespace {
+// yaml-cpp parses nested collections by recursion and has no limit of its own: 100,000 '['
+// overflow the stack. The text is scanned first and refused past kMaxYamlDepth levels. The
+// scan over-counts rather than under-counts: block levels (a deeper indent, each "- " or "? "
+// starting an entry) plus flow brackets outside quotes and comments.
+constexpr int kMaxYamlDepth = 64;
+
+struct DepthError {
+  int line = 0, column = 0;
+};
+
+std::optional<DepthError> yaml_too_deep(const std::string& text) {
+  std::vector<std::size_t> indents;  // indents of the open block levels
+  int flow = 0, line = 1;
+  char quote = 0;                    // inside '...' or "..." (they may span lines)
+  std::size_t literal_indent = std::string::npos;  // inside a | or > block scalar deeper than this
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view l(text.data() + pos, end - pos);
+    std::size_t i = 0;
+    while (i < l.size() && l[i] == ' ') ++i;
+    const bool blank = i == l.size() || l[i] == '#' || l[i] == '\r';
+    if (literal_indent != std::string::npos && (blank || i > literal_indent)) {
+      pos = end + 1, ++line;
+      continue;
+    }
+    literal_indent = std::string::npos;
+    if (!blank && !quote && flow == 0) {
+      while (!indents.empty() && indents.back() >= i) indents.pop_back();
+      indents.push_back(i);
+    }
+    int depth = static_cast<int>(indents.size());
+    bool colon = false;  // one "key: value" level per line (a: b: c is not YAML)
+    std::size_t last = std::string_view::npos;  // the last character that is not a space or comment
+    for (std::size_t k = i; k < l.size(); ++k) {
+      const char c = l[k];
+      if (quote) {
+        if (c == '\\' && quote == '"') ++k;
+        else if (c == quote) quote = 0;
+        continue;
+      }
+      if (c == '#' && (k == 0 || l[k - 1] == ' ' || l[k - 1] == '\t')) break;
+      const bool ends_word = k + 1 == l.size() || l[k + 1] == ' ' || l[k + 1] == '\r';
+      // A quote opens a quoted scalar only where a scalar starts (it's, 5'10" are plain text).
+      const bool scalar_start = last == std::string_view::npos || std::string_view("[{,").find(l[last]) != std::string_view::npos ||
+                                (std::string_view(":-?").find(l[last]) != std::string_view::npos && l[k - 1] == ' ');
+      if ((c == '"' || c == '\'') && scalar_start) quote = c;
+      else if (c == '[' || c == '{') ++flow;
+      else if ((c == ']' || c == '}') && flow > 0) --flow;
+      else if (flow == 0 && (c == '-' || c == '?') && ends_word) ++depth;
+      else if (flow == 0 && c == ':' && ends_word && !colon) colon = true, ++depth;
+      if (c != ' ' && c != '\t' && c != '\r') last = k;
+      if (depth + flow > kMaxYamlDepth) return DepthError{line, static_cast<int>(k + 1)};
+    }
+    // "key: |", "- >-", "|2": a block scalar; its lines (deeper than this one) are text.
+    if (!quote && flow == 0 && last != std::string_view::npos) {
+      std::size_t b = last;
+      while (b > i && (l[b] == '-' || l[b] == '+' || (l[b] >= '0' && l[b] <= '9'))) --b;
+      if ((l[b] == '|' || l[b] == '>') && (b == i || l[b - 1] == ' ')) literal_indent = i;
+    }
+    pos = end + 1, ++line;
+  }
+  return std::nullopt;
+}
+}  // namespace
+
 std::string CellError::format() const {
   if (line > 0) return fmt::format("{}:{}:{}: {}", file, line, column, what());
   return fmt::format("{}: {}", file, what());
@@ -280,6 +379,8 @@ namespace {
 motion::Cell parse_cell(const std::string& yaml, const std::string& source_name, const std::string& base_dir,
                         bool from_file) {
   Reader reader(source_name, base_dir, !from_file);
+  if (const auto deep = yaml_too_deep(yaml))
+    throw CellError(fmt::format("nested more than {} levels deep", kMaxYamlDepth), source_name, deep->line, deep->column);
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
@@ -301,11 +402,13 @@ motion::Cell load_cell_text(const std::string& yaml, const std::string& source_n
 }
 
 motion::Cell load_cell_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CellError("cannot read cell file", path, 0, 0);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_cell(text.str(), path, std::filesystem::path(path).parent_path().string(), true);
+  std::string text;
+  try {
+    text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
+  } catch (const collision::FileReadError& e) {
+    throw CellError(e.what(), path, 0, 0);
+  }
+  return parse_cell(text, path, std::filesystem::path(path).parent_path().string(), true);
 }
 
 const std::string& default_cell_yaml() {

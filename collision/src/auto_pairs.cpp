@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <unistd.h>
+
 namespace asimov::collision {
 namespace {
 
@@ -172,7 +174,16 @@ AutoPairs generate_pairs(const AutoPairsInput& in) {
 }
 
 void save_pairs(const AutoPairs& p, const std::string& path) {
-  const std::string tmp = path + ".tmp";
+  // A per-process temporary name (two runs at once never share one), removed on failure.
+  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+  struct Cleanup {
+    const std::string& tmp;
+    bool armed = true;
+    ~Cleanup() {
+      std::error_code ec;
+      if (armed) std::filesystem::remove(tmp, ec);
+    }
+  } cleanup{tmp};
   {
     std::ofstream f(tmp);
     if (!f) throw std::runtime_error(path + ": cannot write the pair cache");
@@ -185,6 +196,7 @@ void save_pairs(const AutoPairs& p, const std::string& path) {
     if (!f) throw std::runtime_error(path + ": cannot write the pair cache");
   }
   std::filesystem::rename(tmp, path);
+  cleanup.armed = false;
 }
 
 bool load_pairs(const std::string& path, std::uint64_t key, AutoPairs& out) {

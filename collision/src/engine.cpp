@@ -172,8 +172,9 @@ struct Engine::Impl {
   // rejection triangles_intersect starts with (min/max do not round); with a clearance c,
   // pad = 2c + margin, so no pair within c of each other is dropped.
   static bool boxes_disjoint(const Vec3& xlo, const Vec3& xhi, const Vec3& ylo, const Vec3& yhi, double pad) {
-    return static_cast<bool>((xlo.x() > yhi.x() + pad) | (ylo.x() > xhi.x() + pad) | (xlo.y() > yhi.y() + pad) |
-                             (ylo.y() > xhi.y() + pad) | (xlo.z() > yhi.z() + pad) | (ylo.z() > xhi.z() + pad));
+    // Branch-free on purpose: the compares are summed (not `||`), so all six run without jumps.
+    return ((xlo.x() > yhi.x() + pad) + (ylo.x() > xhi.x() + pad) + (xlo.y() > yhi.y() + pad) +
+            (ylo.y() > xhi.y() + pad) + (xlo.z() > yhi.z() + pad) + (ylo.z() > xhi.z() + pad)) != 0;
   }
   void count_pairs() {
     pair_count.assign(bodies.size(), 0);
@@ -271,8 +272,8 @@ struct Engine::Impl {
       return w;
     };
     auto misses = [](const Box& part, const Window& w) {
-      return static_cast<bool>((part.lo[0] > w.hi[0]) | (part.hi[0] < w.lo[0]) | (part.lo[1] > w.hi[1]) |
-                               (part.hi[1] < w.lo[1]) | (part.lo[2] > w.hi[2]) | (part.hi[2] < w.lo[2]));
+      return ((part.lo[0] > w.hi[0]) + (part.hi[0] < w.lo[0]) + (part.lo[1] > w.hi[1]) +
+              (part.hi[1] < w.lo[1]) + (part.lo[2] > w.hi[2]) + (part.hi[2] < w.lo[2])) != 0;
     };
     const Window in_a = window(p.y_centre_a, p.y_reach_a), in_b = window(p.x_centre_b, p.x_reach_b);
     a_faces.clear();

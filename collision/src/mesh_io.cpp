@@ -2,6 +2,10 @@
 
 #include "predicates.hpp"
 
+#include "asimov/collision/text_file.hpp"
+
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -15,11 +19,11 @@ namespace asimov::collision {
 namespace {
 
 std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw MeshError(path + ": cannot open the file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  try {
+    return read_file_bounded(path, kMaxMeshFileBytes);
+  } catch (const FileReadError& e) {
+    throw MeshError(path + ": " + e.what());
+  }
 }
 
 // Collects triangles with bit-identical vertices merged; checks finiteness.
@@ -40,6 +44,9 @@ struct Builder {
     return it->second;
   }
   void triangle(const Vec3& a, const Vec3& b, const Vec3& c, std::size_t face) {
+    if (mesh.triangles.size() == kMaxMeshFaces)
+      throw MeshError(fmt::format("{}: face {}: more than {} triangles; a mesh has at most that many", path, face,
+                                  kMaxMeshFaces));
     mesh.triangles.push_back({vertex(a, face), vertex(b, face), vertex(c, face)});
     numbers.push_back(face);
   }
@@ -110,14 +117,16 @@ LoadedMesh validate_mesh(Polyhedron mesh, const std::string& source, const std::
   return out;
 }
 
-LoadedMesh read_stl(const std::string& path, const Vec3& scale) {
-  const std::string data = read_file(path);
+LoadedMesh read_stl(const std::string& path, const Vec3& scale) { return parse_stl(read_file(path), path, scale); }
+
+LoadedMesh parse_stl(const std::string& data, const std::string& path, const Vec3& scale) {
   Builder b{.path = path, .scale = scale};
   // Binary when the size matches the triangle count, whatever the header says ("solid" too).
   if (data.size() >= 84) {
     std::uint32_t n = 0;
     std::memcpy(&n, data.data() + 80, 4);
     if (data.size() == 84 + 50 * static_cast<std::size_t>(n)) {
+      if (n > kMaxMeshFaces) throw MeshError(fmt::format("{}: {} faces; a mesh has at most {}", path, n, kMaxMeshFaces));
       for (std::uint32_t f = 0; f < n; ++f) {
         const char* p = data.data() + 84 + 50 * static_cast<std::size_t>(f) + 12;  // skip the normal
         Vec3 v[3];
@@ -160,8 +169,9 @@ LoadedMesh read_stl(const std::string& path, const Vec3& scale) {
   return b.finish();
 }
 
-LoadedMesh read_obj(const std::string& path, const Vec3& scale) {
-  const std::string data = read_file(path);
+LoadedMesh read_obj(const std::string& path, const Vec3& scale) { return parse_obj(read_file(path), path, scale); }
+
+LoadedMesh parse_obj(const std::string& data, const std::string& path, const Vec3& scale) {
   Builder b{.path = path, .scale = scale};
   std::vector<Vec3> v;
   std::istringstream in(data);
@@ -248,18 +258,28 @@ Polyhedron uv_sphere(double radius, int segments, int rings) {
 
 Polyhedron make_sphere(double radius, double tolerance) {
   // A face's plane is sqrt(r^2 - rho^2) from the centre (rho: its circumradius), so a face
-  // deviates more than the chord of one direction: refine until every face is within tolerance.
+  // deviates more than the chord of one direction: refine until every face is within tolerance,
+  // but never past the face budget (a radius of 1e8 mm within 1e-6 mm would need ~10^14 faces).
   int segments = segments_for_tolerance(radius, tolerance, 8);  // around the z axis
+  const auto rings_for = [](int s) { return std::max(2, (s + 1) / 2); };
+  const auto faces_for = [&](int s) { return 2 * static_cast<std::size_t>(s) * static_cast<std::size_t>(rings_for(s) - 1); };
+  const auto over_budget = [&] {
+    return MeshError(fmt::format("a sphere of radius {:g} mm within {:g} mm needs more than {} faces, the limit "
+                                 "for one primitive; use a larger tolerance_mm",
+                                 radius, tolerance, kMaxPrimitiveFaces));
+  };
+  if (faces_for(segments) > kMaxPrimitiveFaces) throw over_budget();
   for (;;) {
-    Polyhedron p = uv_sphere(radius, segments, std::max(2, (segments + 1) / 2));
+    Polyhedron p = uv_sphere(radius, segments, rings_for(segments));
     double worst = 0;
     for (const Triangle& t : p.triangles) {
       const Vec3 &a = p.vertices[t[0]], &b = p.vertices[t[1]], &c = p.vertices[t[2]];
       const Vec3 n = (b - a).cross(c - a);
       if (n.norm() > 0) worst = std::max(worst, radius - n.normalized().dot(a));
     }
-    if (worst <= tolerance || segments >= 4096 || !(tolerance > 0)) return p;
-    segments = std::min(4096, segments + std::max(1, segments / 16));
+    if (worst <= tolerance || !(tolerance > 0)) return p;
+    segments += std::max(1, segments / 16);
+    if (faces_for(segments) > kMaxPrimitiveFaces) throw over_budget();
   }
 }
 

@@ -6,7 +6,10 @@
 #include "limits.hpp"
 #include "parser.hpp"
 
+#include "asimov/collision/text_file.hpp"
+
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -107,16 +110,23 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
 }
 
 std::vector<Diagnostic> Interpreter::load_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
     Diagnostic d;
     d.message = "*File not found*";
     d.detail = path;
     return {d};
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_source(text.str(), path);
+  std::string text;
+  try {
+    text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);  // a folder, /dev/zero: refused
+  } catch (const collision::FileReadError& e) {
+    Diagnostic d;
+    d.message = "*Cannot read file*";
+    d.detail = path + ": " + e.what();
+    return {d};
+  }
+  return load_source(text, path);
 }
 
 std::vector<std::string> Interpreter::program_names() const { return impl_->memory.load_order; }

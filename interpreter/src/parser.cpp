@@ -243,11 +243,11 @@ const auto unary_def = (unary_sign | (kw("not") >> x3::attr(Op::not_))) > operan
 const auto primary_def = number | string_literal | encode | call | variable
     | ('(' > expression > ')');
 // encode = "$ENCODE" "(" type_item { "," type_item } ")"
-const auto encode_def = x3::attr(Kw::type) >> x3::lexeme[x3::no_case["$encode"] >> !name_char]
-    >> '(' > (type_item % ',') > ')';
+const auto encode_def = (x3::attr(Kw::type) >> x3::lexeme[x3::no_case["$encode"] >> !name_char] >> '(')
+    > (type_item % ',') > ')';
 // function = [ "#" | "$" ] name "(" arguments ")" | HERE | DEST | PI | TRUE | FALSE | NULL | ...
 const auto function_name_def = x3::raw[x3::lexeme[-x3::char_("#$") >> word]];
-const auto call_def = (function_name >> '(' > arguments > ')')
+const auto call_def = ((function_name >> '(') > arguments > ')')
     | (word_of(bare_function_words) >> x3::attr(std::vector<boost::optional<ast::Expr>>()));
 // arguments = [ expression ] { "," [ expression ] }
 //   (SHIFT(t BY dx, dy, dz): BY separates like a comma)
@@ -267,7 +267,7 @@ const auto instruction_def = word_of(instruction_words) >> -(optional_expression
 const auto optional_expression_def = expression | x3::attr(ast::Expr());
 // assignment = ( SET | DECOMPOSE | PARAMETER ) variable "=" expression | variable "=" expression
 const auto binding_def = (word_of(binding_words) > variable > '=' > expression)
-    | (x3::attr(Kw::assign) >> variable >> '=' > expression);
+    | ((x3::attr(Kw::assign) >> variable >> '=') > expression);
 // for = FOR variable "=" expression TO expression [ STEP expression ]
 const auto to_keyword_def = kw("to");
 const auto for_stmt_def = kw("for") > variable > '=' > expression > to_keyword > expression

@@ -25,7 +25,6 @@ namespace asimov::motion {
 namespace {
 using robots::JointVector;
 
-constexpr double kMinStepMm = 1e-3; // guards against a zero or negative step_mm
 constexpr int kMaxBisectionRounds = 4;  // contact-time bisections per contact (another pair met)
 
 using Clock = std::chrono::steady_clock;

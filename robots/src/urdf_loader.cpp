@@ -2,6 +2,7 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "asimov/collision/mesh_io.hpp"
+#include "asimov/collision/text_file.hpp"
 
 #include <tinyxml2.h>
 
@@ -26,6 +27,9 @@ constexpr double kMm = 1000;  // metres -> mm
 constexpr double kDeg = 180 / std::numbers::pi;
 constexpr int kCylinderSegments = 24;
 constexpr double kSphereToleranceMm = 0.5;  // chordal tolerance, at least 1e-3 of the radius
+// Joints from the root to the deepest link: the walks over the tree recurse once per joint, so
+// this bounds their stack (a real arm has < 20; docs/limits.md).
+constexpr int kMaxLinkDepth = 1000;
 
 struct Geometry {
   Pose pose = Pose::Identity();  // in the URDF link frame [mm]
@@ -219,6 +223,28 @@ class Parser {
       if (!parent_of.count(name)) roots.push_back(name);
     if (roots.size() != 1)
       fail(root, roots.empty() ? "the joints form a loop (no root link)" : "more than one root link ('" + roots[0] + "', '" + roots[1] + "')");
+    // Every link reachable from the root, at most kMaxLinkDepth joints down (the walks below
+    // recurse once per joint). Each link has one parent, so a link never reached sits on a loop.
+    {
+      std::map<std::string, int> level{{roots[0], 0}};
+      std::vector<std::string> todo{roots[0]};
+      while (!todo.empty()) {
+        const std::string l = std::move(todo.back());
+        todo.pop_back();
+        for (const Joint* j : children[l]) {
+          const int d = level[l] + 1;
+          if (d > kMaxLinkDepth)
+            throw UrdfError(source_, j->line, "joint '" + j->name + "': the chain is more than " +
+                                                  std::to_string(kMaxLinkDepth) + " joints deep");
+          level[j->child] = d;
+          todo.push_back(j->child);
+        }
+      }
+      for (const auto& j : joints)
+        if (!level.count(j.child))
+          throw UrdfError(source_, j.line, "joint '" + j.name + "': link '" + j.child + "' is not connected to the root link '" +
+                                               roots[0] + "' (the joints form a loop)");
+    }
 
     // Longest path in movable joints from each link (ties: the first joint in file order).
     std::function<int(const std::string&, int)> depth = [&](const std::string& l, int guard) -> int {
@@ -314,9 +340,12 @@ Robot load_urdf_text(const std::string& xml, const std::string& source_name, con
 }
 
 Robot load_urdf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UrdfError(path, 0, "cannot open the URDF file");
-  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string xml;
+  try {
+    xml = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
+  } catch (const collision::FileReadError& e) {
+    throw UrdfError(path, 0, e.what());
+  }
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
   return load_urdf_text(xml, path, dir.empty() ? "." : dir.string());
 }

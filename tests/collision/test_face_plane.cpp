@@ -22,6 +22,20 @@ bool exactly_one_side(const TriangleVerts& t1, const TriangleVerts& t2) {
   return s0 != 0 && orient3d(t1[0], t1[1], t1[2], t2[1]) == s0 && orient3d(t1[0], t1[1], t1[2], t2[2]) == s0;
 }
 
+// The draws are sequenced: the arguments of Vec3(u(rng), u(rng), u(rng)) are evaluated in an
+// unspecified order, so gcc and clang built different triangles. z, y, x is the order gcc
+// used, which keeps this test's sample the one it was written against.
+template <class Dist, class Rng>
+Vec3 draw(Dist& u, Rng& rng) {
+  const double z = u(rng), y = u(rng), x = u(rng);
+  return {x, y, z};
+}
+
+template <class Dist, class Rng>
+TriangleVerts draw_triangle(Dist& u, Rng& rng) {
+  return {draw(u, rng), draw(u, rng), draw(u, rng)};  // braced list: evaluated left to right
+}
+
 Vec3 nudge(const Vec3& v, int ulps, int axis) {
   Vec3 w = v;
   for (int i = 0; i < std::abs(ulps); ++i) w[axis] = std::nextafter(w[axis], ulps > 0 ? INFINITY : -INFINITY);
@@ -50,12 +64,13 @@ TEST_CASE("plane prefilter never contradicts the exact signs near the plane", "[
   std::uniform_int_distribution<int> ulp(-3, 3), axis(0, 2);
   int separated = 0, checked = 0;
   for (int n = 0; n < 20000; ++n) {
-    const TriangleVerts t1{Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))};
+    const TriangleVerts t1 = draw_triangle(u, rng);
     // t2's vertices: points of t1's plane (rounded affine combinations), then a few ulps off.
     TriangleVerts t2;
     for (Vec3& v : t2) {
       const double a = u(rng) / 50, b = u(rng) / 50;
-      v = nudge(t1[0] + a * (t1[1] - t1[0]) + b * (t1[2] - t1[0]), ulp(rng), axis(rng));
+      const int along = axis(rng), ulps = ulp(rng);  // gcc's order, as above
+      v = nudge(t1[0] + a * (t1[1] - t1[0]) + b * (t1[2] - t1[0]), ulps, along);
     }
     const bool pre = plane_separates(face_plane(t1), t1, t2);
     ++checked;
@@ -68,8 +83,8 @@ TEST_CASE("plane prefilter never contradicts the exact signs near the plane", "[
   // the rare pair within the rounding bound.
   int agree = 0;
   for (int n = 0; n < 20000; ++n) {
-    const TriangleVerts t1{Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))};
-    const TriangleVerts t2{Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))};
+    const TriangleVerts t1 = draw_triangle(u, rng);
+    const TriangleVerts t2 = draw_triangle(u, rng);
     const bool pre = plane_separates(face_plane(t1), t1, t2), exact = exactly_one_side(t1, t2);
     if (pre) REQUIRE(exact);
     agree += pre == exact;

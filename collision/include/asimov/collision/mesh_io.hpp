@@ -12,6 +12,7 @@
 #pragma once
 #include "asimov/collision/polyhedron.hpp"
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -33,6 +34,12 @@ struct LoadedMesh {
 // `scale` multiplies every coordinate (e.g. 1000 for a file in metres).
 LoadedMesh read_stl(const std::string& path, const Vec3& scale = Vec3::Ones());
 LoadedMesh read_obj(const std::string& path, const Vec3& scale = Vec3::Ones());
+// The same from the file's bytes; `path` names it in messages (fuzz/ feeds these directly).
+LoadedMesh parse_stl(const std::string& data, const std::string& path, const Vec3& scale = Vec3::Ones());
+LoadedMesh parse_obj(const std::string& data, const std::string& path, const Vec3& scale = Vec3::Ones());
+// Triangles one mesh file may give (docs/limits.md): 2 million is a detailed CAD export; past
+// it loading and the engine's set-up take minutes and gigabytes, so the file is refused.
+inline constexpr std::size_t kMaxMeshFaces = 2000000;
 // By extension (.stl / .obj, any case); MeshError for anything else.
 LoadedMesh read_mesh(const std::string& path, const Vec3& scale = Vec3::Ones());
 
@@ -44,8 +51,13 @@ LoadedMesh validate_mesh(Polyhedron mesh, const std::string& source, const std::
 // polygon (chord sagitta r (1 - cos(pi / n)) <= tolerance); at least `min_segments`.
 int segments_for_tolerance(double radius, double tolerance, int min_segments = 3);
 
+// Most faces one tessellated primitive may have: far above what a cell needs (a sphere within
+// 0.1 % of its radius has ~5,000) and small enough that building the cell stays well under a
+// second. A sphere that needs more is a MeshError (docs/limits.md).
+inline constexpr std::size_t kMaxPrimitiveFaces = 100000;
 // UV sphere centred at the origin, every point of the sphere within `tolerance` of the mesh
-// and the mesh inside the sphere (vertices on it); closed, outward faces.
+// and the mesh inside the sphere (vertices on it); closed, outward faces. Throws MeshError
+// when that takes more than kMaxPrimitiveFaces faces.
 Polyhedron make_sphere(double radius, double tolerance);
 // make_cylinder with the segment count from the tolerance.
 Polyhedron make_cylinder_tol(double radius, double height, double tolerance);

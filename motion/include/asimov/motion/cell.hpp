@@ -21,6 +21,10 @@ struct CellObject {
 // apart allows delta_A + delta_B <= max(c, step_mm, g - c); the poses are a subset of fixed's.
 enum class Stepping { fixed, gap };
 
+// The finest step the simulator takes (a zero or negative step_mm is raised to it); cell files
+// below it are refused.
+inline constexpr double kMinStepMm = 1e-3;
+
 struct CollisionSettings {
   int halvings = 9;            // M for every body unless a body says otherwise
   double step_mm = 1.0;        // no body point moves more than this between checked poses

@@ -1,0 +1,109 @@
+// Exit codes for hostile command lines (issue 17): 1 means nothing ran, so output files are
+// checked first; pairs never creates folders nor leaves a temporary file; sample counts are
+// checked; files that are folders or devices are read with a bound.
+#include "support/run_cli.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+using namespace asimov;
+using test::run_cli;
+using test::source_path;
+
+TEST_CASE("run: --report, --trace, --replay into a missing folder fail before running", "[cli][hostile]") {
+  const auto dir = test::scratch_dir();
+  const std::string program = (dir / "prints.v2").string();
+  std::ofstream(program) << ".PROGRAM prints()\n  TYPE \"ran\"\n.END\n";
+  for (const char* opt : {"--report", "--trace", "--replay"}) {
+    INFO(opt);
+    const auto target = dir / "no-such-folder" / "out.json";
+    const auto r = run_cli("run " + program + " " + opt + " " + target.string());
+    CHECK(r.exit_code == 1);
+    CHECK(r.out.empty());  // nothing ran: no TYPE output
+    CHECK(r.err == "*Cannot write file*  " + target.string() + ": no folder " + (dir / "no-such-folder").string() + "\n");
+  }
+  const auto r = run_cli("run " + program + " --report " + dir.string());
+  CHECK(r.exit_code == 1);
+  CHECK(r.err == "*Cannot write file*  " + dir.string() + ": is a folder\n");
+}
+
+TEST_CASE("pairs --cache never creates folders nor leaves FILE.tmp", "[cli][hostile][pairs]") {
+  const auto dir = test::scratch_dir() / "pairs-cache";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto missing = dir / "missing" / "cell.pairs";
+  auto r = run_cli("pairs --samples 50 --cache " + missing.string());
+  CHECK(r.exit_code == 0);  // the matrix is printed; the cache is only a warning
+  CHECK_THAT(r.err, Catch::Contains("Warning: cannot write the pair cache"));
+  CHECK_FALSE(std::filesystem::exists(dir / "missing"));
+  const auto good = dir / "cell.pairs";
+  r = run_cli("pairs --samples 50 --cache " + good.string());
+  CHECK(r.exit_code == 0);
+  CHECK(std::filesystem::exists(good));
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    CHECK(e.path().filename() == "cell.pairs");  // no cell.pairs.tmp beside it
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("pairs --samples must be 1..10000000", "[cli][hostile][pairs]") {
+  for (const char* n : {"0", "-5", "10000001", "1e400", "x"}) {
+    INFO(n);
+    const auto r = run_cli(std::string("pairs --no-cache --samples ") + n);
+    CHECK(r.exit_code == 1);
+    CHECK(r.out.empty());
+    CHECK_THAT(r.err, Catch::Contains("--samples"));
+    CHECK(r.err.size() < 300);  // no 310-digit number
+  }
+}
+
+TEST_CASE("run: --cell that is a folder or /dev/zero, a program that is a folder", "[cli][hostile]") {
+  const auto dir = test::scratch_dir();
+  const auto t0 = std::chrono::steady_clock::now();
+  auto r = run_cli("run " + source_path("programs/demo/pick_place.v2") + " --cell /dev/zero");
+  CHECK(r.exit_code == 1);
+  CHECK(r.err == "*Cell error*  /dev/zero: is larger than 64 MiB, the limit for this kind of file\n");
+  r = run_cli("run " + source_path("programs/demo/pick_place.v2") + " --cell " + dir.string());
+  CHECK(r.exit_code == 1);
+  CHECK(r.err == "*Cell error*  " + dir.string() + ": is a directory, not a file\n");
+  r = run_cli("check " + dir.string());
+  CHECK(r.exit_code == 1);
+  CHECK(r.err == "*File not found*  " + dir.string() + "\n");
+  r = run_cli("check /dev/zero");
+  CHECK(r.exit_code == 1);
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 30);
+}
+
+TEST_CASE("an interrupted asimov test removes its scratch folder and exits 130", "[cli][hostile][suite]") {
+  const auto dir = test::scratch_dir() / "interrupted-suite";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "spin.v2") << ".PROGRAM spin()\n  WHILE TRUE DO\n  END\n.END\n";
+  std::ofstream(dir / "spin.out") << "";
+  const auto log = dir / "log.txt";
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    std::freopen(log.c_str(), "w", stdout);
+    ::execl(ASIMOV_BINARY, ASIMOV_BINARY, "test", dir.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  const auto scratch = std::filesystem::temp_directory_path() / ("asimov-test-" + std::to_string(pid));
+  // Wait until the case runs (its scratch folder exists), then Ctrl-C.
+  for (int i = 0; i < 200 && !std::filesystem::exists(scratch); ++i) ::usleep(50000);
+  CHECK(std::filesystem::exists(scratch));
+  ::usleep(300000);
+  ::kill(pid, SIGINT);
+  int status = 0;
+  REQUIRE(::waitpid(pid, &status, 0) == pid);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  CHECK_FALSE(std::filesystem::exists(scratch));
+  CHECK(test::slurp(log) == "Interrupted: 0 of 1 case run, 0 failed\n");
+  std::filesystem::remove_all(dir);
+}
