@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstdlib>
+#include <optional>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -50,6 +52,49 @@ int write_report(const std::string& path, const nlohmann::json& doc, std::ostrea
   err << "*Cannot write file*  " << why << '\n';
   return kExitUsage;
 }
+
+// Progress of a long run on a terminal (stderr): simulated time, the program line of the motion
+// being carried out and the poses checked, redrawn in place at most every 0.25 s once the run has
+// taken 0.5 s (ASIMOV_PROGRESS_DELAY_S overrides the delay, for tests), erased when it ends. Fed
+// by the simulator's pose hook, on the run's own thread; off when stderr is not a terminal.
+class RunProgress {
+ public:
+  RunProgress(const motion::Simulator& sim, std::string file, std::ostream& err)
+      : sim_(sim), file_(std::move(file)), err_(err) {
+    const char* delay = std::getenv("ASIMOV_PROGRESS_DELAY_S");
+    next_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                               std::chrono::duration<double>(delay && *delay ? std::atof(delay) : 0.5));
+  }
+  void on_pose(double time_s) {
+    if (++poses_ % 64 != 0 || Clock::now() < next_) return;
+    next_ = Clock::now() + std::chrono::milliseconds(250);
+    const int tag = sim_.motion_tag();
+    if (tag != tag_) {
+      tag_ = tag;
+      const auto lines = step_lines(file_, {tag});
+      where_ = lines.contains(std::to_string(tag))
+                   ? fmt::format("{}, line {}", lines[std::to_string(tag)]["program"].get<std::string>(),
+                                 lines[std::to_string(tag)]["line"].get<int>())
+                   : fmt::format("step {}", tag);
+    }
+    err_ << fmt::format("\r\033[K  t = {:.3f} s  {}  {} poses checked", time_s, where_, sim_.poses_checked()) << std::flush;
+    drawn_ = true;
+  }
+  ~RunProgress() {
+    if (drawn_) err_ << "\r\033[K" << std::flush;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  const motion::Simulator& sim_;
+  std::string file_;
+  std::ostream& err_;
+  Clock::time_point next_;
+  std::uint64_t poses_ = 0;
+  int tag_ = -1;
+  std::string where_;
+  bool drawn_ = false;
+};
 
 }  // namespace
 
@@ -139,7 +184,14 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   sigint_flag().store(false);
   interp.limits().interrupt = &sigint_flag();
   install_sigint(true);
+  std::optional<RunProgress> progress;
+  if (&err == &std::cerr && ::isatty(STDERR_FILENO) == 1) {
+    progress.emplace(sim, opt.file, err);
+    sim.set_pose_hook([&progress](double t, const robots::JointVector&) { progress->on_pose(t); });
+  }
   interpreter::RunResult result = interp.run(main);
+  sim.set_pose_hook({});
+  progress.reset();  // erases the progress line before the messages
   signal(SIGINT, SIG_DFL);
   out.flush();
   const RunSummary summary = summarize_run(opt.file, std::move(result), sim, since(start));

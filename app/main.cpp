@@ -52,6 +52,11 @@ int main(int argc, char** argv) {
   test_cmd->add_option("--timeout", test.timeout_s, "seconds before a case is stopped and fails (default 600)")
       ->check(CLI::Range(1, 86400));
   test_cmd->add_flag("--update", test.update, "maintainers: rewrite the expected files of failed cases");
+  std::string shard;
+  test_cmd->add_option("--shard", shard, "run only shard K of N (K/N; by a hash of the case name, docs/scale-out.md)");
+  test_cmd->add_flag("--list", test.list, "print the selected case names, one a line; nothing runs");
+  test_cmd->add_option("--merge-junit", test.merge_junit,
+                       "write OUT merging the JUnit files given as PATHs (from --shard runs); nothing runs");
 
   try {
     cli.parse(argc, argv);
@@ -68,7 +73,13 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run, std::cout, std::cerr);
     if (*check_cmd) return check_command(check_file, std::cout, std::cerr);
     if (*pairs_cmd) return pairs_command(pairs, std::cout, std::cerr);
-    if (*test_cmd) return test_command(test, std::cout, std::cerr);
+    if (*test_cmd) {
+      if (!shard.empty() && !parse_shard(shard, test.shard, test.shards)) {
+        std::cerr << "*Invalid argument*  --shard " << shard << ": expected K/N with 1 <= K <= N\n";
+        return kExitUsage;
+      }
+      return test_command(test, std::cout, std::cerr);
+    }
     return monitor_command(monitor, std::cin, std::cout, std::cerr);  // `monitor` or no subcommand
   } catch (const std::exception& e) {
     // The layers report problems as values; anything reaching here is a defect, still no crash.

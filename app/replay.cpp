@@ -67,6 +67,8 @@ bool motion_keyword(const std::string& w) {
 // The program line of each step tag. The simulator only knows the step (file line - .PROGRAM
 // line); a step is named only where exactly one program of the file has a motion instruction
 // at that step, otherwise the page shows the bare step.
+}  // namespace
+
 nlohmann::json step_lines(const std::string& file, const std::vector<int>& tags) {
   std::string text;
   auto out = nlohmann::json::object();
@@ -102,6 +104,8 @@ nlohmann::json step_lines(const std::string& file, const std::vector<int>& tags)
   }
   return out;
 }
+
+namespace {
 
 // "</script" inside an inlined script would end it early.
 std::string script_safe(std::string s) {

@@ -28,6 +28,10 @@ bool load_replay_assets(ReplayAssets& assets, std::string& why);
 // the simulator after the run, with set_replay() on before it.
 nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result);
 
+// The source line of each motion step tag, where the tag names one motion instruction of one
+// program of `file` unambiguously: {"TAG": {"program", "line", "text"}} (others are left out).
+nlohmann::json step_lines(const std::string& file, const std::vector<int>& tags);
+
 // The HTML page: `data` in a JSON script element, three.js through an import map of data: URLs.
 std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data);
 

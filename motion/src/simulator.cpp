@@ -520,6 +520,7 @@ double Simulator::time_s() const { return impl_->time; }
 std::uint64_t Simulator::bisection_checks() const { return impl_->bisection; }
 std::uint64_t Simulator::poses_checked() const { return impl_->poses; }
 bool Simulator::motion_pending() const { return impl_->pending.active; }
+int Simulator::motion_tag() const { return impl_->pending.tag; }
 void Simulator::set_trace(bool on) { impl_->tracing = on; }
 const std::vector<TraceSample>& Simulator::trace() const { return impl_->trace; }
 void Simulator::set_replay(double grid_s) { impl_->replay_grid = grid_s > 0 ? grid_s : 0; }

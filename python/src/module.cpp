@@ -19,6 +19,7 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <limits>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -431,6 +432,28 @@ class PyEngine {
     return out;
   }
 
+  // Minimum distance between two bodies at the current poses (Engine::distance).
+  py::dict distance(collision::BodyId a, collision::BodyId b, double upper_mm) {
+    check_id(a);
+    check_id(b);
+    if (a == b) throw py::value_error("distance: two different bodies");
+    collision::DistanceResult r;
+    {
+      py::gil_scoped_release release;
+      r = engine_.distance(a, b, {.upper_mm = upper_mm});
+    }
+    py::dict d;
+    d["status"] = r.status == collision::DistanceStatus::exact ? "exact" : r.status == collision::DistanceStatus::contact ? "contact" : "beyond";
+    d["distance"] = r.distance;
+    d["bodies"] = py::make_tuple(names_[a], names_[b]);
+    d["faces"] = py::make_tuple(r.face_a, r.face_b);
+    d["point_a"] = py::make_tuple(r.point_a.x(), r.point_a.y(), r.point_a.z());
+    d["point_b"] = py::make_tuple(r.point_b.x(), r.point_b.y(), r.point_b.z());
+    if (r.status == collision::DistanceStatus::contact)
+      d["kind"] = r.kind == collision::ContactKind::containment ? "containment" : "faces";
+    return d;
+  }
+
   collision::Engine& engine() { return engine_; }
   std::size_t size() const { return names_.size(); }
   const std::string& name(collision::BodyId id) const {
@@ -579,6 +602,10 @@ PYBIND11_MODULE(_asimov, m) {
       .def("collides", [](PyEngine& e) { return !e.check().is_none(); })
       .def("check_poses", &PyEngine::check_poses, py::arg("bodies"), py::arg("poses"),
            "Batch: poses (N, 4, 4) for one body or (N, k, 4, 4) for k bodies; collided per pose (bool, N).")
+      .def("distance", &PyEngine::distance, py::arg("a"), py::arg("b"), py::arg("upper") = std::numeric_limits<double>::infinity(),
+           "Minimum distance [mm] between two bodies at their current poses, with witness points: "
+           "{'status': 'exact'|'contact'|'beyond', 'distance', 'point_a', 'point_b', 'faces', 'bodies'}; "
+           "beyond: at least `upper` apart (distance is a lower bound).")
       .def("body_name", &PyEngine::name, py::arg("body"))
       .def("body_closed", [](PyEngine& e, collision::BodyId id) { e.name(id); return e.engine().body_closed(id); }, py::arg("body"))
       .def("__len__", &PyEngine::size);

@@ -13,10 +13,19 @@ def root():
     return ROOT
 
 
+def built(variable, what):
+    """A path CTest passes in the environment; the test is skipped without it."""
+    path = os.environ.get(variable)
+    if not path:
+        pytest.skip(f"{variable} not set (CTest sets it to {what})")
+    return path
+
+
 @pytest.fixture
 def engine_batch():
-    """The C++ peer (tests/python/engine_batch.cpp), from the build tree."""
-    path = os.environ.get("ASIMOV_ENGINE_BATCH")
-    if not path:
-        pytest.skip("ASIMOV_ENGINE_BATCH not set (CTest sets it)")
-    return path
+    return built("ASIMOV_ENGINE_BATCH", "tests/python/engine_batch.cpp, the C++ peer")
+
+
+@pytest.fixture
+def cli():
+    return built("ASIMOV_BINARY", "the asimov executable")

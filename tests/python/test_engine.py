@@ -123,3 +123,30 @@ def test_agrees_with_cpp_on_10000_random_poses(engine_batch, tmp_path):
     for i in range(0, n, 997):
         e.set_pose(part, poses[i])
         assert e.collides() == cpp[i]
+
+
+def test_distance_with_witness_points():
+    e = asimov.Engine()
+    a = e.add_box("a", (100, 100, 100))
+    b = e.add_box("b", (100, 100, 100))
+    e.set_pose(a, np.eye(4))
+    e.set_pose(b, shifted(130, 20, 0))  # faces 30 mm apart along x
+    d = e.distance(a, b)
+    assert d["status"] == "exact" and abs(d["distance"] - 30) < 1e-9
+    assert abs(np.linalg.norm(np.subtract(d["point_b"], d["point_a"])) - 30) < 1e-9
+    assert abs(d["point_a"][0] - 50) < 1e-9 and abs(d["point_b"][0] - 80) < 1e-9
+    far = e.distance(a, b, upper=10)
+    assert far["status"] == "beyond" and far["distance"] >= 10
+    e.set_pose(b, shifted(60))
+    assert e.distance(a, b)["status"] == "contact" and e.distance(a, b)["distance"] == 0
+    with pytest.raises(ValueError):
+        e.distance(a, a)
+    with pytest.raises(IndexError):
+        e.distance(a, 9)
+    # random poses: the distance is positive exactly when check() finds no contact
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        p = shifted(*rng.uniform(-150, 150, 3))
+        e.set_pose(b, p)
+        d = e.distance(a, b)
+        assert (d["status"] == "contact") == e.collides()

@@ -23,12 +23,10 @@ def test_crash_reports_the_contact(root):
     assert r["schema_version"] == asimov.SCHEMA_VERSION
 
 
-def test_report_is_the_cli_report(root, tmp_path):
+def test_report_is_the_cli_report(root, tmp_path, cli):
     # Same document as `asimov run --report` apart from wall-clock timings.
-    import subprocess, os
-    exe = os.environ.get("ASIMOV_BINARY")
-    if not exe:
-        pytest.skip("ASIMOV_BINARY not set (CTest sets it)")
+    import subprocess
+    exe = cli
     path = tmp_path / "r.json"
     subprocess.run([exe, "run", str(root / "programs/demo/crash.v2"), "--report", str(path)],
                    capture_output=True, check=False)

@@ -1,7 +1,6 @@
 # Every JSON document asimov writes validates against its schema in docs/schema/ (report,
 # trace, replay data; the Python report dict too), and carries schema_version.
 import json
-import os
 import re
 import subprocess
 
@@ -21,14 +20,6 @@ def validate(root, name, doc):
     jsonschema.Draft7Validator.check_schema(s)
     jsonschema.validate(doc, s)
     assert doc["schema_version"] == asimov.SCHEMA_VERSION
-
-
-@pytest.fixture
-def cli():
-    exe = os.environ.get("ASIMOV_BINARY")
-    if not exe:
-        pytest.skip("ASIMOV_BINARY not set (CTest sets it)")
-    return exe
 
 
 def run(cli, args, cwd=None):

@@ -179,6 +179,7 @@ class Simulator {
   // limit in the way (same IK as a joint motion to `target`).
   int inrange(const Location& target) const;
   bool motion_pending() const;
+  int motion_tag() const;  // tag of the motion pending or being carried out (the last one after it)
 
   // Every checked pose is appended here when tracing is on.
   void set_trace(bool on);
