@@ -194,7 +194,8 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   progress.reset();  // erases the progress line before the messages
   signal(SIGINT, SIG_DFL);
   out.flush();
-  const RunSummary summary = summarize_run(opt.file, std::move(result), sim, since(start));
+  RunSummary summary = summarize_run(opt.file, std::move(result), sim, since(start));
+  if (const auto* cell = interp.cell_state()) summary.workcell = workcell_json(*cell);
 
   for (const auto& w : summary.result.warnings) err << "Warning: " << interpreter::format_diagnostic(w);
   int rc = kExitCompleted;

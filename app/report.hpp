@@ -22,12 +22,17 @@ struct RunSummary {
   motion::RunAccuracy accuracy;
   motion::RunTiming timing;
   double wall_s = 0;                // whole command: cell load to the end of the run
+  nlohmann::json workcell;          // "events" and "parts" (workcell_json); null: a static cell
 };
 
 // The summary of a run that ended with `result` on `sim` (clock, counts, accuracy, timing);
 // `wall_s`: the whole command so far. `asimov run` and the Python module report through it.
 RunSummary summarize_run(const std::string& file, interpreter::RunResult result, const motion::Simulator& sim,
                          double wall_s);
+
+// The reacting cell's part of the report: "events" (time, kind, subject, detail, line) and
+// "parts" (name, state, final pose).
+nlohmann::json workcell_json(const motion::CellRuntime& cell);
 
 // The "accuracy" and "timing" objects of the report.
 nlohmann::json accuracy_json(const RunSummary& summary);

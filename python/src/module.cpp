@@ -237,7 +237,9 @@ class Session {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const bool failed = result.status == interpreter::RunStatus::error;
     const interpreter::Diagnostic error = result.error;
-    py::object report = to_python(app::run_report(app::summarize_run(file_, std::move(result), sim_, wall)));
+    app::RunSummary summary = app::summarize_run(file_, std::move(result), sim_, wall);
+    if (const auto* cell = interp_.cell_state()) summary.workcell = app::workcell_json(*cell);
+    py::object report = to_python(app::run_report(summary));
     if (failed) {
       py::dict f = diagnostic_dict(error);
       f["report"] = report;
