@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstdlib>
+#include <optional>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -38,13 +40,55 @@ const interpreter::Diagnostic* first_error(const std::vector<interpreter::Diagno
   return nullptr;
 }
 
-int write_report(const std::string& path, const nlohmann::json& doc, std::ostream& err) {
+// `path` "-" is standard output (`out`, after anything the program printed).
+int write_report(const std::string& path, const nlohmann::json& doc, std::ostream& out, std::ostream& err) {
   if (path.empty()) return kExitCompleted;
+  if (path == "-") {
+    out << doc.dump(2) << '\n';
+    out.flush();
+    return out ? kExitCompleted : kExitUsage;
+  }
   const Result<void> written = write_json_file(path, doc);
   if (written) return kExitCompleted;
   err << "*Cannot write file*  " << written.error().message << '\n';
   return kExitUsage;
 }
+
+// Progress of a long run on a terminal (stderr): simulated time, the program line of the motion
+// being carried out and the poses checked, redrawn in place at most every 0.25 s once the run has
+// taken 0.5 s (ASIMOV_PROGRESS_DELAY_S overrides the delay, for tests), erased when it ends. Fed
+// by the simulator's pose hook, on the run's own thread; off when stderr is not a terminal.
+class RunProgress {
+ public:
+  RunProgress(const motion::Simulator& sim, std::string file, std::ostream& err)
+      : sim_(sim), file_(std::move(file)), err_(err) {
+    const char* delay = std::getenv("ASIMOV_PROGRESS_DELAY_S");
+    next_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                               std::chrono::duration<double>(delay && *delay ? std::atof(delay) : 0.5));
+  }
+  void on_pose(double time_s) {
+    if (++poses_ % 64 != 0 || Clock::now() < next_) return;
+    next_ = Clock::now() + std::chrono::milliseconds(250);
+    // The step is all the simulator knows mid-run; program and line come with the run's result.
+    if (const int step = sim_.motion_step(); step != step_) step_ = step, where_ = fmt::format("step {}", step);
+    err_ << fmt::format("\r\033[K  t = {:.3f} s  {}  {} poses checked", time_s, where_, sim_.poses_checked()) << std::flush;
+    drawn_ = true;
+  }
+  ~RunProgress() {
+    if (drawn_) err_ << "\r\033[K" << std::flush;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  const motion::Simulator& sim_;
+  std::string file_;
+  std::ostream& err_;
+  Clock::time_point next_;
+  std::uint64_t poses_ = 0;
+  int step_ = -1;
+  std::string where_;
+  bool drawn_ = false;
+};
 
 }  // namespace
 
@@ -69,10 +113,14 @@ int check_command(const std::string& file, std::ostream& out, std::ostream& err)
 
 int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (!require_file(opt.file, err)) return kExitUsage;
+  if (opt.report == "-" && opt.trace == "-") {  // two documents on one stream parse as neither
+    err << "*Invalid argument*  --report - and --trace - cannot both write to stdout\n";
+    return kExitUsage;
+  }
   // Output files are checked before anything runs (exit 1 means nothing ran): the folder must
   // exist (it is never created) and the name must not be a folder.
   for (const std::string* path : {&opt.report, &opt.trace, &opt.replay}) {
-    if (path->empty()) continue;
+    if (path->empty() || (*path == "-" && path != &opt.replay)) continue;  // "-": stdout
     std::error_code ec;
     const auto folder = std::filesystem::path(*path).parent_path();
     if (!folder.empty() && !std::filesystem::is_directory(folder, ec)) {
@@ -109,7 +157,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   const auto diags = interp.load_file(opt.file);
   sim.add_parse_time(since(parse_start));
   if (print_diagnostics(diags, err)) {
-    const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), err);
+    const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), out, err);
     return rc != kExitCompleted ? rc : kExitProgramError;
   }
 
@@ -134,21 +182,18 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   sigint_flag().store(false);
   interp.limits().interrupt = &sigint_flag();
   install_sigint(true);
-  RunSummary summary;
-  summary.file = opt.file;
-  summary.result = interp.run(main);
+  std::optional<RunProgress> progress;
+  if (&err == &std::cerr && ::isatty(STDERR_FILENO) == 1) {
+    progress.emplace(sim, opt.file, err);
+    sim.set_pose_hook([&progress](double t, const robots::JointVector&) { progress->on_pose(t); });
+  }
+  interpreter::RunResult result = interp.run(main);
+  sim.set_pose_hook({});
+  progress.reset();  // erases the progress line before the messages
   signal(SIGINT, SIG_DFL);
   out.flush();
-  summary.sim_time_s = sim.time_s();
-  summary.poses_checked = sim.poses_checked();
-  summary.counts = sim.collision_counts();
-  summary.engine_used = sim.collision_engine_used();
-  summary.bisection_checks = sim.bisection_checks();
-  summary.stepping = sim.cell().collision.stepping;
-  summary.accuracy = sim.accuracy();
-  summary.timing = sim.timing();
+  RunSummary summary = summarize_run(opt.file, std::move(result), sim, since(start));
   if (const auto* cell = interp.cell_state()) summary.workcell = workcell_json(*cell);
-  summary.wall_s = since(start);
 
   for (const auto& w : summary.result.warnings) err << "Warning: " << interpreter::format_diagnostic(w);
   int rc = kExitCompleted;
@@ -170,8 +215,8 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       rc = kExitCollision;
       break;
   }
-  if (int w = write_report(opt.report, run_report(summary), err); w != kExitCompleted) return w;
-  if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.trace()), err);
+  if (int w = write_report(opt.report, run_report(summary), out, err); w != kExitCompleted) return w;
+  if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.trace()), out, err);
       w != kExitCompleted)
     return w;
   if (!opt.replay.empty())

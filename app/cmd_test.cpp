@@ -3,6 +3,7 @@
 #include "app/atomic_file.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "app/report.hpp"
 #include "app/sigint.hpp"
 #include "app/suite.hpp"
 
@@ -14,7 +15,11 @@
 #include <csignal>
 #include <condition_variable>
 #include <filesystem>
+#include <fstream>
+#include <iostream>
 #include <mutex>
+#include <set>
+#include <sstream>
 #include <ostream>
 #include <thread>
 
@@ -49,8 +54,26 @@ std::string xml_escaped(const std::string& text) {
   return s;
 }
 
+// The <properties> of our JUnit files: the schema of the results and the shard they cover.
+std::string junit_properties(const TestOptions& opt) {
+  std::string p = fmt::format("    <properties>\n      <property name=\"schema_version\" value=\"{}\"/>\n", kSchemaVersion);
+  if (opt.shards > 0) p += fmt::format("      <property name=\"shard\" value=\"{}/{}\"/>\n", opt.shard, opt.shards);
+  return p + "    </properties>\n";
+}
+
+constexpr const char* kJunitHead = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+
+std::string junit_wrap(std::size_t tests, std::size_t failed, double total_s, const std::string& properties,
+                       const std::string& body) {
+  return fmt::format(
+      "{4}<testsuites name=\"asimov test\" tests=\"{0}\" failures=\"{1}\" errors=\"0\" time=\"{2:.3f}\">\n"
+      "  <testsuite name=\"asimov test\" tests=\"{0}\" failures=\"{1}\" errors=\"0\" skipped=\"0\" time=\"{2:.3f}\">\n"
+      "{5}{3}  </testsuite>\n</testsuites>\n",
+      tests, failed, total_s, body, kJunitHead, properties);
+}
+
 std::string junit_document(const std::vector<suite::Case>& cases, const std::vector<Outcome>& outcomes,
-                           std::size_t failed, double total_s) {
+                           std::size_t failed, double total_s, const TestOptions& opt) {
   std::string body;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const auto& c = cases[i];
@@ -69,12 +92,96 @@ std::string junit_document(const std::vector<suite::Case>& cases, const std::vec
     body += fmt::format("      <system-out>{}</system-out>\n      <system-err>{}</system-err>\n    </testcase>\n",
                         xml_escaped(outcomes[i].actual.out), xml_escaped(outcomes[i].actual.err));
   }
-  return fmt::format(
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<testsuites name=\"asimov test\" tests=\"{0}\" failures=\"{1}\" errors=\"0\" time=\"{2:.3f}\">\n"
-      "  <testsuite name=\"asimov test\" tests=\"{0}\" failures=\"{1}\" errors=\"0\" skipped=\"0\" time=\"{2:.3f}\">\n"
-      "{3}  </testsuite>\n</testsuites>\n",
-      cases.size(), failed, total_s, body);
+  return junit_wrap(cases.size(), failed, total_s, junit_properties(opt), body);
+}
+
+// One file written by `asimov test --junit`: its <testcase> elements as text, and its counts.
+struct JunitPart {
+  std::string testcases;
+  std::size_t tests = 0, failures = 0;
+  double time_s = 0;
+};
+
+bool read_junit(const std::string& path, JunitPart& part, std::string& why) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string xml = text.str();
+  const std::string open = "  <testsuite name=\"asimov test\"";
+  const auto suite_at = xml.find(open);
+  const auto body_at = suite_at == std::string::npos ? suite_at : xml.find(">\n", suite_at);
+  const auto end_at = xml.rfind("  </testsuite>");
+  if (!in.good() && !in.eof()) {
+    why = fmt::format("{}: cannot read", path);
+    return false;
+  }
+  if (xml.rfind(kJunitHead, 0) != 0 || body_at == std::string::npos || end_at == std::string::npos || end_at < body_at) {
+    why = fmt::format("{}: not a JUnit file of asimov test --junit", path);
+    return false;
+  }
+  std::string body = xml.substr(body_at + 2, end_at - body_at - 2);
+  if (const auto props = body.find("    <properties>"); props == 0) body.erase(0, body.find("    </properties>\n") + 18);
+  const auto attribute = [&](const char* name) {
+    const std::string key = std::string(" ") + name + "=\"";
+    const auto at = xml.find(key, suite_at);
+    return at == std::string::npos ? std::string() : xml.substr(at + key.size(), xml.find('"', at + key.size()) - at - key.size());
+  };
+  try {
+    part.tests = std::stoul(attribute("tests"));
+    part.failures = std::stoul(attribute("failures"));
+    part.time_s = std::stod(attribute("time"));
+  } catch (const std::exception&) {
+    why = fmt::format("{}: its <testsuite> has no tests/failures/time counts", path);
+    return false;
+  }
+  part.testcases = std::move(body);
+  return true;
+}
+
+// --merge-junit OUT FILE...: one JUnit file with every case of the shard files (CI: one file for
+// the whole suite). A case name met twice is an error: the shards did not partition the suite.
+int merge_junit_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
+  if (opt.paths.empty()) {
+    err << "*Invalid argument*  --merge-junit OUT needs the JUnit files to merge as PATHs\n";
+    return kExitUsage;
+  }
+  std::string body;
+  std::size_t tests = 0, failures = 0;
+  double time_s = 0;
+  std::set<std::string> seen;
+  for (const auto& path : opt.paths) {
+    JunitPart part;
+    std::string why;
+    if (!read_junit(path, part, why)) {
+      err << "*Invalid argument*  " << why << '\n';
+      return kExitUsage;
+    }
+    for (std::size_t at = part.testcases.find("<testcase "); at != std::string::npos;
+         at = part.testcases.find("<testcase ", at + 1)) {
+      const auto name_at = part.testcases.find(" name=\"", at) + 7;
+      const auto class_at = part.testcases.find(" classname=\"", at) + 12;
+      const std::string id = part.testcases.substr(class_at, part.testcases.find('"', class_at) - class_at) + "/" +
+                             part.testcases.substr(name_at, part.testcases.find('"', name_at) - name_at);
+      if (!seen.insert(id).second) {
+        err << fmt::format("*Invalid argument*  {}: case {} is in an earlier file too\n", path, id);
+        return kExitUsage;
+      }
+    }
+    body += part.testcases;
+    tests += part.tests;
+    failures += part.failures;
+    time_s += part.time_s;
+  }
+  const std::string props = fmt::format("    <properties>\n      <property name=\"schema_version\" value=\"{}\"/>\n"
+                                        "      <property name=\"merged_files\" value=\"{}\"/>\n    </properties>\n",
+                                        kSchemaVersion, opt.paths.size());
+  std::string why;
+  if (!write_file_atomically(opt.merge_junit, junit_wrap(tests, failures, time_s, props, body), why)) {
+    err << "*Cannot write file*  " << why << '\n';
+    return kExitUsage;
+  }
+  out << fmt::format("{}: {} cases from {} files, {} failed\n", opt.merge_junit, tests, opt.paths.size(), failures);
+  return failures == 0 ? kExitCompleted : kExitTestFailed;
 }
 
 Outcome run_one(const suite::Case& c, const TestOptions& opt, const std::string& executable, const fs::path& scratch,
@@ -95,7 +202,25 @@ Outcome run_one(const suite::Case& c, const TestOptions& opt, const std::string&
 
 }  // namespace
 
+bool parse_shard(const std::string& text, int& shard, int& shards) {
+  const auto slash = text.find('/');
+  if (slash == std::string::npos || slash == 0 || slash + 1 == text.size()) return false;
+  const auto digits = [](const std::string& t) { return t.size() <= 6 && std::all_of(t.begin(), t.end(), ::isdigit); };
+  const std::string k = text.substr(0, slash), n = text.substr(slash + 1);
+  if (!digits(k) || !digits(n)) return false;
+  shard = std::stoi(k);
+  shards = std::stoi(n);
+  return shards >= 1 && shards <= 100000 && shard >= 1 && shard <= shards;
+}
+
+int shard_of(const std::string& name, int shards) {
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64
+  for (const unsigned char c : name) h = (h ^ c) * 1099511628211ull;
+  return static_cast<int>(h % static_cast<std::uint64_t>(shards));
+}
+
 int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
+  if (!opt.merge_junit.empty()) return merge_junit_command(opt, out, err);
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const std::vector<std::string> paths = opt.paths.empty() ? std::vector<std::string>{"."} : opt.paths;
@@ -105,13 +230,33 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
     return kExitUsage;
   }
   std::vector<suite::Case> cases;
-  for (auto& c : found.cases)
-    if (opt.filter.empty() || suite::filter_matches(opt.filter, c.name)) cases.push_back(std::move(c));
+  std::size_t filtered = 0;
+  for (auto& c : found.cases) {
+    if (!opt.filter.empty() && !suite::filter_matches(opt.filter, c.name)) continue;
+    ++filtered;
+    if (opt.shards == 0 || shard_of(c.name, opt.shards) == opt.shard - 1) cases.push_back(std::move(c));
+  }
+  if (cases.empty() && filtered > 0) {
+    // A shard may hold no case (more shards than cases): nothing to do is a success for CI.
+    out << fmt::format("0 cases in shard {}/{} (of {})\n", opt.shard, opt.shards, filtered);
+    if (!opt.junit.empty() && !opt.list) {
+      std::string why;
+      if (!write_file_atomically(opt.junit, junit_document({}, {}, 0, 0.0, opt), why)) {
+        err << "*Cannot write file*  " << why << '\n';
+        return kExitUsage;
+      }
+    }
+    return kExitCompleted;
+  }
   if (cases.empty()) {
     err << (found.cases.empty() ? fmt::format("*No test cases*  none under {}\n", fmt::join(paths, " "))
                                 : fmt::format("*No test cases*  none of {} matches --filter {}\n",
                                               found.cases.size(), opt.filter));
     return kExitUsage;
+  }
+  if (opt.list) {
+    for (const auto& c : cases) out << c.name << '\n';
+    return kExitCompleted;
   }
   if (!opt.junit.empty()) {
     std::error_code ec;
@@ -172,6 +317,9 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
 
   std::size_t width = 0, failed = 0, reported = 0;
   for (const auto& c : cases) width = std::max(width, c.name.size());
+  // [k/N] before each line only on a terminal: logs and CI files keep the plain format.
+  const bool terminal = &out == &std::cout && ::isatty(STDOUT_FILENO) == 1;
+  const std::size_t count_width = std::to_string(cases.size()).size();
   for (std::size_t i = 0; i < cases.size(); ++i) {
     {
       // Woken by each finished case; the wait also ends, once interrupted, at the first case no
@@ -187,6 +335,7 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
     const Outcome& o = outcomes[i];
     const bool pass = o.diffs.empty();
     failed += pass ? 0 : 1;
+    if (terminal) out << fmt::format("[{:>{}}/{}] ", i + 1, count_width, cases.size());
     out << fmt::format("{} {:<{}} {:7.2f} s\n", pass ? "PASS" : "FAIL", cases[i].name, width, o.actual.seconds);
     for (const auto& d : o.diffs) out << "       " << d << '\n';
     for (const auto& u : o.updates) out << "       update: " << u << '\n';
@@ -205,7 +354,7 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
   out << fmt::format("{} passed, {} failed, {} case{} in {:.2f} s\n", cases.size() - failed, failed, cases.size(),
                      cases.size() == 1 ? "" : "s", total_s);
   if (!opt.junit.empty()) {
-    if (const auto written = write_file_atomically(opt.junit, junit_document(cases, outcomes, failed, total_s)); !written) {
+    if (const auto written = write_file_atomically(opt.junit, junit_document(cases, outcomes, failed, total_s, opt)); !written) {
       err << "*Cannot write file*  " << written.error().message << '\n';
       return kExitUsage;
     }

@@ -37,7 +37,17 @@ struct TestOptions {
   int timeout_s = 600;              // --timeout S: a case running longer fails
   bool update = false;              // --update: rewrite the expected files of failed cases
   std::string executable;           // the asimov executable to run; empty: this process's own
+  int shard = 0, shards = 0;        // --shard K/N: only the cases whose name hashes to K-1 mod N
+                                    //   (0/0: all); docs/scale-out.md
+  bool list = false;                // --list: print the selected case names; nothing runs
+  std::string merge_junit;          // --merge-junit OUT: merge the JUnit files given as PATHs
 };
+
+// Parses "K/N" (1 <= K <= N <= 100000) for --shard; false when malformed.
+bool parse_shard(const std::string& text, int& shard, int& shards);
+// The shard (0-based) a case named `name` belongs to among `shards`: FNV-1a of the name mod N,
+// so the assignment depends on nothing but the name (stable across machines and runs).
+int shard_of(const std::string& name, int shards);
 
 // True when `path` is a regular file; otherwise prints "*File not found*  path" to `err`.
 bool require_file(const std::string& path, std::ostream& err);

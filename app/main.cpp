@@ -3,6 +3,7 @@
 // has the contract).
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "asimov/version.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
   using namespace asimov::app;
   CLI::App cli{"asimov: VAL II programs in simulation, halted on contact"};
   cli.require_subcommand(0, 1);  // none: the monitor
+  cli.set_version_flag("--version", std::string("asimov ") + asimov::kVersion, "print the version and exit");
   cli.footer("Without a subcommand asimov starts the monitor (as `asimov monitor`).");
 
   RunOptions run;
@@ -19,8 +21,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("file", run.file, "the .v2 file")->required();
   run_cmd->add_option("--main", run.main, "program to run (default: the first in the file)");
   run_cmd->add_option("--cell", run.cell, "cell file (YAML); default: the built-in cell");
-  run_cmd->add_option("--report", run.report, "write a JSON report of the run");
-  run_cmd->add_option("--trace", run.trace, "write every checked pose as JSON");
+  run_cmd->add_option("--report", run.report, "write a JSON report of the run (- : stdout)");
+  run_cmd->add_option("--trace", run.trace, "write every checked pose as JSON (- : stdout)");
   run_cmd->add_option("--replay", run.replay, "write a self-contained HTML page replaying the run in 3D");
 
   std::string check_file;
@@ -50,10 +52,17 @@ int main(int argc, char** argv) {
   test_cmd->add_option("--timeout", test.timeout_s, "seconds before a case is stopped and fails (default 600)")
       ->check(CLI::Range(1, 86400));
   test_cmd->add_flag("--update", test.update, "maintainers: rewrite the expected files of failed cases");
+  std::string shard;
+  test_cmd->add_option("--shard", shard, "run only shard K of N (K/N; by a hash of the case name, docs/scale-out.md)");
+  test_cmd->add_flag("--list", test.list, "print the selected case names, one a line; nothing runs");
+  test_cmd->add_option("--merge-junit", test.merge_junit,
+                       "write OUT merging the JUnit files given as PATHs (from --shard runs); nothing runs");
 
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return cli.exit(e);
   } catch (const CLI::ParseError& e) {
     cli.exit(e);
@@ -64,7 +73,13 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run, std::cout, std::cerr);
     if (*check_cmd) return check_command(check_file, std::cout, std::cerr);
     if (*pairs_cmd) return pairs_command(pairs, std::cout, std::cerr);
-    if (*test_cmd) return test_command(test, std::cout, std::cerr);
+    if (*test_cmd) {
+      if (!shard.empty() && !parse_shard(shard, test.shard, test.shards)) {
+        std::cerr << "*Invalid argument*  --shard " << shard << ": expected K/N with 1 <= K <= N\n";
+        return kExitUsage;
+      }
+      return test_command(test, std::cout, std::cerr);
+    }
     return monitor_command(monitor, std::cin, std::cout, std::cerr);  // `monitor` or no subcommand
   } catch (const std::exception& e) {
     // The layers report problems as values; anything reaching here is a defect, still no crash.

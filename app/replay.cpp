@@ -14,8 +14,8 @@
 #include <map>
 #include <sstream>
 
-#ifndef ASIMOV_REPLAY_DIR
-#define ASIMOV_REPLAY_DIR ""
+#ifndef ASIMOV_REPLAY_REL
+#define ASIMOV_REPLAY_REL "../share/asimov/replay"
 #endif
 
 namespace asimov::app {
@@ -63,6 +63,8 @@ nlohmann::json step_lines(const std::vector<interpreter::MotionStep>& motions, c
   return out;
 }
 
+namespace {
+
 // "</script" inside an inlined script would end it early.
 std::string script_safe(std::string s) {
   for (std::size_t at = 0; (at = s.find("</", at)) != std::string::npos; at += 3) s.replace(at, 2, "<\\/");
@@ -88,7 +90,11 @@ std::string base64(const void* bytes, std::size_t size) {
 
 std::string replay_asset_dir() {
   if (const char* env = std::getenv("ASIMOV_REPLAY_DIR"); env && *env) return env;
-  return ASIMOV_REPLAY_DIR;
+  // Relative to the executable, so an installed tree (and a moved one) finds its own copy.
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  return (exe.parent_path() / ASIMOV_REPLAY_REL).lexically_normal().string();
 }
 
 Result<ReplayAssets> load_replay_assets() {
@@ -99,7 +105,7 @@ Result<ReplayAssets> load_replay_assets() {
   for (const auto& [name, text] : files) {
     if (dir.empty() || !read_file(dir / name, *text))
       return Error{fmt::format("{} is missing: install three.js with scripts/install-deps.sh (npm ci in app/replay), "
-                               "then re-run cmake; or point ASIMOV_REPLAY_DIR at a folder holding "
+                               "then re-run cmake (and install again); or point ASIMOV_REPLAY_DIR at a folder holding "
                                "three.module.min.js, OrbitControls.js and viewer.js",
                                (dir / name).string()),
                    {}, (dir / name).string(), 0};
@@ -163,6 +169,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   }
 
   nlohmann::json doc = {
+      {"schema_version", kSchemaVersion},
       {"format", "asimov-replay 1"},
       {"file", file},
       {"program", result.program},

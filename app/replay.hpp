@@ -17,8 +17,9 @@ struct ReplayAssets {
   std::string three, orbit_controls, viewer;
 };
 
-// The folder the assets are read from: $ASIMOV_REPLAY_DIR when set, else the build tree's copy
-// (CMake configures its absolute path into the binary, app/replay/replay.cmake).
+// The folder the assets are read from: $ASIMOV_REPLAY_DIR when set, else share/asimov/replay
+// beside the executable's folder (BUILD/share/asimov/replay in the build tree,
+// PREFIX/share/asimov/replay installed; app/replay/replay.cmake).
 std::string replay_asset_dir();
 // Reads the three files; the error names the missing file and the fix when one is missing.
 Result<ReplayAssets> load_replay_assets();
@@ -27,6 +28,10 @@ Result<ReplayAssets> load_replay_assets();
 // pose of every moving body), the program lines of the steps and the contact, if any. `sim` is
 // the simulator after the run, with set_replay() on before it.
 nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result);
+
+// The source line of each motion step tag, where the tag names one motion instruction of one
+// program of `file` unambiguously: {"TAG": {"program", "line", "text"}} (others are left out).
+nlohmann::json step_lines(const std::string& file, const std::vector<int>& tags);
 
 // The HTML page: `data` in a JSON script element, three.js through an import map of data: URLs.
 std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data);

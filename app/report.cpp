@@ -41,14 +41,15 @@ const char* status_name(const interpreter::RunResult& r) {
 }
 
 nlohmann::json load_error_report(const std::string& file, const interpreter::Diagnostic& first_error) {
-  return {{"status", "error"},     {"file", file},       {"program", first_error.program},
+  return {{"schema_version", kSchemaVersion}, {"status", "error"}, {"file", file},       {"program", first_error.program},
           {"line", first_error.line}, {"step", first_error.step}, {"sim_time_s", 0.0},
           {"poses_checked", 0},    {"error", error_object(first_error)}};
 }
 
 nlohmann::json run_report(const RunSummary& s) {
   const auto& r = s.result;
-  nlohmann::json doc = {{"status", status_name(r)},
+  nlohmann::json doc = {{"schema_version", kSchemaVersion},
+                        {"status", status_name(r)},
                         {"file", s.file},
                         {"program", r.program},
                         {"line", r.line},
@@ -90,6 +91,23 @@ nlohmann::json run_report(const RunSummary& s) {
   return doc;
 }
 
+RunSummary summarize_run(const std::string& file, interpreter::RunResult result, const motion::Simulator& sim,
+                         double wall_s) {
+  RunSummary summary;
+  summary.file = file;
+  summary.result = std::move(result);
+  summary.sim_time_s = sim.time_s();
+  summary.poses_checked = sim.poses_checked();
+  summary.counts = sim.collision_counts();
+  summary.engine_used = sim.collision_engine_used();
+  summary.bisection_checks = sim.bisection_checks();
+  summary.stepping = sim.cell().collision.stepping;
+  summary.accuracy = sim.accuracy();
+  summary.timing = sim.timing();
+  summary.wall_s = wall_s;
+  return summary;
+}
+
 nlohmann::json accuracy_json(const RunSummary& s) {
   const motion::RunAccuracy& a = s.accuracy;
   return {{"stepping", s.stepping == motion::Stepping::gap ? "gap" : "fixed"},
@@ -117,7 +135,8 @@ nlohmann::json trace_document(const std::string& program, const robots::Robot& r
                     {"joints_deg", joints(s.joints)},
                     {"tool_xyzoat", {x[0], x[1], x[2], x[3], x[4], x[5]}}});
   }
-  return {{"program", program},
+  return {{"schema_version", kSchemaVersion},
+          {"program", program},
           {"robot", robot.name},
           {"units", {{"t", "s"}, {"joints_deg", "deg"}, {"tool_xyzoat", "mm, deg (VAL O/A/T)"}}},
           {"samples", std::move(rows)}};

@@ -7,6 +7,10 @@
 
 namespace asimov::app {
 
+// "schema_version" of every JSON document asimov writes (report, trace, replay data, test
+// results); docs/schema/*.schema.json. Raised when a field changes meaning or goes away.
+constexpr int kSchemaVersion = 1;
+
 struct RunSummary {
   std::string file;                 // the .v2 file run
   interpreter::RunResult result;
@@ -21,6 +25,11 @@ struct RunSummary {
   double wall_s = 0;                // whole command: cell load to the end of the run
   nlohmann::json workcell;          // "events" and "parts" (workcell_json); null: a static cell
 };
+
+// The summary of a run that ended with `result` on `sim` (clock, counts, accuracy, timing);
+// `wall_s`: the whole command so far. `asimov run` and the Python module report through it.
+RunSummary summarize_run(const std::string& file, interpreter::RunResult result, const motion::Simulator& sim,
+                         double wall_s);
 
 // The reacting cell's part of the report: "events" (time, kind, subject, detail, line) and
 // "parts" (name, state, final pose).

@@ -8,6 +8,9 @@ packages=(
   libeigen3-dev libboost-dev libfmt-dev catch2
   libyaml-cpp-dev libcli11-dev libedit-dev libtinyxml2-dev nlohmann-json3-dev libassimp-dev
   libbenchmark-dev
+  # The Python module (python/, docs/python.md) and its tests; jsonschema validates every JSON
+  # document asimov writes against docs/schema/.
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-jsonschema
 )
 # Peers for bench/ only (FCL, KDL, Lua 5.4); the peer benchmarks are skipped without them.
 if [ "${ASIMOV_WITH_PEERS:-1}" = 1 ]; then

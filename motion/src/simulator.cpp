@@ -117,6 +117,7 @@ const RunAccuracy& Simulator::accuracy() const { return impl_->accuracy.figures;
 const RunTiming& Simulator::timing() const { return impl_->timing.timing; }
 void Simulator::add_parse_time(double seconds) { impl_->timing.timing.parse_s += seconds; }
 void Simulator::add_preprocess_time(double seconds) { impl_->timing.timing.preprocess_s += seconds; }
+int Simulator::motion_step() const { return impl_->pending ? impl_->pending->step : 0; }
 
 MotionResult Simulator::start_joint_move(const robots::JointVector& target, SpeedSettings speed, int step) {
   if (impl_->pending)

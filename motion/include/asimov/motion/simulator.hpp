@@ -97,6 +97,7 @@ class Simulator {
   // limit in the way (same IK as a joint motion to `target`).
   int inrange(const Location& target) const;
   bool motion_pending() const;
+  int motion_step() const;  // program step of the motion pending or being carried out (0: none)
 
   // Every checked pose is appended here when tracing is on.
   void set_trace(bool on);
