@@ -1,4 +1,5 @@
-// Suites of sample programs (app/suite.hpp): discovery, expected files, one run, the matcher.
+// Suites of sample programs (app/suite.hpp), in the order a case goes through them: discovery,
+// the expected file, one run, comparing, --update.
 #include "app/suite.hpp"
 
 #include "app/atomic_file.hpp"
@@ -6,10 +7,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 #include <fcntl.h>
@@ -25,6 +26,7 @@ using nlohmann::json;
 namespace {
 
 constexpr const char* kExpectSuffix = ".expect.json";
+constexpr const char* kSessionSuffix = ".session";
 
 bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
@@ -67,27 +69,6 @@ std::vector<std::string> split_lines(const std::string& text) {
   return lines;
 }
 
-// The name `asimov run` prints in "Program completed: NAME": the first .PROGRAM of the file,
-// lower case (dialect §1). Empty when the file has none (the run then fails anyway).
-std::string first_program_name(const std::string& source) {
-  std::istringstream in(source);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::size_t i = line.find_first_not_of(" \t");
-    if (i == std::string::npos || line.size() - i < 8) continue;
-    std::string word = line.substr(i, 8);
-    std::transform(word.begin(), word.end(), word.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (word != ".program") continue;
-    i = line.find_first_not_of(" \t", i + 8);
-    if (i == std::string::npos) continue;
-    std::string name;
-    for (; i < line.size() && (std::isalnum(static_cast<unsigned char>(line[i])) || line[i] == '.' || line[i] == '_'); ++i)
-      name += static_cast<char>(std::tolower(static_cast<unsigned char>(line[i])));
-    return name;
-  }
-  return {};
-}
-
 bool is_range(const json& expected) {
   if (!expected.is_object() || expected.empty()) return false;
   for (const auto& [key, value] : expected.items())
@@ -95,89 +76,9 @@ bool is_range(const json& expected) {
   return true;
 }
 
-std::optional<Expectation> load_json_expectation(const Case& c, std::string& why) {
-  const fs::path file = c.file(kExpectSuffix);
-  const std::string where = file.lexically_normal().generic_string();
-  if (is_file(c.file(".out"))) {
-    why = fmt::format("{}: {} is there too; a case has one kind of expected file", where,
-                      c.file(".out").lexically_normal().generic_string());
-    return std::nullopt;
-  }
-  const auto text = read_text(file);
-  if (!text) {
-    why = where + ": cannot read the file";
-    return std::nullopt;
-  }
-  json doc;
-  try {
-    doc = json::parse(*text);
-  } catch (const json::parse_error& e) {
-    std::string message = e.what();
-    if (const auto pos = message.find("] "); pos != std::string::npos) message = message.substr(pos + 2);
-    why = fmt::format("{}: malformed JSON: {}", where, message);
-    return std::nullopt;
-  }
-  if (!doc.is_object()) {
-    why = where + ": expected a JSON object";
-    return std::nullopt;
-  }
-  Expectation e;
-  for (const auto& item : doc.items()) {
-    // Plain references, not a structured binding: clang 14 cannot capture those in a lambda.
-    const std::string& key = item.key();
-    const json& value = item.value();
-    const auto wrong = [&](const char* type) {
-      why = fmt::format("{}: \"{}\" must be {}", where, key, type);
-      return std::nullopt;
-    };
-    if (key == "exit") {
-      if (!value.is_number_integer()) return wrong("an integer");
-      e.exit = value.get<int>();
-    } else if (key == "cell" || key == "main" || key == "stdout") {
-      if (!value.is_string()) return wrong("a string");
-      if (key == "cell") e.cell = value.get<std::string>();
-      if (key == "main") e.main = value.get<std::string>();
-      if (key == "stdout") e.stdout_text = value.get<std::string>();
-    } else if (key == "stderr_has") {
-      if (!value.is_array()) return wrong("an array of strings");
-      for (const auto& line : value) {
-        if (!line.is_string()) return wrong("an array of strings");
-        e.stderr_has.push_back(line.get<std::string>());
-      }
-    } else if (key == "report") {
-      if (!value.is_object()) return wrong("an object");
-      e.report = value;
-    } else {
-      why = fmt::format("{}: unknown key \"{}\" (known: cell, exit, main, report, stderr_has, stdout)", where, key);
-      return std::nullopt;
-    }
-  }
-  if (!doc.contains("exit")) {
-    why = where + ": \"exit\" is required";
-    return std::nullopt;
-  }
-  return e;
-}
-
-std::optional<Expectation> load_out_expectation(const Case& c, const std::string& source, std::string& why) {
-  const auto out = read_text(c.file(".out"));
-  if (!out) {
-    why = c.file(".out").lexically_normal().generic_string() + ": file not found (a NAME.err case needs its NAME.out)";
-    return std::nullopt;
-  }
-  Expectation e;
-  e.stdout_text = *out;
-  if (is_file(c.file(".err"))) {
-    e.exit = 2;  // the run stops with a program error whose report is NAME.err
-    e.stderr_text = read_text(c.file(".err")).value_or("");
-  } else {
-    e.exit = 0;
-    e.stderr_text = "Program completed: " + first_program_name(source) + "\n";
-  }
-  return e;
-}
-
 }  // namespace
+
+// ---- discovery ---------------------------------------------------------------------------
 
 Discovery discover(const std::vector<std::string>& paths) {
   Discovery d;
@@ -186,7 +87,7 @@ Discovery discover(const std::vector<std::string>& paths) {
   const auto consider = [&](const fs::path& file, bool named) {
     const std::string filename = file.filename().string();
     std::string stem;
-    for (const char* ext : {kExpectSuffix, ".v2", ".out", ".err"})
+    for (const char* ext : {kExpectSuffix, kSessionSuffix, ".v2"})
       if (ends_with(filename, ext) && filename.size() > std::string(ext).size()) {
         stem = filename.substr(0, filename.size() - std::string(ext).size());
         break;
@@ -196,22 +97,14 @@ Discovery discover(const std::vector<std::string>& paths) {
     Case c;
     c.dir = parent.empty() ? fs::path(".") : parent;
     c.stem = stem;
-    const bool has_json = is_file(c.file(kExpectSuffix));
-    // NAME.txt + NAME.out is a monitor session (tests/app/test_monitor_sessions.cpp), no case.
-    const bool session = !has_json && is_file(c.file(".txt"));
-    // NAME.out/.err make a case only beside NAME.v2 (a compiler's a.out is none).
-    const bool out_case = is_file(c.file(".v2")) && (is_file(c.file(".out")) || is_file(c.file(".err")));
-    if (session || (!has_json && !out_case)) {
-      // A .v2 without expected results (e.g. one a monitor session loads) is no case, unless named.
+    c.kind = is_file(c.file(kSessionSuffix)) ? CaseKind::session : CaseKind::program;
+    // A program without NAME.expect.json is none (a session may load it); a session always is.
+    if (c.kind == CaseKind::program && !is_file(c.file(kExpectSuffix))) {
       if (named)
-        d.errors.push_back(session ? fmt::format("*Not a test case*  {}: {}.txt makes it a monitor session",
-                                                 file.lexically_normal().generic_string(), stem)
-                                   : fmt::format("*Not a test case*  {}: no {}.v2 with {}{} or {}.out beside it",
-                                                 file.lexically_normal().generic_string(), stem, stem, kExpectSuffix,
-                                                 stem));
+        d.errors.push_back(fmt::format("*Not a test case*  {}: no {}{} beside it",
+                                       file.lexically_normal().generic_string(), stem, kExpectSuffix));
       return named;
     }
-    c.kind = has_json ? CaseKind::expect_json : CaseKind::out_files;
     c.name = (parent / stem).lexically_normal().generic_string();
     found.emplace(c.name, c);
     return true;
@@ -233,8 +126,8 @@ Discovery discover(const std::vector<std::string>& paths) {
       if (ec) d.errors.push_back(fmt::format("*Cannot read folder*  {}: {}", p, ec.message()));
     } else if (is_file(path)) {
       if (!consider(path, true))
-        d.errors.push_back(fmt::format("*Not a test case*  {}: expected NAME.v2, NAME{}, NAME.out or NAME.err", p,
-                                       kExpectSuffix));
+        d.errors.push_back(fmt::format("*Not a test case*  {}: expected NAME.v2, NAME{} or NAME{}", p,
+                                       kSessionSuffix, kExpectSuffix));
     } else {
       d.errors.push_back(fmt::format("*File not found*  {}", p));
     }
@@ -248,23 +141,148 @@ bool filter_matches(const std::string& pattern, const std::string& name) {
   return name.find(pattern) != std::string::npos;
 }
 
-std::optional<Expectation> load_expectation(const Case& c, std::string& why) {
-  const fs::path program = c.file(".v2");
-  const auto source = read_text(program);
-  if (!is_file(program) || !source) {
-    why = program.lexically_normal().generic_string() + ": file not found (every expected file needs its program)";
-    return std::nullopt;
+// ---- the expected file -------------------------------------------------------------------
+
+namespace {
+
+// stdout and stderr are a string (the exact text) or an array of lines, each ending in a newline.
+std::optional<std::string> output_text(const json& value) {
+  if (value.is_string()) return value.get<std::string>();
+  if (!value.is_array()) return std::nullopt;
+  std::string text;
+  for (const auto& line : value) {
+    if (!line.is_string()) return std::nullopt;
+    text += line.get<std::string>() + "\n";
   }
-  return c.kind == CaseKind::expect_json ? load_json_expectation(c, why) : load_out_expectation(c, *source, why);
+  return text;
 }
 
+std::optional<std::vector<std::string>> string_list(const json& value) {
+  if (!value.is_array()) return std::nullopt;
+  std::vector<std::string> list;
+  for (const auto& item : value) {
+    if (!item.is_string()) return std::nullopt;
+    list.push_back(item.get<std::string>());
+  }
+  return list;
+}
+
+// The keys of NAME.expect.json and the JSON type of each (programs/README.md).
+constexpr const char* kKnownKeys = "args, cell, exit, main, report, stderr, stderr_has, stdout";
+
+std::optional<Expectation> parse_expectation(const json& doc, CaseKind kind, const std::string& where,
+                                             std::string& why) {
+  if (!doc.is_object()) {
+    why = where + ": expected a JSON object";
+    return std::nullopt;
+  }
+  Expectation e;
+  for (const auto& item : doc.items()) {
+    // Plain references, not a structured binding: clang 14 cannot capture those in a lambda.
+    const std::string& key = item.key();
+    const json& value = item.value();
+    const auto wrong = [&](const char* type) {
+      why = fmt::format("{}: \"{}\" must be {}", where, key, type);
+      return std::nullopt;
+    };
+    if (kind == CaseKind::session && (key == "main" || key == "report")) {
+      why = fmt::format("{}: \"{}\" is for programs (asimov run), not monitor sessions", where, key);
+      return std::nullopt;
+    }
+    if (key == "exit") {
+      if (!value.is_number_integer()) return wrong("an integer");
+      e.exit = value.get<int>();
+    } else if (key == "cell" || key == "main") {
+      if (!value.is_string()) return wrong("a string");
+      (key == "cell" ? e.cell : e.main) = value.get<std::string>();
+    } else if (key == "stdout" || key == "stderr") {
+      const auto text = output_text(value);
+      if (!text) return wrong("a string or an array of lines");
+      (key == "stdout" ? e.stdout_text : e.stderr_text) = *text;
+    } else if (key == "args" || key == "stderr_has") {
+      const auto list = string_list(value);
+      if (!list) return wrong("an array of strings");
+      (key == "args" ? e.args : e.stderr_has) = *list;
+    } else if (key == "report") {
+      if (!value.is_object()) return wrong("an object");
+      e.report = value;
+    } else {
+      why = fmt::format("{}: unknown key \"{}\" (known: {})", where, key, kKnownKeys);
+      return std::nullopt;
+    }
+  }
+  if (!doc.contains("exit")) {
+    why = where + ": \"exit\" is required";
+    return std::nullopt;
+  }
+  return e;
+}
+
+}  // namespace
+
+std::optional<Expectation> load_expectation(const Case& c, std::string& why) {
+  const fs::path file = c.file(kExpectSuffix);
+  const std::string where = file.lexically_normal().generic_string();
+  if (c.kind == CaseKind::program && !is_file(c.file(".v2"))) {
+    why = fmt::format("{}: file not found (NAME{} needs NAME.v2 or NAME{} beside it)",
+                      c.file(".v2").lexically_normal().generic_string(), kExpectSuffix, kSessionSuffix);
+    return std::nullopt;
+  }
+  const auto text = read_text(file);
+  if (!text) {
+    why = where + (is_file(file) ? ": cannot read the file" : ": file not found (every case needs one)");
+    return std::nullopt;
+  }
+  try {
+    return parse_expectation(json::parse(*text), c.kind, where, why);
+  } catch (const json::parse_error& e) {
+    std::string message = e.what();
+    if (const auto pos = message.find("] "); pos != std::string::npos) message = message.substr(pos + 2);
+    why = fmt::format("{}: malformed JSON: {}", where, message);
+    return std::nullopt;
+  }
+}
+
+// ---- one run -----------------------------------------------------------------------------
+
 std::vector<std::string> run_arguments(const Case& c, const Expectation& e, const fs::path& report) {
-  std::vector<std::string> args = {"run", c.stem + ".v2"};
+  std::vector<std::string> args;
+  if (c.kind == CaseKind::session) {
+    args = {"monitor"};
+    if (!e.cell.empty()) args.insert(args.end(), {"--cell", fs::absolute(c.dir / e.cell).lexically_normal().string()});
+    args.insert(args.end(), e.args.begin(), e.args.end());
+    return args;
+  }
+  args = {"run", c.stem + ".v2"};
   if (!e.main.empty()) args.insert(args.end(), {"--main", e.main});
   if (!e.cell.empty()) args.insert(args.end(), {"--cell", e.cell});
+  args.insert(args.end(), e.args.begin(), e.args.end());
   if (!report.empty()) args.insert(args.end(), {"--report", report.string()});
   return args;
 }
+
+namespace {
+
+// A fresh folder holding copies of the files of the session's folder (links followed), where
+// the session runs; empty with `why` filled when it cannot be made.
+fs::path session_folder(const Case& c, const fs::path& scratch, const std::string& tag, std::string& why) {
+  const fs::path dir = scratch / (tag + ".session");
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  fs::create_directories(dir, ec);
+  for (auto it = fs::directory_iterator(c.dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    std::error_code entry_ec;
+    if (it->is_regular_file(entry_ec)) fs::copy_file(it->path(), dir / it->path().filename(), ec);
+    if (ec) break;
+  }
+  if (ec) {
+    why = fmt::format("cannot copy {} to {}: {}", c.dir.generic_string(), dir.string(), ec.message());
+    return {};
+  }
+  return dir;
+}
+
+}  // namespace
 
 Actual run_case(const Case& c, const Expectation& e, const std::string& executable, const fs::path& scratch,
                 const std::string& tag, std::chrono::seconds timeout, const std::atomic<bool>* stop) {
@@ -274,13 +292,20 @@ Actual run_case(const Case& c, const Expectation& e, const std::string& executab
   const fs::path report = e.report ? scratch / (tag + ".report.json") : fs::path();
   std::error_code ec;
   fs::remove(report, ec);
+  fs::path dir = c.dir, in_file = "/dev/null";
+  if (c.kind == CaseKind::session) {
+    in_file = fs::absolute(c.file(kSessionSuffix), ec);
+    dir = session_folder(c, scratch, tag, a.exit_note);
+    if (dir.empty()) return a;
+  }
   // Everything the child needs is built before fork: after it only async-signal-safe calls.
   std::vector<std::string> args = run_arguments(c, e, report);
   args.insert(args.begin(), executable);
   std::vector<char*> argv;
   for (auto& s : args) argv.push_back(s.data());
   argv.push_back(nullptr);
-  const std::string dir = c.dir.string(), out_path = out_file.string(), err_path = err_file.string();
+  const std::string dir_path = dir.string(), in_path = in_file.string(), out_path = out_file.string(),
+                    err_path = err_file.string();
   static const char kExecFailed[] = "asimov test: cannot start the asimov executable\n";
 
   const Clock::time_point start = Clock::now();
@@ -290,11 +315,11 @@ Actual run_case(const Case& c, const Expectation& e, const std::string& executab
     return a;
   }
   if (pid == 0) {
-    const int in = ::open("/dev/null", O_RDONLY);
+    const int in = ::open(in_path.c_str(), O_RDONLY);
     const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (in >= 0 && out >= 0 && err >= 0 && ::dup2(in, 0) >= 0 && ::dup2(out, 1) >= 0 && ::dup2(err, 2) >= 0 &&
-        ::chdir(dir.c_str()) == 0)
+        ::chdir(dir_path.c_str()) == 0)
       ::execv(argv[0], argv.data());
     if (::write(2, kExecFailed, sizeof kExecFailed - 1) < 0) {}
     ::_exit(127);
@@ -344,20 +369,49 @@ Actual run_case(const Case& c, const Expectation& e, const std::string& executab
     }
     fs::remove(report, ec);
   }
+  if (c.kind == CaseKind::session) fs::remove_all(dir, ec);
   return a;
 }
+
+// ---- comparing ---------------------------------------------------------------------------
+
+namespace {
+
+// A line as compared: a monitor STATUS line ends with wall-clock times ("Accuracy: ...; wall
+// parse 0.001 s, ..."), which differ from run to run.
+std::string_view comparable(std::string_view line) {
+  if (line.rfind("Accuracy: ", 0) == 0)
+    if (const auto at = line.find("; wall "); at != std::string_view::npos) return line.substr(0, at);
+  return line;
+}
+
+// The one field of the report schema that is null by design (README: no contact, no bracket);
+// any other null is a NaN or an infinity written by nlohmann.
+constexpr const char* kNullable = "report.accuracy.contact_bracket_s";
+
+void find_nulls(const json& value, const std::string& path, std::vector<std::string>& diffs) {
+  if (path == kNullable) return;
+  if (value.is_null()) diffs.push_back(path + ": null (a NaN or an infinity)");
+  if (value.is_object())
+    for (const auto& [key, item] : value.items()) find_nulls(item, path + "." + key, diffs);
+  if (value.is_array())
+    for (std::size_t i = 0; i < value.size(); ++i) find_nulls(value[i], fmt::format("{}[{}]", path, i), diffs);
+}
+
+}  // namespace
 
 std::optional<std::string> first_line_difference(const std::string& label, const std::string& expected,
                                                  const std::string& actual) {
   if (expected == actual) return std::nullopt;
   const auto want = split_lines(expected), got = split_lines(actual);
   for (std::size_t i = 0; i < std::max(want.size(), got.size()); ++i) {
-    if (i < want.size() && i < got.size() && want[i] == got[i]) continue;
+    if (i < want.size() && i < got.size() && comparable(want[i]) == comparable(got[i])) continue;
     return fmt::format("{} line {}: expected {}, got {}", label, i + 1,
                        i < want.size() ? shown(want[i]) : "end of output",
                        i < got.size() ? shown(got[i]) : "end of output");
   }
-  // Same lines; only the final newline differs.
+  // Same lines; only the final newline or a wall time differs.
+  if (ends_with(expected, "\n") == ends_with(actual, "\n")) return std::nullopt;
   return fmt::format("{}: expected {} final newline", label, ends_with(expected, "\n") ? "a" : "no");
 }
 
@@ -412,11 +466,17 @@ std::vector<std::string> compare(const Expectation& e, const Actual& a) {
   for (const std::string& line : e.stderr_has)
     if (a.err.find(line) == std::string::npos) diffs.push_back("stderr: missing " + shown(line));
   if (e.report) {
-    if (a.report) match_report(*e.report, *a.report, "report", diffs);
-    else diffs.push_back("report: " + a.report_problem);
+    if (a.report) {
+      match_report(*e.report, *a.report, "report", diffs);
+      find_nulls(*a.report, "report", diffs);
+    } else {
+      diffs.push_back("report: " + a.report_problem);
+    }
   }
   return diffs;
 }
+
+// ---- --update ----------------------------------------------------------------------------
 
 namespace {
 
@@ -454,23 +514,6 @@ void update_report(ordered_json& expected, const json& actual, const std::string
 
 std::vector<std::string> update_expectation(const Case& c, const Expectation& e, const Actual& a) {
   if (!a.exit_note.empty()) return {"not updated: the run did not finish (" + a.exit_note + ")"};
-  std::vector<std::string> notes;
-  const auto write = [&](const fs::path& p, const std::string& text) {
-    std::string why;
-    notes.push_back(write_file_atomically(p.string(), text, why) ? "wrote " + p.lexically_normal().generic_string() : "not updated: " + why);
-  };
-  if (c.kind == CaseKind::out_files) {
-    const bool completed = a.exit_code == 0 && a.err.rfind("Program completed: ", 0) == 0 &&
-                           std::count(a.err.begin(), a.err.end(), '\n') == 1;
-    if (!completed && a.exit_code != 2)
-      return {fmt::format("not updated: exit code {} with this stderr does not fit NAME.out/NAME.err; "
-                          "write a NAME{} instead", a.exit_code, kExpectSuffix)};
-    if (a.out != e.stdout_text.value_or("")) write(c.file(".out"), a.out);
-    if (a.exit_code == 2 && (e.exit != 2 || a.err != e.stderr_text.value_or(""))) write(c.file(".err"), a.err);
-    std::error_code ec;
-    if (completed && fs::remove(c.file(".err"), ec)) notes.push_back("removed " + c.file(".err").lexically_normal().generic_string());
-    return notes;
-  }
   const fs::path file = c.file(kExpectSuffix);
   ordered_json doc;
   try {
@@ -478,16 +521,33 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
   } catch (const json::parse_error&) {
     return {"not updated: " + file.lexically_normal().generic_string() + " is malformed"};
   }
+  std::vector<std::string> notes;
   const ordered_json before = doc;
   doc["exit"] = a.exit_code;
-  if (doc.contains("stdout")) doc["stdout"] = a.out;
+  // An output keeps its form: an array of lines while the text ends with a newline.
+  const auto update_output = [&](const char* key, const std::optional<std::string>& expected, const std::string& actual) {
+    if (!doc.contains(key) || !first_line_difference(key, expected.value_or(""), actual)) return;
+    if (doc[key].is_array() && (actual.empty() || ends_with(actual, "\n"))) {
+      doc[key] = ordered_json::array();
+      for (const auto& line : split_lines(actual)) doc[key].push_back(line);
+    } else {
+      doc[key] = actual;
+    }
+  };
+  update_output("stdout", e.stdout_text, a.out);
+  update_output("stderr", e.stderr_text, a.err);
   for (const std::string& line : e.stderr_has)
     if (a.err.find(line) == std::string::npos) notes.push_back("left for a person: stderr line " + shown(line));
   if (doc.contains("report")) {
     if (a.report) update_report(doc["report"], *a.report, "report", notes);
     else notes.push_back("left for a person: report: " + a.report_problem);
   }
-  if (doc != before) write(file, doc.dump(2) + "\n");
+  if (doc != before) {
+    std::string why;
+    notes.push_back(write_file_atomically(file.string(), doc.dump(2) + "\n", why)
+                        ? "wrote " + file.lexically_normal().generic_string()
+                        : "not updated: " + why);
+  }
   return notes;
 }
 

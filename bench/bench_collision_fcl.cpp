@@ -6,6 +6,7 @@
 // bench/results/collision_fcl.json. Run: bench_collision_fcl [--quick] [--out FILE].
 #include "bench/scenes.hpp"
 #include "asimov/collision/engine.hpp"
+#include "asimov/collision/distance.hpp"
 #include "asimov/robots/robot.hpp"
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
@@ -352,6 +353,83 @@ void print(const Row& r) {
   std::fflush(stdout);
 }
 
+// Distance (docs/collision.md §11): ours Engine::distance without cut-off against FCL's
+// fcl::distance (nearest points on, as ours gives witnesses), same meshes and poses. Agreement:
+// both in contact (FCL: distance <= 0 or within kTouchMm, ours: status contact), or the distances
+// within 1e-6 relative; ours in contact by containment while FCL measures the surfaces is counted
+// apart (FCL has no inside).
+struct DistanceRow {
+  std::string name;
+  std::size_t queries = 0;
+  Stats ours{}, peer{};
+  int contact = 0, agree = 0, containment = 0, other = 0;
+  double max_rel = 0;  // largest relative difference of the distances where both measured one
+  double face_pairs = 0;  // ours: mean face pairs measured per query
+  double ratio() const { return ours.median / peer.median; }
+  double mean_ratio() const { return ours.mean / peer.mean; }
+};
+
+DistanceRow distance_row(const std::string& name, const Polyhedron& fixed, const Polyhedron& moving,
+                         const std::vector<Pose>& poses) {
+  DistanceRow row{.name = name, .queries = poses.size()};
+  Engine e;
+  const BodyId a = e.add_body({.name = "fixed", .mesh = fixed, .is_static = true, .halvings = collision::kAutoHalvings});
+  const BodyId b = e.add_body({.name = "moving", .mesh = moving, .halvings = collision::kAutoHalvings});
+  e.set_pose(a, Pose::Identity());
+  e.set_pose(b, poses[0]);
+  (void)e.distance(a, b);
+  fcl::CollisionObjectd fa(fcl_model(fixed), Pose::Identity());
+  fcl::CollisionObjectd fb(fcl_model(moving), Pose::Identity());
+  std::vector<double> tours(poses.size()), tpeer(poses.size());
+  std::vector<collision::DistanceResult> ours(poses.size());
+  std::vector<double> peer(poses.size());
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      const auto s = Clock::now();
+      e.set_pose(b, poses[i]);
+      ours[i] = e.distance(a, b);
+      tours[i] = us_since(s);
+    }
+    fcl::DistanceRequestd req;
+    req.enable_nearest_points = true;
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      const auto s = Clock::now();
+      fb.setTransform(poses[i]);
+      fcl::DistanceResultd res;
+      fcl::distance(&fa, &fb, req, res);
+      tpeer[i] = us_since(s);
+      peer[i] = res.min_distance;
+    }
+  }
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const bool oc = ours[i].status == collision::DistanceStatus::contact;
+    row.contact += oc;
+    row.face_pairs += static_cast<double>(ours[i].face_pairs) / static_cast<double>(poses.size());
+    if (oc && peer[i] <= kTouchMm) {
+      ++row.agree;
+    } else if (!oc) {
+      const double rel = std::fabs(ours[i].distance - peer[i]) / std::max(1.0, peer[i]);
+      row.max_rel = std::max(row.max_rel, rel);
+      if (rel <= 1e-6) ++row.agree; else ++row.other;
+    } else if (ours[i].kind == collision::ContactKind::containment) {
+      ++row.containment;
+    } else {
+      ++row.other;
+    }
+  }
+  row.ours = stats(tours);
+  row.peer = stats(tpeer);
+  return row;
+}
+
+void print(const DistanceRow& r) {
+  std::printf("%-48s %6zu  ours %8.2f %8.2f %8.2f  fcl %8.2f %8.2f %8.2f  ratio %5.2f (mean %4.2f)  contact %d  "
+              "agree %d (containment %d, other %d, max rel diff %.1e)  face pairs %.1f\n",
+              r.name.c_str(), r.queries, r.ours.median, r.ours.p95, r.ours.mean, r.peer.median, r.peer.p95, r.peer.mean,
+              r.ratio(), r.mean_ratio(), r.contact, r.agree, r.containment, r.other, r.max_rel, r.face_pairs);
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -390,6 +468,21 @@ int main(int argc, char** argv) {
     print(rows.back());
   }
 
+  std::vector<DistanceRow> drows;
+  if (wanted("distance")) {
+    const std::size_t nd = quick ? 500 : 5000;
+    drows.push_back(distance_row("distance (a) env 2000 faces / rob 200 faces", bench::make_env_mesh(),
+                                 bench::make_rob_mesh(), bench::random_poses(nd, 1500, 2180)));
+    print(drows.back());
+    for (const int faces : {200, 1000, 5000, 20000}) {
+      const Polyhedron m = bench::make_torus_with_faces(faces, 100);
+      drows.push_back(distance_row("distance (b) " + std::to_string(m.triangles.size()) + " / " +
+                                       std::to_string(m.triangles.size()) + " faces",
+                                   m, m, bench::random_poses(faces >= 20000 ? nd / 5 : nd, 250, 1000 + static_cast<std::uint64_t>(faces))));
+      print(drows.back());
+    }
+  }
+
   nlohmann::json j = nlohmann::json::array();
   for (const Row& r : rows)
     j.push_back({{"name", r.name}, {"ours_us", r.ours.median}, {"peer", "fcl"}, {"peer_us", r.peer.median},
@@ -406,6 +499,13 @@ int main(int argc, char** argv) {
                  {"ended_contact_median_us", r.ended_median_us[3]},
                  {"ended_step2_mean_share_us", r.ended_share_us[0]}, {"ended_step3_mean_share_us", r.ended_share_us[1]},
                  {"ended_step4_free_mean_share_us", r.ended_share_us[2]}, {"ended_contact_mean_share_us", r.ended_share_us[3]}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
+  for (const DistanceRow& r : drows)
+    j.push_back({{"name", r.name}, {"ours_us", r.ours.median}, {"peer", "fcl distance"}, {"peer_us", r.peer.median},
+                 {"ratio", r.ratio()}, {"agreement", static_cast<double>(r.agree) / static_cast<double>(r.queries)},
+                 {"ours_p95_us", r.ours.p95}, {"ours_mean_us", r.ours.mean}, {"peer_p95_us", r.peer.p95},
+                 {"peer_mean_us", r.peer.mean}, {"mean_ratio", r.mean_ratio()}, {"queries", r.queries},
+                 {"contact", r.contact}, {"disagree_containment", r.containment}, {"disagree_other", r.other},
+                 {"max_relative_difference", r.max_rel}, {"mean_face_pairs", r.face_pairs}});
   if (!only.empty()) out += ".partial";  // a partial run never overwrites the committed results
   std::ofstream(out) << j.dump(2) << "\n";
   std::printf("wrote %s\n", out.c_str());

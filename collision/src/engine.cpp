@@ -5,6 +5,7 @@
 #include "asimov/collision/engine.hpp"
 
 #include "containment.hpp"
+#include "distance_descent.hpp"
 #include "face_distance.hpp"
 #include "face_plane.hpp"
 #include "face_test.hpp"
@@ -36,6 +37,7 @@ struct alignas(64) WorldFace {
 // query would have ended). Open addressing over a fixed table, cleared by a stamp per body
 // pair; a pair that finds no free slot within a few probes is simply not remembered (tested
 // again), so the table never grows and never allocates after construction.
+template <int kBits = 12>
 class TestedPairs {
  public:
   void next_body_pair() {
@@ -60,7 +62,7 @@ class TestedPairs {
   }
 
  private:
-  static constexpr int kBits = 12, kProbes = 8;
+  static constexpr int kProbes = 8;
   static constexpr std::size_t kSlots = std::size_t{1} << kBits;
   std::vector<std::uint64_t> key_ = std::vector<std::uint64_t>(kSlots);
   std::vector<std::uint32_t> stamp_ = std::vector<std::uint32_t>(kSlots);
@@ -93,6 +95,17 @@ bool world_point_inside(const Vec3& w, const std::vector<Vec3>& world, const Pol
   return point_in_solid(w, world, mesh.triangles) != PointClass::outside;
 }
 
+  // Squared distance of two axis-aligned boxes (0 when they overlap): a lower bound on the
+// squared distance of anything inside them.
+double box_distance2(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+  double s = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double g = std::max(alo[k] - bhi[k], blo[k] - ahi[k]);
+    s += g > 0 ? g * g : 0.0;
+  }
+  return s;
+}
+
 // Vertices per shell tried by voxel class before the exact point-in-solid test (contained).
 constexpr std::size_t kShellSamples = 16;
 
@@ -113,7 +126,10 @@ struct Engine::Impl {
     FacePlane plane;
   };
   std::vector<Kept> a_faces;
-  TestedPairs tested;
+  TestedPairs<> tested;
+  // The distance query measures far more face pairs than a collision query tests (every pair
+  // whose boxes are nearer than the best so far): 64 Ki slots, so repeats stay rare.
+  TestedPairs<16> measured;
 
   static bool never_tested(const Body& a, const Body& b) {
     return (a.def.group >= 0 && a.def.group == b.def.group) || (a.def.is_static && b.def.is_static);
@@ -383,6 +399,132 @@ struct Engine::Impl {
     }
     return false;
   }
+
+  // --- distance query (docs/collision.md §11) ---
+  // A voxel pair of the distance descent (the bodies are known apart: no face pair meets): every
+  // face pair not measured yet in this query whose world boxes are nearer than `best`, nearest
+  // boxes first (best falls fast, the rest are then dropped by their boxes). Never stops the
+  // descent (returns false).
+  struct Candidate {
+    double lb2;
+    std::uint32_t fa, fb;
+    const WorldFace *wa, *wb;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<DistanceEntry> heap;  // the distance descent's pending node pairs
+  std::vector<std::pair<std::uint32_t, const WorldFace*>> kept_b;
+
+  // Squared distance from t's vertices to the plane of s when all lie strictly on one side
+  // (a lower bound on the faces' squared distance), else 0.
+  static double plane_bound2(const TriangleVerts& s, const TriangleVerts& t) {
+    const Vec3 n = (s[1] - s[0]).cross(s[2] - s[0]);
+    const double nn = n.squaredNorm();
+    if (!(nn > 0)) return 0;
+    const double d0 = n.dot(t[0] - s[0]), d1 = n.dot(t[1] - s[0]), d2 = n.dot(t[2] - s[0]);
+    double m;
+    if (d0 > 0 && d1 > 0 && d2 > 0) m = std::min({d0, d1, d2});
+    else if (d0 < 0 && d1 < 0 && d2 < 0) m = -std::max({d0, d1, d2});
+    else return 0;
+    return m * m / nn;
+  }
+
+  bool distance_voxel_pair(BodyId ia, BodyId ib, std::uint32_t va, std::uint32_t vb, double& best,
+                           DistanceResult& res) {
+    Body& a = bodies[ia];
+    Body& b = bodies[ib];
+    const auto fas = a.grid->faces_in(va);
+    const auto fbs = b.grid->faces_in(vb);
+    // Each voxel's content box as a world axis-aligned box: a face whose world box is no nearer
+    // than `best` to the other voxel's has no pair nearer here (the other face's part in its
+    // voxel lies in that box, and only parts inside the voxels need to be near: §11).
+    auto world_aabb = [](const Body& x, const Box& local, Vec3& lo, Vec3& hi) {
+      const Vec3 c = x.pose * (0.5 * (local.lo + local.hi));
+      const Vec3 h = x.pose.linear().cwiseAbs() * (0.5 * (local.hi - local.lo));
+      lo = c - h, hi = c + h;
+    };
+    Vec3 alo, ahi, blo, bhi;
+    world_aabb(a, a.grid->content[va], alo, ahi);
+    world_aabb(b, b.grid->content[vb], blo, bhi);
+    const double bb = best * best;
+    kept_b.clear();
+    for (const std::uint32_t fb : fbs) {
+      const WorldFace& wb = world_face(b, fb);
+      if (box_distance2(alo, ahi, wb.lo, wb.hi) < bb) kept_b.push_back({fb, &wb});
+    }
+    candidates.clear();
+    if (kept_b.empty()) return false;
+    for (const std::uint32_t fa : fas) {
+      const WorldFace& wa = world_face(a, fa);
+      if (!(box_distance2(wa.lo, wa.hi, blo, bhi) < bb)) continue;
+      for (const auto& [fb, wb] : kept_b) {
+        const double lb2 = box_distance2(wa.lo, wa.hi, wb->lo, wb->hi);
+        if (lb2 < bb) candidates.push_back({lb2, fa, fb, &wa, wb});
+      }
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) { return x.lb2 < y.lb2; });
+    for (const Candidate& c : candidates) {
+      if (!(c.lb2 < best * best)) break;
+      if (measured.seen_or_insert(c.fa, c.fb)) continue;
+      const TriangleVerts &ta = c.wa->t, &tb = c.wb->t;
+      // The planes' bound (rounded: a relative 1e-12 of room, far below the 1e-9 asked of the
+      // distance), then the closest points.
+      const double b2 = best * best * (1 - 1e-12);
+      if (plane_bound2(ta, tb) >= b2 || plane_bound2(tb, ta) >= b2) continue;
+      ++res.face_pairs;
+      Vec3 pa, pb;
+      const double d = std::sqrt(disjoint_triangle_distance2(ta, tb, pa, pb));
+      if (d < best) {
+        best = d;
+        res.status = DistanceStatus::exact;
+        res.distance = d;
+        res.face_a = c.fa, res.face_b = c.fb;
+        res.point_a = pa, res.point_b = pb;
+      }
+    }
+    return false;
+  }
+
+  DistanceResult distance_pair(BodyId ia, BodyId ib, double upper) {
+    DistanceResult res;
+    res.body_a = ia, res.body_b = ib;
+    Body& a = bodies[ia];
+    Body& b = bodies[ib];
+    const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
+    // Step 2's bounds: the vertex spheres and the world minimax boxes.
+    const double spheres =
+        (world_sphere_centre(a) - world_sphere_centre(b)).norm() - a.container.radius - b.container.radius;
+    const double boxes = std::sqrt(box_distance2(world_box(a).lo, world_box(a).hi, world_box(b).lo, world_box(b).hi));
+    const double lb = std::max(spheres, boxes) - 2 * margin;
+    if (lb >= upper) {
+      res.distance = lb;
+      return res;
+    }
+    // Contact first: the four steps at clearance 0 (exact face test, containment) say whether
+    // there is a distance at all, usually in a few microseconds; the search below then only
+    // measures disjoint faces.
+    const double c = clearance;
+    clearance = 0;
+    QueryResult q;
+    const bool hit = test_pair(ia, ib, q);
+    clearance = c;
+    if (hit) {
+      res.status = DistanceStatus::contact;
+      res.kind = q.contact.kind;
+      res.distance = 0;
+      res.face_a = q.contact.face_a, res.face_b = q.contact.face_b;
+      res.point_a = res.point_b = q.contact.point;
+      return res;
+    }
+    preprocess(a);
+    preprocess(b);
+    double best = upper;
+    measured.next_body_pair();
+    const DistanceNodeTest nt(relative_pose(a.pose, b.pose), 2 * margin);
+    descend_distance(*a.grid, *b.grid, nt, best, heap,
+                     [&](std::uint32_t va, std::uint32_t vb) { distance_voxel_pair(ia, ib, va, vb, best, res); });
+    if (res.status != DistanceStatus::exact) res.distance = upper;  // nothing nearer than the cut-off
+    return res;
+  }
 };
 
 Engine::Engine() : impl_(std::make_unique<Impl>()) {}
@@ -465,6 +607,78 @@ QueryResult Engine::check_pairs(std::span<const BodyPair> pairs) {
     ++res.counts.pairs_enabled;
     if (impl_->test_pair(p.a, p.b, res)) return res;
   }
+  return res;
+}
+
+DistanceResult Engine::distance(BodyId a, BodyId b, const DistanceRequest& request) {
+  if (a >= body_count() || b >= body_count() || a == b)
+    throw std::invalid_argument("Engine::distance: two different bodies of the engine");
+  return impl_->distance_pair(a, b, request.upper_mm);
+}
+
+DistanceResult brute_force_distance(const Polyhedron& a, const Pose& pose_a, const Polyhedron& b, const Pose& pose_b) {
+  std::vector<Vec3> wa, wb;
+  transform_vertices(a.vertices, pose_a, wa);
+  transform_vertices(b.vertices, pose_b, wb);
+  struct Face {
+    TriangleVerts t;
+    Vec3 lo, hi;
+  };
+  auto faces = [](const std::vector<Vec3>& w, const Polyhedron& m) {
+    std::vector<Face> f;
+    for (const Triangle& tri : m.triangles) {
+      const TriangleVerts t = triangle_at(w, tri);
+      f.push_back({t, t[0].cwiseMin(t[1]).cwiseMin(t[2]), t[0].cwiseMax(t[1]).cwiseMax(t[2])});
+    }
+    return f;
+  };
+  const std::vector<Face> fa = faces(wa, a), fb = faces(wb, b);
+  DistanceResult res;
+  res.distance = INFINITY;
+  // The nearest two vertices bound the distance from above (with room for rounding, so the
+  // pair that attains it is still measured below).
+  double bound2 = INFINITY;
+  for (const Vec3& p : wa)
+    for (const Vec3& q : wb) bound2 = std::min(bound2, (p - q).squaredNorm());
+  bound2 *= 1 + 1e-9;
+  for (std::uint32_t i = 0; i < fa.size(); ++i)
+    for (std::uint32_t j = 0; j < fb.size(); ++j) {
+      // Boxes farther apart than that bound or the best pair so far: the faces cannot be nearer
+      // (keeps the reference fast enough for 100,000 cases; min/max do not round).
+      const double lb2 = box_distance2(fa[i].lo, fa[i].hi, fb[j].lo, fb[j].hi);
+      if (lb2 > bound2 || !(lb2 < res.distance * res.distance)) continue;
+      const TriangleVerts &ta = fa[i].t, &tb = fb[j].t;
+      if (triangles_intersect(ta, tb)) {
+        res.status = DistanceStatus::contact;
+        res.distance = 0;
+        res.face_a = i, res.face_b = j;
+        res.point_a = res.point_b = contact_point(ta, tb);
+        return res;
+      }
+      Vec3 pa, pb;
+      const double d = std::sqrt(triangle_closest_points(ta, tb, pa, pb));
+      if (d < res.distance) {
+        res.status = DistanceStatus::exact;
+        res.distance = d;
+        res.face_a = i, res.face_b = j;
+        res.point_a = pa, res.point_b = pb;
+      }
+    }
+  auto inside = [&](const std::vector<Vec3>& inner_world, const Polyhedron& inner, const std::vector<Vec3>& outer_world,
+                    const Polyhedron& outer) {
+    if (!is_closed(outer)) return false;
+    for (const std::uint32_t v : shell_vertices(inner))
+      if (world_point_inside(inner_world[v], outer_world, outer)) {
+        res.status = DistanceStatus::contact;
+        res.kind = ContactKind::containment;
+        res.distance = 0;
+        res.face_a = res.face_b = 0;
+        res.point_a = res.point_b = inner_world[v];
+        return true;
+      }
+    return false;
+  };
+  if (inside(wb, b, wa, a) || inside(wa, a, wb, b)) return res;
   return res;
 }
 

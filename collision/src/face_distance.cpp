@@ -94,6 +94,61 @@ double triangle_closest_points(const TriangleVerts& t1, const TriangleVerts& t2,
   return best;
 }
 
+namespace {
+
+// Vertex-face: when every vertex of `t` lies strictly on one side of the plane of `s`, the vertex
+// nearest that plane, if its foot lies inside `s`, and its squared distance; else false.
+bool vertex_face(const TriangleVerts& s, const TriangleVerts& t, double& d2, Vec3& on_s, Vec3& on_t) {
+  const Vec3 e0 = s[1] - s[0], e1 = s[2] - s[1], e2 = s[0] - s[2];
+  const Vec3 n = e0.cross(e1);
+  const double nn = n.squaredNorm();
+  if (!(nn > 0)) return false;
+  const double h0 = n.dot(t[0] - s[0]), h1 = n.dot(t[1] - s[0]), h2 = n.dot(t[2] - s[0]);
+  int k;
+  if (h0 > 0 && h1 > 0 && h2 > 0) k = h0 <= h1 ? (h0 <= h2 ? 0 : 2) : (h1 <= h2 ? 1 : 2);
+  else if (h0 < 0 && h1 < 0 && h2 < 0) k = h0 >= h1 ? (h0 >= h2 ? 0 : 2) : (h1 >= h2 ? 1 : 2);
+  else return false;
+  const Vec3& v = t[static_cast<std::size_t>(k)];
+  // Inside: on the inner side of each edge (edge x n points inwards for n = e0 x e1).
+  if (!(n.cross(e0).dot(v - s[0]) > 0 && n.cross(e1).dot(v - s[1]) > 0 && n.cross(e2).dot(v - s[2]) > 0)) return false;
+  const double h = k == 0 ? h0 : k == 1 ? h1 : h2;
+  on_t = v;
+  on_s = v - (h / nn) * n;
+  d2 = (on_s - on_t).squaredNorm();
+  return true;
+}
+
+}  // namespace
+
+double disjoint_triangle_distance2(const TriangleVerts& t1, const TriangleVerts& t2, Vec3& on1, Vec3& on2) {
+  double best = INFINITY;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      Vec3 p, q;
+      const double d = segment_closest_points(t1[i], t1[(i + 1) % 3], t2[j], t2[(j + 1) % 3], p, q);
+      if (d < best) {
+        best = d;
+        on1 = p, on2 = q;
+        // p is the point of edge i nearest q and q the point of edge j nearest p, so each edge
+        // lies on its own side of the slab between the planes through p and q normal to q - p;
+        // with the third vertices on their sides too, the slab separates the triangles.
+        const Vec3 v = q - p;
+        if (v.dot(t1[(i + 2) % 3] - p) <= 0 && v.dot(t2[(j + 2) % 3] - q) >= 0) return d;
+      }
+    }
+  double d2;
+  Vec3 a, b;
+  if (vertex_face(t1, t2, d2, a, b) && d2 < best) {
+    on1 = a, on2 = b;
+    return d2;
+  }
+  if (vertex_face(t2, t1, d2, b, a) && d2 < best) {
+    on1 = a, on2 = b;
+    return d2;
+  }
+  return best;
+}
+
 bool triangles_within(const TriangleVerts& t1, const TriangleVerts& t2, double clearance, double& distance,
                       Vec3& on1, Vec3& on2) {
   for (int k = 0; k < 3; ++k) {

@@ -84,7 +84,7 @@ TEST_CASE("an interrupted asimov test removes its scratch folder and exits 130",
   const auto dir = test::scratch_dir() / "interrupted-suite";
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "spin.v2") << ".PROGRAM spin()\n  WHILE TRUE DO\n  END\n.END\n";
-  std::ofstream(dir / "spin.out") << "";
+  std::ofstream(dir / "spin.expect.json") << R"({"exit": 0, "stdout": []})";
   const auto log = dir / "log.txt";
   const pid_t pid = ::fork();
   REQUIRE(pid >= 0);

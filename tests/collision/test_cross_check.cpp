@@ -269,7 +269,7 @@ TEST_CASE("four steps equal brute force on 200000 pose and mesh cases", "[cross_
   std::uniform_int_distribution<int> pick3(0, 2);
   std::uniform_real_distribution<double> unit(0, 1);
   constexpr int kMeshCases = 2000, kPosesPerCase = 100;
-  long cases = 0, hits = 0, contained = 0, disagreements = 0;
+  long cases = 0, hits = 0, contained = 0, disagreements = 0, distance_cases = 0, distance_disagreements = 0;
   for (int m = 0; m < kMeshCases; ++m) {
     const double s = scales[static_cast<std::size_t>(pick3(rng))];
     Pose scale = Pose::Identity();
@@ -296,8 +296,25 @@ TEST_CASE("four steps equal brute force on 200000 pose and mesh cases", "[cross_
         ++disagreements;
         UNSCOPED_INFO("mesh case " << m << " pose " << k << " scale " << s << " M " << h << " c " << c);
       }
+      if (k % 2 == 0) {  // distances on every other pose: 100,000 cases (docs/collision.md §11)
+        const DistanceResult de = e.distance(a, b), db = brute_force_distance(ma, pa, mb, pb);
+        ++distance_cases;
+        const bool same = de.status == db.status &&
+                          (de.status == DistanceStatus::contact
+                               ? de.distance == 0
+                               : std::fabs(de.distance - db.distance) <= 1e-9 * std::max(s, db.distance));
+        // The distance query's zero is check()'s contact at clearance 0.
+        const bool consistent = c > 0 || (de.status == DistanceStatus::contact) == brute;
+        if (!same || !consistent) {
+          ++distance_disagreements;
+          UNSCOPED_INFO("distance: mesh case " << m << " pose " << k << " engine " << de.distance << " brute " << db.distance);
+        }
+      }
     }
   }
+  WARN(distance_cases << " distance cases, " << distance_disagreements << " disagreements (1e-9 relative)");
+  CHECK(distance_cases >= 100000);
+  CHECK(distance_disagreements == 0);
   WARN(cases << " cases, " << hits << " colliding, " << contained << " by containment, " << disagreements
              << " disagreements");
   CHECK(cases >= 200000);

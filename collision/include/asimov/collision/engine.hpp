@@ -1,6 +1,7 @@
 // The four-step collision engine (Garcia-Alonso): participation -> minimax -> voxels -> faces.
 // Bodies are added once (preprocessing); each checked pose sets body poses and calls check().
 #pragma once
+#include "asimov/collision/distance.hpp"
 #include "asimov/collision/participation.hpp"
 #include "asimov/collision/polyhedron.hpp"
 #include "asimov/collision/query.hpp"
@@ -59,6 +60,13 @@ class Engine {
   // later pose need re-checking between the last free pose and it (docs/collision-method.md §6.4).
   QueryResult check_pairs(std::span<const BodyPair> pairs);
 
+  // Minimum distance between two bodies at the current poses, with witness points
+  // (docs/collision.md §11): the four steps' containers and halvings trees cull, the face
+  // distance decides; zero only from the exact face test or containment (status contact).
+  // Any two different bodies (the participation matrix is not consulted); the clearance is not
+  // applied. Bodies nearer than request.upper_mm cost what their distance needs, farther ones little.
+  DistanceResult distance(BodyId a, BodyId b, const DistanceRequest& request = {});
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
@@ -70,6 +78,9 @@ class Engine {
 // closed, mesh), as the engine does; `clearance` > 0 adds the face distance test.
 bool brute_force_collides(const Polyhedron& a, const Pose& pose_a,
                           const Polyhedron& b, const Pose& pose_b);
+// Reference distance: every face pair (exact intersection test, then the face distance), then
+// containment as brute_force_collides; body_a / body_b are left 0.
+DistanceResult brute_force_distance(const Polyhedron& a, const Pose& pose_a, const Polyhedron& b, const Pose& pose_b);
 bool brute_force_collides(const Polyhedron& a, const Pose& pose_a,
                           const Polyhedron& b, const Pose& pose_b, double clearance);
 

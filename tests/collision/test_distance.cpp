@@ -1,0 +1,177 @@
+// Engine::distance (docs/collision.md §11) against brute force over all face pairs: the same
+// distance (1e-9 relative), witness points on the named faces, exact zero at touching, the
+// cut-off, containment, degenerate bodies.
+#include "asimov/collision/distance.hpp"
+#include "asimov/collision/engine.hpp"
+#include "collision/src/face_distance.hpp"
+#include "scenes.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+using namespace asimov::collision;
+
+namespace {
+
+Polyhedron box_between(const Vec3& lo, const Vec3& hi) {
+  Polyhedron b = make_box(hi - lo);
+  for (auto& v : b.vertices)
+    v = Vec3(v.x() < 0 ? lo.x() : hi.x(), v.y() < 0 ? lo.y() : hi.y(), v.z() < 0 ? lo.z() : hi.z());
+  return b;
+}
+
+TriangleVerts world_face(const Polyhedron& m, const Pose& p, std::uint32_t f) {
+  const Triangle& t = m.triangles[f];
+  return {transform_vertex(p, m.vertices[t[0]]), transform_vertex(p, m.vertices[t[1]]),
+          transform_vertex(p, m.vertices[t[2]])};
+}
+
+bool agrees(double x, double y) { return std::fabs(x - y) <= 1e-9 * std::max(1.0, std::max(x, y)); }
+
+// Engine and brute force on one pose: status, distance, and witnesses on the named faces.
+bool same_distance(const DistanceResult& e, const DistanceResult& r, const Polyhedron& ma, const Pose& pa,
+                   const Polyhedron& mb, const Pose& pb) {
+  if (e.status != r.status) return false;
+  if (e.status == DistanceStatus::contact) return e.distance == 0;
+  if (!agrees(e.distance, r.distance)) return false;
+  const TriangleVerts ta = world_face(ma, pa, e.face_a), tb = world_face(mb, pb, e.face_b);
+  const double scale = std::max(1.0, e.distance);
+  return (triangle_closest_point(e.point_a, ta) - e.point_a).norm() <= 1e-9 * scale &&
+         (triangle_closest_point(e.point_b, tb) - e.point_b).norm() <= 1e-9 * scale &&
+         agrees((e.point_a - e.point_b).norm(), e.distance);
+}
+
+}  // namespace
+
+TEST_CASE("distance equals brute force on random poses of mesh pairs", "[distance][cross_check]") {
+  const std::vector<Polyhedron> meshes = {test::make_merged_part(), make_cylinder(10, 40, 16), make_box(Vec3(30, 12, 8)),
+                                          test::make_l_prism(40, 10, 20), make_cylinder(15, 10, 24),
+                                          make_box(Vec3(60, 60, 60)), make_box(Vec3(4, 4, 4))};
+  std::mt19937_64 rng(14);
+  std::uniform_int_distribution<std::size_t> pick(0, meshes.size() - 1);
+  int cases = 0, contacts = 0, contained = 0, bad = 0;
+  for (int m = 0; m < 200; ++m) {
+    const Polyhedron& ma = meshes[pick(rng)];
+    const Polyhedron& mb = meshes[pick(rng)];
+    Engine e;
+    const int h = m % 3 == 0 ? kAutoHalvings : m % 3 == 1 ? 3 : 9;
+    const BodyId a = e.add_body({.name = "a", .mesh = ma, .halvings = h});
+    const BodyId b = e.add_body({.name = "b", .mesh = mb, .halvings = h});
+    const Pose pa = test::random_pose(rng, 5);
+    e.set_pose(a, pa);
+    for (int k = 0; k < 50; ++k) {
+      const Pose pb = test::random_pose(rng, 40);
+      e.set_pose(b, pb);
+      const DistanceResult d = e.distance(a, b);
+      const DistanceResult r = brute_force_distance(ma, pa, mb, pb);
+      ++cases;
+      contacts += d.status == DistanceStatus::contact;
+      contained += d.status == DistanceStatus::contact && d.kind == ContactKind::containment;
+      // The verdict agrees with check() too.
+      if (!same_distance(d, r, ma, pa, mb, pb) || (d.status == DistanceStatus::contact) != e.check().collided) {
+        ++bad;
+        UNSCOPED_INFO("case " << m << " pose " << k << ": engine " << int(d.status) << " " << d.distance << ", brute "
+                              << int(r.status) << " " << r.distance);
+      }
+    }
+  }
+  WARN("distance cross-check: " << cases << " cases, " << contacts << " in contact (" << contained
+                                << " containment), " << bad << " disagreements");
+  CHECK(contacts > cases / 10);
+  CHECK(contacts < cases * 9 / 10);
+  CHECK(contained > 0);
+  REQUIRE(bad == 0);
+}
+
+TEST_CASE("distance cut-off: beyond means at least upper_mm, below it the exact answer", "[distance]") {
+  Engine e;
+  const Polyhedron m = make_box(Vec3(10, 10, 10));
+  const BodyId a = e.add_body({.name = "a", .mesh = m});
+  const BodyId b = e.add_body({.name = "b", .mesh = m});
+  e.set_pose(a, Pose::Identity());
+  Pose p = Pose::Identity();
+  p.translation() = Vec3(30, 0, 0);  // faces 20 mm apart
+  e.set_pose(b, p);
+  const DistanceResult exact = e.distance(a, b);
+  REQUIRE(exact.status == DistanceStatus::exact);
+  CHECK(exact.distance == 20);
+  CHECK(exact.point_a.x() == 5);
+  CHECK(exact.point_b.x() == 25);
+  for (const double upper : {1.0, 19.0, 20.0}) {
+    const DistanceResult r = e.distance(a, b, {.upper_mm = upper});
+    CHECK(r.status == DistanceStatus::beyond);
+    CHECK(r.distance >= upper);
+    CHECK(r.distance <= 20);
+  }
+  const DistanceResult within = e.distance(a, b, {.upper_mm = 20.5});
+  CHECK(within.status == DistanceStatus::exact);
+  CHECK(within.distance == 20);
+  // Far apart: decided by step 2 alone, no face pair computed, no grid built.
+  Engine fresh;
+  const BodyId fa = fresh.add_body({.name = "a", .mesh = m});
+  const BodyId fb = fresh.add_body({.name = "b", .mesh = m});
+  fresh.set_pose(fa, Pose::Identity());
+  p.translation() = Vec3(1e4, 0, 0);
+  fresh.set_pose(fb, p);
+  const DistanceResult far = fresh.distance(fa, fb, {.upper_mm = 10});
+  CHECK(far.status == DistanceStatus::beyond);
+  CHECK(far.distance >= 10);
+  CHECK(far.face_pairs == 0);
+  CHECK(!fresh.body_preprocessed(fa));
+}
+
+TEST_CASE("distance is exactly zero at touching and positive one ulp away", "[distance][exact]") {
+  const Polyhedron table = box_between({400, -600, 360}, {1100, 600, 400});
+  const double above = std::nextafter(400.0, 1000.0);
+  for (const double bottom : {400.0, above}) {
+    Engine e;
+    const BodyId a = e.add_body({.name = "table", .mesh = table});
+    const BodyId b = e.add_body({.name = "box", .mesh = box_between({600, -50, bottom}, {700, 50, 500})});
+    e.set_pose(a, Pose::Identity());
+    e.set_pose(b, Pose::Identity());
+    const DistanceResult r = e.distance(a, b);
+    if (bottom == 400.0) {
+      CHECK(r.status == DistanceStatus::contact);
+      CHECK(r.distance == 0);
+      CHECK(r.point_a.z() == 400);
+    } else {
+      CHECK(r.status == DistanceStatus::exact);
+      CHECK(r.distance == above - 400);
+      CHECK(r.point_a.z() == 400);
+      CHECK(r.point_b.z() == above);
+    }
+    CHECK((r.status == DistanceStatus::contact) == e.check().collided);
+  }
+}
+
+TEST_CASE("distance: a body inside another is in contact; in a cavity it has a distance", "[distance]") {
+  Polyhedron cavity = make_box(Vec3(50, 50, 50));
+  for (Triangle& tri : cavity.triangles) std::swap(tri[1], tri[2]);
+  const Polyhedron hollow = merged(make_box(Vec3(90, 90, 90)), cavity);
+  Engine e;
+  const BodyId a = e.add_body({.name = "solid", .mesh = make_box(Vec3(90, 90, 90))});
+  const BodyId h = e.add_body({.name = "hollow", .mesh = hollow});
+  const BodyId b = e.add_body({.name = "small", .mesh = make_box(Vec3(10, 10, 10))});
+  for (const BodyId id : {a, h, b}) e.set_pose(id, Pose::Identity());
+  const DistanceResult in = e.distance(a, b);
+  CHECK(in.status == DistanceStatus::contact);
+  CHECK(in.kind == ContactKind::containment);
+  const DistanceResult cav = e.distance(h, b);
+  CHECK(cav.status == DistanceStatus::exact);
+  CHECK(cav.distance == Approx(20).margin(1e-12));  // cavity wall at 25, small box at 5
+}
+
+TEST_CASE("distance of a body without faces is beyond any cut-off; bad ids are refused", "[distance]") {
+  Engine e;
+  Polyhedron empty;
+  empty.vertices = {Vec3(0, 0, 0)};
+  const BodyId a = e.add_body({.name = "a", .mesh = make_box(Vec3(1, 1, 1))});
+  const BodyId b = e.add_body({.name = "b", .mesh = empty});
+  e.set_pose(a, Pose::Identity());
+  e.set_pose(b, Pose::Identity());
+  CHECK(e.distance(a, b).status == DistanceStatus::beyond);
+  CHECK_THROWS_AS(e.distance(a, a), std::invalid_argument);
+  CHECK_THROWS_AS(e.distance(a, 7), std::invalid_argument);
+}
