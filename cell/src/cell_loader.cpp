@@ -371,8 +371,9 @@ std::optional<DepthError> yaml_too_deep(const std::string& text) {
 }  // namespace
 
 std::string CellError::format() const {
-  if (line > 0) return fmt::format("{}:{}:{}: {}", file, line, column, what());
-  return fmt::format("{}: {}", file, what());
+  // Messages quote the file's text (yaml-cpp's too): printable, whatever bytes it holds.
+  if (line > 0) return collision::printable(fmt::format("{}:{}:{}: {}", file, line, column, what()));
+  return collision::printable(fmt::format("{}: {}", file, what()));
 }
 
 namespace {
