@@ -15,7 +15,8 @@ std::string read_file_bounded(const std::string& path, std::size_t max_bytes) {
   if (::stat(path.c_str(), &st) != 0) throw FileReadError(fmt::format("cannot open the file ({})", std::strerror(errno)));
   if (S_ISDIR(st.st_mode)) throw FileReadError("is a directory, not a file");
   const auto too_large = [&] {
-    return FileReadError(fmt::format("is larger than {} MiB, the limit for this kind of file", max_bytes >> 20));
+    const std::string limit = max_bytes >= (1u << 20) ? fmt::format("{} MiB", max_bytes >> 20) : fmt::format("{} bytes", max_bytes);
+    return FileReadError(fmt::format("is larger than {}, the limit for this kind of file", limit));
   };
   if (S_ISREG(st.st_mode) && static_cast<std::size_t>(st.st_size) > max_bytes) throw too_large();
   const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
