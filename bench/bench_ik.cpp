@@ -8,6 +8,8 @@
 //    configurations, tolerance 1e-5 (m -> 0.01 mm, rad), timeout 5 ms, seed = the zero pose;
 //    KDL solvers get random restarts until the same timeout (as in the TRAC-IK "KDL-RR" rows).
 //    Also the closed form that solve_ik uses for this arm (J1 _|_ J2 || J3, spherical wrist).
+// 3. The built-in viper_s650 and cobra_s600: solve_ik (their closed forms) against KDL LMA
+//    seeded at READY, 10,000 random poses each (docs/robots.md).
 //
 // KDL settings: LMA with unit weights (1,1,1,1,1,1), eps 1e-5, 500 iterations (the default
 // weights 0.01 on rotation accept rotation errors up to 1e-3 rad); NR_JL with pinv velocity IK,
@@ -21,12 +23,14 @@
 // peer_us (the goal for the closed form is <= 0.01). `agreement` = fraction of the poses where
 // both solvers succeed (each within its tolerance; the peer's is 1e-2 mm / 1e-5 rad).
 // Writes bench/results/ik.json (or argv[1]).
+#include "asimov/robots/cobra_s600.hpp"
 #include "asimov/robots/configuration.hpp"
 #include "asimov/robots/ik.hpp"
 #include "asimov/robots/ik_numeric.hpp"
 #include "asimov/robots/ik_puma.hpp"
 #include "asimov/robots/puma560.hpp"
 #include "asimov/robots/urdf_loader.hpp"
+#include "asimov/robots/viper_s650.hpp"
 
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
@@ -184,6 +188,65 @@ bool kdl_restarts(Solver& s, const KDL::JntArray& seed, const KDL::Frame& goal, 
     if (std::chrono::duration<double>(Clock::now() - t0).count() > timeout_s) return false;
     for (unsigned i = 0; i < q.rows(); ++i) q(i) = lo[i] + u(rng) * (hi[i] - lo[i]);
   }
+}
+
+// A built-in arm's closed form as the simulator calls it (solve_ik in the pose's own
+// configuration, seed READY) against KDL LMA seeded at READY, on the same kPoses random reachable
+// poses outside `in_band`; each call's time the fastest of kPasses, medians.
+Row closed_form_vs_lma(const std::string& name, const Robot& r, const std::function<bool(const JointVector&)>& in_band) {
+  const JointVector ready = ready_joints(r);
+  std::mt19937 rng(20261201);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<JointVector> truth;
+  std::vector<Pose> targets;
+  while (static_cast<int>(targets.size()) < kPoses) {
+    JointVector d(r.joint_count());
+    for (int i = 0; i < d.size(); ++i) d[i] = r.lower[i] + u(rng) * (r.upper[i] - r.lower[i]);
+    if (in_band(d)) continue;
+    truth.push_back(d);
+    targets.push_back(flange_pose(r, d));
+  }
+  const KDL::Chain chain = kdl_chain(r);
+  KDL::ChainIkSolverPos_LMA lma(chain, Eigen::Matrix<double, 6, 1>::Ones(), 1e-5, 500);
+  KDL::ChainFkSolverPos_recursive fk(chain);
+  {
+    KDL::Frame f;
+    fk.JntToCart(jnt(display_to_dh(r, truth[0])), f);
+    const Pose& p = targets[0];
+    std::printf("KDL chain check (%s): |dp| = %.2e mm\n", r.name.c_str(),
+                std::hypot(f.p.x() * 1000 - p.translation().x(), f.p.y() * 1000 - p.translation().y(),
+                           f.p.z() * 1000 - p.translation().z()));
+  }
+  Run ours{"ours solve_ik (closed form + select)", {}, {}, {}, {}};
+  Run peer{"KDL ChainIkSolverPos_LMA", {}, {}, {}, {}};
+  const KDL::JntArray seed = jnt(display_to_dh(r, ready));
+  KDL::JntArray q_out(static_cast<unsigned>(r.joint_count()));
+  for (int pass = 0; pass < kPasses; ++pass) {
+    for (int k = 0; k < kPoses; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      const Pose& t = targets[i];
+      const Configuration want = configuration_of(r, truth[i]);
+      const KDL::Frame goal = kdl_frame(t);
+      auto t0 = Clock::now();
+      const IkResult res = solve_ik(r, t, ready, want, false);
+      double us = elapsed_us(t0);
+      if (pass == 0)
+        record(ours, r, res.joints, t, res.status == IkStatus::ok, us, 1e-6, 1e-9);
+      else
+        ours.us[i] = std::min(ours.us[i], us);
+      t0 = Clock::now();
+      const int rc = lma.CartToJnt(seed, goal, q_out);
+      us = elapsed_us(t0);
+      if (pass == 0)
+        record(peer, r, dh_to_display(r, internal_of(q_out, r)), t, rc >= 0, us, 1e-2, 1e-5);
+      else
+        peer.us[i] = std::min(peer.us[i], us);
+    }
+  }
+  std::printf("%s, %d random poses in the limits (our tolerance 1e-6 mm / 1e-9 rad; KDL 1e-2 mm / 1e-5 rad):\n",
+              r.name.c_str(), kPoses);
+  for (const Run* run : {&ours, &peer}) print(*run);
+  return row(name, ours, peer);
 }
 }  // namespace
 
@@ -381,6 +444,12 @@ int main(int argc, char** argv) {
     rows.push_back(row("generic6 closed form (spherical wrist), median us", closed, kdl_nr));
     rows.push_back(row("generic6 closed form (spherical wrist), median us", closed, kdl_lma));
   }
+
+  // ---------------------------------------------------------------- built-in Adept arms, closed forms
+  rows.push_back(closed_form_vs_lma("viper_s650 IK (solve_ik), KDL LMA seeded at READY", viper_s650(),
+                                    [](const JointVector& d) { return std::abs(d[4]) < 0.01; }));
+  rows.push_back(closed_form_vs_lma("cobra_s600 IK (solve_ik), KDL LMA seeded at READY", cobra_s600(),
+                                    [](const JointVector& d) { return std::abs(std::sin(d[1] * std::numbers::pi / 180)) < 1e-4; }));
 
   std::printf("\n%-52s %10s  %-46s %10s %9s %9s %8s %8s\n", "name", "ours_us", "peer", "peer_us", "ratio", "agree",
               "ours_ok", "peer_ok");

@@ -3,6 +3,7 @@
 #include "asimov/collision/mesh_io.hpp"
 #include "asimov/collision/engine.hpp"
 #include "asimov/collision/text_file.hpp"
+#include "asimov/robots/builtin.hpp"
 #include "asimov/robots/puma560.hpp"
 #include "asimov/robots/urdf_loader.hpp"
 
@@ -162,13 +163,14 @@ class Reader {
     }
   }
 
-  // `robot: puma560` (built in) or a URDF file, relative to the cell file's folder.
+  // A built-in arm by name (robots/builtin.hpp) or a URDF file, relative to the cell file's folder.
   robots::Robot robot(const YAML::Node& node) const {
     if (!node) return robots::puma560();
-    if (!node.IsScalar()) fail(node, "robot must be puma560 or a .urdf file");
+    if (!node.IsScalar()) fail(node, fmt::format("robot must be a built-in arm ({}) or a .urdf file", robots::builtin_robot_names()));
     const auto name = node.Scalar();
-    if (name == "puma560") return robots::puma560();
-    if (!name.ends_with(".urdf")) fail(node, fmt::format("unknown robot '{}' (puma560 or a .urdf file)", name));
+    if (auto builtin = robots::builtin_robot(name)) return std::move(*builtin);
+    if (!name.ends_with(".urdf"))
+      fail(node, fmt::format("unknown robot '{}' ({} or a .urdf file)", name, robots::builtin_robot_names()));
     const auto path = (base_dir_ / name).lexically_normal();
     try {
       return robots::load_urdf(path.string());

@@ -383,7 +383,19 @@ void Evaluator::execute(const Instr& in) {
       sim_.set_base(motion::trans(x[0], x[1], x[2], x[3], 0, 0));
       return;
     }
-    case Code::configure: return request_configuration(in.word, sim_.request());
+    case Code::configure: {
+      // A word without meaning for this arm (a SCARA's ABOVE, any word on a numeric-IK arm):
+      // ignored as before, said once (docs/robots.md).
+      const ast::Kw w = in.word;
+      const auto word = w == ast::Kw::righty || w == ast::Kw::lefty ? robots::ConfigurationWord::arm
+                        : w == ast::Kw::above || w == ast::Kw::below ? robots::ConfigurationWord::elbow
+                                                                     : robots::ConfigurationWord::wrist;
+      const char* name = w == ast::Kw::righty ? "RIGHTY" : w == ast::Kw::lefty ? "LEFTY" : w == ast::Kw::above ? "ABOVE"
+                         : w == ast::Kw::below ? "BELOW" : w == ast::Kw::flip ? "FLIP" : w == ast::Kw::noflip ? "NOFLIP" : nullptr;
+      if (name && !robots::configuration_word_applies(sim_.robot(), word))
+        warn_once(std::string(name) + " (no meaning for this arm: ignored)", in);
+      return request_configuration(in.word, sim_.request());
+    }
     case Code::break_: return finish_motion();
     case Code::speed: {
       const double s = to_real(eval(in.args[0]));

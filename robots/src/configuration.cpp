@@ -1,7 +1,9 @@
 // Configuration words derived from joint values, docs/kinematics.md §6.
 #include "asimov/robots/configuration.hpp"
 
+#include "asimov/robots/ik_scara.hpp"
 #include "asimov/robots/ik_spherical.hpp"
+#include "asimov/robots/ik_viper.hpp"
 
 #include <array>
 #include <cmath>
@@ -11,6 +13,8 @@ namespace asimov::robots {
 
 
 Configuration configuration_of(const Robot& robot, const JointVector& display) {
+  if (is_viper_type(robot)) return viper_configuration(robot, display);
+  if (ScaraModel sm; scara_model(robot, sm)) return scara_configuration(robot, sm, display);
   if (!is_puma_type(robot)) {
     SphericalWristModel m;
     if (display.size() == 6 && spherical_wrist_model(robot, m)) return spherical_configuration(robot, m, display);
@@ -29,6 +33,13 @@ Configuration configuration_of(const Robot& robot, const JointVector& display) {
   c.above = sigma_s * diff >= 0;
   c.noflip = display[4] >= 0;
   return c;
+}
+
+bool configuration_word_applies(const Robot& robot, ConfigurationWord word) {
+  if (is_puma_type(robot) || is_viper_type(robot)) return true;
+  if (ScaraModel sm; scara_model(robot, sm)) return word == ConfigurationWord::arm;
+  SphericalWristModel m;
+  return spherical_wrist_model(robot, m);
 }
 
 Configuration requested_configuration(const Configuration& current, const ConfigurationRequest& r) {

@@ -1,7 +1,9 @@
 // Closed form or numeric IK, by the arm's geometry.
 #include "asimov/robots/ik.hpp"
 
+#include "asimov/robots/ik_scara.hpp"
 #include "asimov/robots/ik_spherical.hpp"
+#include "asimov/robots/ik_viper.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -97,6 +99,9 @@ int last_revolute_joint(const Robot& robot) {
 IkResult solve_ik(const Robot& robot, const Pose& flange, const JointVector& current, const Configuration& want,
                   bool single, const NumericIkOptions& options) {
   if (is_puma_type(robot)) return solve_puma(robot, flange, current, want, single);
+  if (is_viper_type(robot)) return solve_viper(robot, flange, current, want, single);
+  ScaraModel scara;
+  if (scara_model(robot, scara)) return solve_scara(robot, scara, flange, current, want, single);
   IkResult res;
   if (solve_spherical(robot, flange, current, want, single, res)) return res;
   const NumericIkResult num = solve_numeric(robot, flange, current, options);

@@ -4,48 +4,18 @@
 // column down to the floor at z = -670 mm).
 #include "asimov/robots/puma560.hpp"
 
+#include "link_shapes.hpp"
+
 #include <algorithm>
 #include <numbers>
 
 namespace asimov::robots {
 namespace {
 constexpr double kPi = std::numbers::pi;
-constexpr int kSegments = 16;
 
-using collision::make_box;
-using collision::make_cylinder;
 using collision::merged;
-using collision::Polyhedron;
-using collision::transformed;
-
-Pose translation(double x, double y, double z) {
-  Pose p = Pose::Identity();
-  p.translation() = Vec3(x, y, z);
-  return p;
-}
-
-// Box with corners lo and hi (axis-aligned in the link frame).
-Polyhedron box(const Vec3& lo, const Vec3& hi) {
-  return transformed(make_box(hi - lo), translation(((lo + hi) / 2).x(), ((lo + hi) / 2).y(), ((lo + hi) / 2).z()));
-}
-
-// Cylinder of `radius` along local axis `axis` (0 = X, 1 = Y, 2 = Z) from `from` to `to` along
-// that axis, its axis passing through (u, v) in the other two coordinates (in X, Y, Z order).
-Polyhedron cylinder(int axis, double radius, double from, double to, double u = 0, double v = 0) {
-  Polyhedron c = make_cylinder(radius, to - from, kSegments);
-  Pose p = Pose::Identity();
-  const double mid = (from + to) / 2;
-  if (axis == 2) {
-    p.translation() = Vec3(u, v, mid);
-  } else if (axis == 1) {  // local Z -> +Y
-    p.linear() = Eigen::AngleAxisd(-kPi / 2, Vec3::UnitX()).toRotationMatrix();
-    p.translation() = Vec3(u, mid, v);
-  } else {  // local Z -> +X
-    p.linear() = Eigen::AngleAxisd(kPi / 2, Vec3::UnitY()).toRotationMatrix();
-    p.translation() = Vec3(mid, u, v);
-  }
-  return transformed(c, p);
-}
+using shapes::box;
+using shapes::cylinder;
 
 std::vector<LinkBody> puma_bodies() {
   using namespace puma;

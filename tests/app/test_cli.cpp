@@ -176,6 +176,19 @@ TEST_CASE("run: a URDF arm from a cell file completes its demo") {
   CHECK(r.out.find("done") != std::string::npos);
 }
 
+TEST_CASE("run: the Viper's pick and place stops on the PUMA with the same tool on the same floor") {
+  // programs/cells/viper_pick.v2 completes in viper_cell.yaml (its expect.json); the
+  // PUMA cannot reach its places tool-down in any configuration (tests/robots/test_viper_s650.cpp).
+  const auto r = run_cli("run " + source_path("programs/cells/viper_pick.v2") + " --cell " +
+                         source_path("programs/cells/puma_floor_cell.yaml"));
+  INFO(r.err);
+  CHECK(r.exit_code == 2);
+  CHECK(r.out.empty());
+  CHECK((r.err.find("*Joint limit exceeded*") != std::string::npos ||
+         r.err.find("*Location out of reach*") != std::string::npos));
+  CHECK(r.err.find("viper_pick.v2:13") != std::string::npos);  // the first APPRO
+}
+
 TEST_CASE("run: V+ constructs that only warn are reported once, in stderr and the report") {
   const auto file = write_file("warn.v2",
                                ".PROGRAM warn()\n    FOR i = 1 TO 3\n        SELECT ROBOT = 1\n    END\n    TYPE \"ok\"\n.END\n");

@@ -25,6 +25,14 @@ struct ConfigurationRequest {
 // RIGHTY iff V >= 0, ABOVE iff sigma_s * wrap(theta2 - atan2(pz, V)) >= 0, NOFLIP iff J5 >= 0.
 Configuration configuration_of(const Robot& robot, const JointVector& display);
 
+// The three pairs of words: LEFTY/RIGHTY (arm), ABOVE/BELOW (elbow), FLIP/NOFLIP (wrist).
+enum class ConfigurationWord { arm, elbow, wrist };
+
+// Whether requests of `word` mean anything for the robot: all three for the PUMA, Viper-type
+// and spherical-wrist 6R arms; only `arm` (the elbow) for a SCARA; none for other arms (numeric
+// IK, requests ignored). The interpreter warns once when a program uses a word that does not.
+bool configuration_word_applies(const Robot& robot, ConfigurationWord word);
+
 // `current` overridden by the set fields of `request`.
 Configuration requested_configuration(const Configuration& current, const ConfigurationRequest& request);
 

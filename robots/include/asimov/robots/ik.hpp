@@ -1,5 +1,6 @@
 // IK for any arm, as the simulator needs it: the closed form for a PUMA-type DH arm
-// (is_puma_type), the Paden-Kahan closed form for a 6R chain with J1 _|_ J2 || J3 and a
+// (is_puma_type), for a Viper-type DH arm (is_viper_type, ik_viper.hpp), for a SCARA chain
+// (scara_model, ik_scara.hpp), the Paden-Kahan closed form for a 6R chain with J1 _|_ J2 || J3 and a
 // spherical wrist (spherical_wrist_model; the solution in the requested configuration nearest
 // the current joints within limits, J4 kept at the wrist singularity), the numeric solver seeded
 // with the current joints otherwise. SINGLE / MULTIPLE govern the last revolute joint of any arm.
