@@ -80,7 +80,10 @@ struct Body {
   std::vector<Vec3> world;          // world vertices: all valid when world_version == version,
   std::uint64_t world_version = 0;  //   else vertex i valid when vertex_version[i] == version
   std::vector<std::uint64_t> vertex_version;
-  std::vector<WorldFace> faces;     // world triangle + box of face f (step 4 cache)
+  // World triangle + box of face f (step 4 cache), in pages of kFacePage faces: a body of more
+  // than kEagerFaces faces gets a page on first use (a 1M-face object far from the arm touches
+  // few; a dense cache was 128 bytes per face), smaller ones all pages at preprocessing.
+  std::vector<std::unique_ptr<WorldFace[]>> face_pages;
   int halvings = 9;                 // M in use (resolved from def.halvings, kAutoHalvings = cost model)
   Box box;                          // world minimax box, valid when box_version == version
   std::uint64_t box_version = 0;
@@ -105,6 +108,11 @@ double box_distance2(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Ve
   }
   return s;
 }
+
+// World-face cache pages (Body::face_pages): faces per page, and the size up to which every
+// page is allocated at preprocessing (no allocation in queries; larger bodies page on demand).
+constexpr std::uint32_t kFacePage = 64;
+constexpr std::size_t kEagerFaces = 65536;
 
 // Vertices per shell tried by voxel class before the exact point-in-solid test (contained).
 constexpr std::size_t kShellSamples = 16;
@@ -170,12 +178,16 @@ struct Engine::Impl {
     return {world_vertex(b, t[0]), world_vertex(b, t[1]), world_vertex(b, t[2])};
   }
   static void prefetch_face(const Body& b, std::uint32_t f) {
-    const char* w = reinterpret_cast<const char*>(&b.faces[f]);
+    const WorldFace* page = b.face_pages[f / kFacePage].get();
+    if (!page) return;
+    const char* w = reinterpret_cast<const char*>(page + f % kFacePage);
     __builtin_prefetch(w);
     __builtin_prefetch(w + 64);
   }
   static const WorldFace& world_face(Body& b, std::uint32_t f) {
-    WorldFace& w = b.faces[f];
+    std::unique_ptr<WorldFace[]>& page = b.face_pages[f / kFacePage];
+    if (!page) page = std::make_unique<WorldFace[]>(kFacePage);  // large bodies only (kEagerFaces)
+    WorldFace& w = page[f % kFacePage];
     if (w.version != b.version) {
       w.t = world_triangle(b, f);
       w.lo = w.t[0].cwiseMin(w.t[1]).cwiseMin(w.t[2]);
@@ -194,8 +206,11 @@ struct Engine::Impl {
   }
   static void preprocess(Body& b) {
     if (b.grid) return;
-    b.faces.resize(b.def.mesh.triangles.size());
-    b.grid = build_voxel_grid(b.def.mesh, b.halvings);
+    const std::size_t faces = b.def.mesh.triangles.size();
+    b.face_pages.resize((faces + kFacePage - 1) / kFacePage);
+    if (faces <= kEagerFaces)
+      for (auto& page : b.face_pages) page = std::make_unique<WorldFace[]>(kFacePage);
+    b.grid = build_voxel_grid(b.def.mesh, b.halvings, b.closed);
     b.shells = shell_samples(b.def.mesh, kShellSamples);
   }
 
@@ -280,7 +295,7 @@ struct Engine::Impl {
       }
       return w;
     };
-    auto misses = [](const Box& part, const Window& w) {
+    auto misses = [](const FloatBox& part, const Window& w) {  // float parts, rounded outward
       return ((part.lo[0] > w.hi[0]) + (part.hi[0] < w.lo[0]) + (part.lo[1] > w.hi[1]) +
               (part.hi[1] < w.lo[1]) + (part.lo[2] > w.hi[2]) + (part.hi[2] < w.lo[2])) != 0;
     };

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <map>
 #include <numbers>
 #include <sstream>
 
@@ -32,16 +31,47 @@ struct Builder {
   Vec3 scale = Vec3::Ones();
   Polyhedron mesh{};
   std::vector<std::size_t> numbers{};  // 1-based source face number per triangle
-  std::map<std::array<double, 3>, std::uint32_t> index{};
+  // Welding: open addressing over indices into mesh.vertices, keyed by the coordinates' bits
+  // (4 bytes a slot; a std::map of coordinates took some 70 bytes per vertex at 1M faces).
+  std::vector<std::uint32_t> slots = std::vector<std::uint32_t>(1024, kEmpty);
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;
 
+  static std::uint64_t hash(const Vec3& v) {
+    std::uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (int k = 0; k < 3; ++k) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &v[k], sizeof bits);
+      h = (h ^ bits) * 0xff51afd7ed558ccdull;
+      h ^= h >> 33;
+    }
+    return h;
+  }
+  void grow() {
+    std::vector<std::uint32_t> bigger(2 * slots.size(), kEmpty);
+    const std::size_t mask = bigger.size() - 1;
+    for (std::uint32_t i = 0; i < mesh.vertices.size(); ++i) {
+      std::size_t s = hash(mesh.vertices[i]) & mask;
+      while (bigger[s] != kEmpty) s = (s + 1) & mask;
+      bigger[s] = i;
+    }
+    slots = std::move(bigger);
+  }
   std::uint32_t vertex(const Vec3& raw, std::size_t face) {
     if (!raw.allFinite()) throw MeshError(path + ": face " + std::to_string(face) + ": non-finite coordinate");
     const Vec3 v = raw.cwiseProduct(scale);
     if (!v.allFinite()) throw MeshError(path + ": face " + std::to_string(face) + ": coordinate overflows after scaling");
-    const std::array<double, 3> key{v.x() == 0 ? 0.0 : v.x(), v.y() == 0 ? 0.0 : v.y(), v.z() == 0 ? 0.0 : v.z()};
-    const auto [it, added] = index.emplace(key, static_cast<std::uint32_t>(mesh.vertices.size()));
-    if (added) mesh.vertices.emplace_back(key[0], key[1], key[2]);
-    return it->second;
+    const Vec3 key(v.x() == 0 ? 0.0 : v.x(), v.y() == 0 ? 0.0 : v.y(), v.z() == 0 ? 0.0 : v.z());  // -0 is 0
+    if (2 * (mesh.vertices.size() + 1) > slots.size()) grow();
+    const std::size_t mask = slots.size() - 1;
+    for (std::size_t s = hash(key) & mask;; s = (s + 1) & mask) {
+      if (slots[s] == kEmpty) {
+        slots[s] = static_cast<std::uint32_t>(mesh.vertices.size());
+        mesh.vertices.push_back(key);
+        return slots[s];
+      }
+      const Vec3& w = mesh.vertices[slots[s]];
+      if (w.x() == key.x() && w.y() == key.y() && w.z() == key.z()) return slots[s];  // bit-identical (no NaN, -0 folded)
+    }
   }
   void triangle(const Vec3& a, const Vec3& b, const Vec3& c, std::size_t face) {
     if (mesh.triangles.size() == kMaxMeshFaces)
@@ -93,23 +123,39 @@ LoadedMesh validate_mesh(Polyhedron mesh, const std::string& source, const std::
   }
   if (kept.empty()) throw MeshError(source + ": every face has zero area");
   mesh.triangles = std::move(kept);
-  // Closed: each directed edge once, and its reverse once.
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, std::size_t>> edges;  // count, first face
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
-    for (int k = 0; k < 3; ++k) {
-      auto& e = edges[{mesh.triangles[i][k], mesh.triangles[i][(k + 1) % 3]}];
-      if (e.first++ == 0) e.second = i;
-    }
+  // Closed: each directed edge once, and its reverse once. Sorted 64-bit keys (a std::map of
+  // edges took some 190 bytes per face at 1M faces); the first bad edge in (from, to) order is
+  // reported with the first face using it, as before.
+  std::vector<std::uint64_t> edges;
+  edges.reserve(3 * mesh.triangles.size());
+  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
+  for (const Triangle& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) edges.push_back(key(t[k], t[(k + 1) % 3]));
+  std::sort(edges.begin(), edges.end());
+  auto count = [&](std::uint64_t e) {
+    const auto r = std::equal_range(edges.begin(), edges.end(), e);
+    return r.second - r.first;
+  };
   out.closed = true;
-  for (const auto& [edge, use] : edges) {
-    const auto rev = edges.find({edge.second, edge.first});
-    const char* why = use.first > 1 ? "an edge used twice in one direction (non-manifold or inconsistent orientation)"
-                      : rev == edges.end() ? "an edge on one face only (open mesh)"
-                      : rev->second.first != 1 ? "an edge shared by more than two faces (non-manifold)"
-                                               : nullptr;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    const std::uint64_t e = edges[i];
+    const auto from = static_cast<std::uint32_t>(e >> 32), to = static_cast<std::uint32_t>(e);
+    const auto reverse = count(key(to, from));
+    const char* why = j - i > 1 ? "an edge used twice in one direction (non-manifold or inconsistent orientation)"
+                      : reverse == 0 ? "an edge on one face only (open mesh)"
+                      : reverse != 1 ? "an edge shared by more than two faces (non-manifold)"
+                                     : nullptr;
+    i = j;
     if (!why) continue;
+    std::size_t first = 0;  // the first face using the edge
+    for (; first < mesh.triangles.size(); ++first) {
+      const Triangle& t = mesh.triangles[first];
+      if ((t[0] == from && t[1] == to) || (t[1] == from && t[2] == to) || (t[2] == from && t[0] == to)) break;
+    }
     out.closed = false;
-    out.warnings.push_back(source + ": face " + std::to_string(kept_numbers[use.second]) + ": " + why +
+    out.warnings.push_back(source + ": face " + std::to_string(kept_numbers[first]) + ": " + why +
                            "; the mesh has no inside, containment is not tested for it");
     break;
   }

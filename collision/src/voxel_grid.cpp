@@ -174,6 +174,28 @@ void build_tree(VoxelGrid& g, const std::vector<int>& axes) {
 
 }  // namespace
 
+void VoxelGrid::build_face_voxels() const {
+  // From the voxel lists in voxel order, so each face's voxels come out increasing.
+  face_offsets.assign(face_count + 1, 0);
+  for (const std::uint32_t f : faces) ++face_offsets[f + 1];
+  for (std::size_t f = 0; f < face_count; ++f) face_offsets[f + 1] += face_offsets[f];
+  face_voxels.resize(faces.size());
+  std::vector<std::uint32_t> fill(face_offsets.begin(), face_offsets.end() - 1);
+  for (std::size_t v = 0; v + 1 < offsets.size(); ++v)
+    for (std::uint32_t n = offsets[v]; n < offsets[v + 1]; ++n) face_voxels[fill[faces[n]]++] = static_cast<std::uint32_t>(v);
+}
+
+FloatBox outward(const Box& b) {
+  FloatBox f;
+  for (int k = 0; k < 3; ++k) {
+    f.lo[k] = static_cast<float>(b.lo[k]);
+    f.hi[k] = static_cast<float>(b.hi[k]);
+    if (static_cast<double>(f.lo[k]) > b.lo[k]) f.lo[k] = std::nextafter(f.lo[k], -INFINITY);
+    if (static_cast<double>(f.hi[k]) < b.hi[k]) f.hi[k] = std::nextafter(f.hi[k], INFINITY);
+  }
+  return f;
+}
+
 Box VoxelGrid::voxel_box(int i, int j, int k) const {
   const Vec3 lo = container.origin + Vec3(i * cell.x(), j * cell.y(), k * cell.z());
   return {lo, lo + cell};
@@ -217,7 +239,9 @@ std::array<int, 3> halve_cells(const Vec3& size, int halvings) {
   return n;
 }
 
-VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
+VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) { return build_voxel_grid(mesh, halvings, is_closed(mesh)); }
+
+VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings, bool closed) {
   VoxelGrid g;
   g.container = make_container(mesh.vertices);
   g.cells = halve_cells(g.container.size, std::clamp(halvings, 0, kMaxHalvings));
@@ -250,16 +274,11 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
   g.faces.resize(hits.size());
   std::vector<std::uint32_t> fill(g.offsets.begin(), g.offsets.end() - 1);
   for (const auto& h : hits) g.faces[fill[h.first]++] = h.second;
-  // Hits are in face order, and in increasing voxel order within a face.
-  g.face_offsets.assign(g.face_count + 1, 0);
-  for (const auto& h : hits) ++g.face_offsets[h.second + 1];
-  for (std::size_t f = 0; f < g.face_count; ++f) g.face_offsets[f + 1] += g.face_offsets[f];
-  g.face_voxels.resize(hits.size());
-  for (std::size_t n = 0; n < hits.size(); ++n) g.face_voxels[n] = hits[n].first;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>().swap(hits);  // freed before the parts are made
 
   // Content boxes: voxel (grown) cut to the union of its faces' boxes (grown).
   g.content.assign(n, Box{});
-  g.face_parts.resize(hits.size());
+  g.face_parts.resize(g.faces.size());
   for (int k = 0; k < g.cells[2]; ++k)
     for (int j = 0; j < g.cells[1]; ++j)
       for (int i = 0; i < g.cells[0]; ++i) {
@@ -271,9 +290,10 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
           const Triangle& tri = mesh.triangles[g.faces[n]];
           const Vec3 &p = mesh.vertices[tri[0]], &q = mesh.vertices[tri[1]], &r = mesh.vertices[tri[2]];
           const Box fb = grown(Box{p.cwiseMin(q).cwiseMin(r), p.cwiseMax(q).cwiseMax(r)}, g.margin);
-          g.face_parts[n] = Box{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
-          lo = lo.cwiseMin(g.face_parts[n].lo);
-          hi = hi.cwiseMax(g.face_parts[n].hi);
+          const Box part{vb.lo.cwiseMax(fb.lo), vb.hi.cwiseMin(fb.hi)};
+          g.face_parts[n] = outward(part);
+          lo = lo.cwiseMin(part.lo);
+          hi = hi.cwiseMax(part.hi);
         }
         g.content[v] = Box{lo, hi};
       }
@@ -291,7 +311,7 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings) {
                       at(i - 1, j - 1, k - 1);
 
   build_tree(g, halving_axes(g.container.size, std::clamp(halvings, 0, kMaxHalvings)));
-  if (is_closed(mesh)) classify_voxels(g, mesh);
+  if (closed) classify_voxels(g, mesh);
   return g;
 }
 

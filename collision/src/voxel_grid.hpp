@@ -29,6 +29,13 @@ struct TreeNode {
   std::array<std::uint32_t, 4> child{};
 };
 
+// A box in float, rounded outward from the double box it stands for (half the bytes of a Box:
+// the per-face parts are the largest part of a big mesh's grid, 1.5 per face at 1M faces).
+struct FloatBox {
+  float lo[3], hi[3];
+};
+FloatBox outward(const Box& b);
+
 // Containment class of a voxel (docs/collision-method.md §6.1).
 enum class VoxelClass : std::uint8_t { surface, outside, inside };
 
@@ -40,10 +47,12 @@ struct VoxelGrid {
   double margin = 0;                  // growth of each voxel in the triangle-box test [mm]
   std::vector<std::uint32_t> offsets; // CSR: faces of voxel v are faces[offsets[v] .. offsets[v+1])
   std::vector<std::uint32_t> faces;   // triangle indices
-  std::vector<Box> face_parts;        // parallel to faces: the voxel (grown) cut to the face's box
+  std::vector<FloatBox> face_parts;   // parallel to faces: the voxel (grown) cut to the face's box
                                       //   (grown), holding every point of the face in the voxel
-  std::vector<std::uint32_t> face_offsets;  // inverse CSR: voxels of face f are
-  std::vector<std::uint32_t> face_voxels;   //   face_voxels[face_offsets[f] .. face_offsets[f+1])
+  // Inverse CSR, built on first voxels_of() (only the reference FacePairs asks; 10 bytes per face
+  // at 1M faces): voxels of face f are face_voxels[face_offsets[f] .. face_offsets[f+1]).
+  mutable std::vector<std::uint32_t> face_offsets;
+  mutable std::vector<std::uint32_t> face_voxels;
   std::vector<VoxelClass> classes;    // per voxel; empty when the mesh is not closed
   std::vector<Box> content;           // per non-empty voxel: the voxel (grown by margin) cut to the
                                       //   union of its faces' boxes (grown): holds every face point
@@ -68,12 +77,14 @@ struct VoxelGrid {
   std::span<const std::uint32_t> faces_in(std::size_t v) const {
     return {faces.data() + offsets[v], faces.data() + offsets[v + 1]};
   }
-  std::span<const Box> face_parts_in(std::size_t v) const {
+  std::span<const FloatBox> face_parts_in(std::size_t v) const {
     return {face_parts.data() + offsets[v], face_parts.data() + offsets[v + 1]};
   }
   std::span<const std::uint32_t> voxels_of(std::uint32_t f) const {
+    if (face_offsets.empty()) build_face_voxels();
     return {face_voxels.data() + face_offsets[f], face_voxels.data() + face_offsets[f + 1]};
   }
+  void build_face_voxels() const;
   Box voxel_box(int i, int j, int k) const;  // local, not grown
   // Non-empty voxels in a range (0 for an empty range), in O(1).
   std::uint32_t count_nonempty(const CellRange& r) const;
@@ -91,6 +102,8 @@ int auto_halvings(const Polyhedron& mesh);
 std::array<int, 3> halve_cells(const Vec3& size, int halvings);
 
 VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings);
+// The same when the caller knows whether the mesh is closed (is_closed: voxel classes only then).
+VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings, bool closed);
 
 // Voxels of `grid` that a local box overlaps (clamped to the grid; empty if outside).
 CellRange cell_range(const VoxelGrid& grid, const Box& local_box);

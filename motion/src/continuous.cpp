@@ -1,0 +1,146 @@
+#include "continuous.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace asimov::motion {
+
+double joint_motion(std::span<const robots::BodyReach> reach, const GapPair& pair, const robots::JointVector& q1,
+                    const robots::JointVector& q2) {
+  return pair_displacement(reach, pair, q2 - q1);
+}
+
+double line_motion(std::span<const robots::BodyReach> reach, const GapPair& pair, std::span<const LineSample> samples,
+                   double sigma1, const robots::JointVector& q1, double sigma2, const robots::JointVector& q2) {
+  if (sigma2 < sigma1) return line_motion(reach, pair, samples, sigma2, q2, sigma1, q1);
+  const auto first = std::upper_bound(samples.begin(), samples.end(), sigma1,
+                                      [](double v, const LineSample& x) { return v < x.s; });
+  double mu = 0;
+  const robots::JointVector* prev = &q1;
+  for (auto it = first; it != samples.end() && it->s < sigma2; ++it) {
+    mu += pair_displacement(reach, pair, it->joints - *prev);
+    prev = &it->joints;
+  }
+  return mu + pair_displacement(reach, pair, q2 - *prev);
+}
+
+ContinuousChecker::ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm)
+    : engine_(engine), clearance_(clearance_mm), tol_(tol_s), report_mm_(report_mm) {}
+
+void ContinuousChecker::note(std::size_t pair, const collision::DistanceResult& r, double t) {
+  if (r.status == collision::DistanceStatus::beyond || !(r.distance < report_mm_)) return;
+  PairApproach& a = approach_[pair];
+  if (a.distance >= 0 && a.distance <= r.distance) return;
+  a = {r.distance, t, r.point_a, r.point_b, tag_};
+}
+
+void ContinuousChecker::measure(std::size_t pair, Point& p, double upper) {
+  const collision::BodyPair bp = engine_.enabled_pairs()[pair];
+  const collision::DistanceResult r = engine_.distance(bp.a, bp.b, {.upper_mm = upper});
+  ++queries_;
+  note(pair, r, p.t);
+  p.hit = r.status == collision::DistanceStatus::contact ||
+          (clearance_ > 0 && r.status == collision::DistanceStatus::exact && r.distance <= clearance_);
+  p.d = p.hit ? 0.0 : r.distance;
+  p.exact = r.status != collision::DistanceStatus::beyond;
+}
+
+// Earliest contact of the pair in (l.t, r.t]: l is free; r.hit says whether r collides. True
+// with `out` filled when one is found (or a window of width <= tol stays unproven).
+bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path,
+                              ContinuousContact& out) {
+  const double c = clearance_;
+  const double mu = path.motion(pair, l.t, l.q, r.t, r.q);
+  if (!r.hit && (l.d - c) + (r.d - c) > mu) return false;  // free: the two-sided bound
+  const double m_t = l.t + (r.t - l.t) / 2;
+  if (r.t - l.t <= tol_ || !(m_t > l.t && m_t < r.t)) {
+    out = {.found = true, .graze = !r.hit, .pair = pair, .t_free = l.t, .t_hit = r.t, .q_free = l.q, .q_hit = r.q};
+    return true;
+  }
+  Point m;
+  m.t = m_t;
+  m.q = path.at(m_t, l.q);
+  path.pose(m.q);
+  posed_t_ = m_t;
+  ++probes_;
+  measure(pair, m, mu + 2 * c);
+  if (solve(pair, l, m, path, out)) return true;
+  return solve(pair, m, r, path, out);
+}
+
+ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVector& q_a, double t_b,
+                                            const robots::JointVector& q_b, const ContinuousPath& path,
+                                            int tag) {
+  tag_ = tag;
+  posed_t_ = t_b;
+  const auto pairs = engine_.enabled_pairs();
+  const std::size_t n = pairs.size();
+  approach_.resize(n);
+  const double c = clearance_;
+  const bool cached = cache_t_ == t_a && cache_d_.size() == n;
+  std::vector<double> mu(n);
+  std::vector<Point> end(n);
+  // At b (the engine is posed there): every pair, with a cut-off that also serves the next
+  // window and the clearance report.
+  for (std::size_t i = 0; i < n; ++i) {
+    mu[i] = path.motion(i, t_a, q_a, t_b, q_b);
+    end[i].t = t_b;
+    end[i].q = q_b;
+    measure(i, end[i], std::max(2 * mu[i], report_mm_) + 2 * c);
+  }
+  ContinuousContact best;
+  Point start;
+  start.t = t_a;
+  start.q = q_a;
+  for (std::size_t i = 0; i < n; ++i) {
+    Point l = start, r = end[i];
+    if (best.found) {  // the earliest contact so far bounds the window of the other pairs
+      if (best.t_hit < r.t) {
+        r.t = best.t_hit;
+        r.q = best.q_hit;
+        path.pose(r.q);
+        posed_t_ = r.t;
+        measure(i, r, path.motion(i, t_a, q_a, r.t, r.q) + 2 * c);
+      }
+    }
+    const double m = path.motion(i, l.t, l.q, r.t, r.q);
+    if (cached) {
+      l.d = cache_d_[i];
+      l.exact = cache_exact_[i] != 0;
+    }
+    if (!r.hit && cached && (l.d - c) + (r.d - c) > m) continue;  // free from both ends' bounds
+    if (!cached || !l.exact) {  // the last checked pose's cut-off was too low: measure there
+      path.pose(q_a);
+      posed_t_ = t_a;
+      measure(i, l, m + 2 * c);
+      l.hit = false;  // a was checked free (only a rounding at the clearance could say otherwise)
+    }
+    ContinuousContact found;
+    if (!solve(i, l, r, path, found)) continue;
+    if (!best.found || found.t_hit < best.t_hit) {
+      const double t_free = best.found ? std::min(best.t_free, found.t_free) : found.t_free;
+      const robots::JointVector q_free = best.found && best.t_free < found.t_free ? best.q_free : found.q_free;
+      best = found;
+      best.t_free = t_free;
+      best.q_free = q_free;
+    } else if (found.t_free < best.t_free) {
+      best.t_free = found.t_free;
+      best.q_free = found.q_free;
+    }
+  }
+  // The distances at b are the next window's start (unless a contact ends the motion here).
+  cache_t_ = t_b;
+  cache_d_.resize(n);
+  cache_exact_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    cache_d_[i] = end[i].hit ? 0.0 : end[i].d;
+    cache_exact_[i] = end[i].exact;
+  }
+  if (posed_t_ != t_b) {
+    path.pose(q_b);
+    posed_t_ = t_b;
+  }
+  return best;
+}
+
+}  // namespace asimov::motion

@@ -1,0 +1,112 @@
+// Continuous checking between two checked poses (docs/collision.md §12) [ours]: proves that no
+// enabled pair comes into contact on the executed path between them, or finds the earliest
+// contact to toc_tolerance_s, at any thickness.
+//
+// The proof: for a pair, mu(t1, t2) bounds how far any point of one body moves relative to the
+// other along the path between t1 and t2 (robots/displacement_bound, sampler's
+// pair_displacement), and mu is additive along the path. The surface distance d(t) is
+// 1-Lipschitz in that motion, so for t in [a, b]: d(t) >= d(a) - mu(a, t) and
+// d(t) >= d(b) - mu(t, b). If (d(a) - c) + (d(b) - c) > mu(a, b), one of the two stays above c
+// at every t: the window is free. Otherwise it is split at its midpoint (a checked probe), left
+// half first, so the first contact found is the earliest; a window of width <= toc_tolerance_s
+// whose right end collides is the contact bracket. d(a), d(b) are Engine::distance values with a
+// cut-off (a lower bound when beyond), so far pairs cost a step-2 bound.
+#pragma once
+#include "asimov/collision/engine.hpp"
+#include "asimov/motion/sampler.hpp"
+#include "asimov/robots/configuration.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace asimov::motion {
+
+// What the walker knows of the motion between two checked poses.
+struct ContinuousPath {
+  // Joints at time t on the executed path; `seed`: joints near t (an IK seed for lines).
+  std::function<robots::JointVector(double t, const robots::JointVector& seed)> at;
+  // Bound [mm] on the relative motion of pair `pair`'s bodies along the path from (t1, q1) to
+  // (t2, q2) (index into Engine::enabled_pairs()).
+  std::function<double(std::size_t pair, double t1, const robots::JointVector& q1, double t2,
+                       const robots::JointVector& q2)>
+      motion;
+  // Poses every moving engine body at joints q.
+  std::function<void(const robots::JointVector& q)> pose;
+};
+
+struct ContinuousContact {
+  bool found = false;
+  // No probe collided, but a window of width <= toc_tolerance_s could not be proven free: the
+  // pair came within the motion of that window (a conservative halt, docs/collision.md §12).
+  bool graze = false;
+  std::size_t pair = 0;  // index into Engine::enabled_pairs()
+  double t_free = 0, t_hit = 0;
+  robots::JointVector q_free, q_hit;
+};
+
+// Least distance of each pair met by the checker (checked poses and probes) within report_mm.
+struct PairApproach {
+  double distance = -1;  // [mm]; < 0: never within report_mm
+  double time_s = 0;
+  collision::Vec3 point_a = collision::Vec3::Zero(), point_b = collision::Vec3::Zero();
+  int tag = 0;
+};
+
+// Motion bounds of the executed paths. Joint moves are straight in joint space, so a pair's
+// relative motion over q1 -> q2 is bounded by pair_displacement of q2 - q1 (each joint moves
+// monotonically). Straight lines follow IK between validated samples: the bound sums
+// pair_displacement over the samples strictly between sigma1 and sigma2 (the joints' total
+// variation along the samples; each joint taken monotone between two neighbouring samples,
+// which are <= 1 mm / 0.5 deg apart and refined to 0.9 step_mm, docs/collision.md §12).
+double joint_motion(std::span<const robots::BodyReach> reach, const GapPair& pair, const robots::JointVector& q1,
+                    const robots::JointVector& q2);
+double line_motion(std::span<const robots::BodyReach> reach, const GapPair& pair, std::span<const LineSample> samples,
+                   double sigma1, const robots::JointVector& q1, double sigma2, const robots::JointVector& q2);
+
+class ContinuousChecker {
+ public:
+  // tol: toc_tolerance_s; report_mm: distances below this are kept per pair (clearance report).
+  ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm);
+
+  void set_clearance(double clearance_mm) { clearance_ = clearance_mm; }
+  // Forget the cached distances (the bodies were posed elsewhere than the last checked pose).
+  void reset() { cache_t_ = -1; }
+
+  // The window from the checked pose (t_a, q_a), found free against every pair, to the checked
+  // pose (t_b, q_b), which the engine is posed at now (checked or not). Returns the earliest
+  // contact in (t_a, t_b], if any; every pair is then free on [t_a, t_free]. Leaves the engine
+  // posed at q_b.
+  ContinuousContact verify(double t_a, const robots::JointVector& q_a, double t_b, const robots::JointVector& q_b,
+                           const ContinuousPath& path, int tag);
+
+  std::uint64_t probes() const { return probes_; }            // poses posed and measured between checked poses
+  std::uint64_t distance_queries() const { return queries_; } // Engine::distance calls
+  const std::vector<PairApproach>& approaches() const { return approach_; }
+
+ private:
+  struct Point {
+    double t = 0;
+    robots::JointVector q;
+    double d = 0;      // lower bound on the pair's distance [mm] (exact when below the cut-off)
+    bool hit = false;  // the pair is in contact (distance 0, or <= c with a clearance)
+    bool exact = false;  // d is the distance (not a lower bound from the cut-off)
+  };
+  void measure(std::size_t pair, Point& p, double upper);
+  bool solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path, ContinuousContact& out);
+  void note(std::size_t pair, const collision::DistanceResult& r, double t);
+
+  collision::Engine& engine_;
+  double clearance_;
+  double tol_;
+  double report_mm_;
+  int tag_ = 0;
+  double posed_t_ = -1;         // time the engine's bodies are posed at (probes)
+  double cache_t_ = -1;         // time of the cached distances (the last checked pose)
+  std::vector<double> cache_d_; // per pair: lower bound at cache_t_
+  std::vector<char> cache_exact_;
+  std::vector<PairApproach> approach_;
+  std::uint64_t probes_ = 0, queries_ = 0;
+};
+
+}  // namespace asimov::motion

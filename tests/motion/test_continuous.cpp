@@ -1,0 +1,133 @@
+// ContinuousChecker (docs/collision.md §12) on synthetic motions with known contact times: a
+// thin blade sweeping through a thinner plate between two checked poses far apart, a near
+// miss, a graze-free pass, and the earliest of two pairs.
+#include "motion/src/continuous.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace asimov;
+using namespace asimov::motion;
+using collision::Pose;
+using collision::Vec3;
+
+namespace {
+
+// One moving body translated along x by q[0] mm (the "joint"), at time t: q[0] = speed * t.
+struct Slide {
+  collision::Engine engine;
+  collision::BodyId moving = 0;
+  double speed = 1000;  // mm/s
+  Vec3 offset = Vec3::Zero();
+
+  ContinuousPath path() {
+    ContinuousPath p;
+    p.at = [this](double t, const robots::JointVector&) {
+      robots::JointVector q(1);
+      q[0] = speed * t;
+      return q;
+    };
+    // A pure translation: every point moves exactly |dx|.
+    p.motion = [](std::size_t, double, const robots::JointVector& a, double, const robots::JointVector& b) {
+      return std::abs(b[0] - a[0]);
+    };
+    p.pose = [this](const robots::JointVector& q) { engine.set_pose(moving, pose_at(q[0])); };
+    return p;
+  }
+  Pose pose_at(double x) const {
+    Pose p = Pose::Identity();
+    p.translation() = offset + Vec3(x, 0, 0);
+    return p;
+  }
+  robots::JointVector q(double t) const {
+    robots::JointVector v(1);
+    v[0] = speed * t;
+    return v;
+  }
+};
+
+// A plate `plate_mm` thick (x) at x = 0 and a blade `blade_mm` thick starting at x = -start.
+void build(Slide& s, double plate_mm, double blade_mm, double start_mm) {
+  const collision::BodyId plate = s.engine.add_body({.name = "plate", .mesh = collision::make_box(Vec3(plate_mm, 200, 150)), .is_static = true});
+  s.moving = s.engine.add_body({.name = "blade", .mesh = collision::make_box(Vec3(blade_mm, 60, 100))});
+  s.engine.set_pose(plate, Pose::Identity());
+  s.offset = Vec3(-start_mm, 0, 0);
+}
+
+}  // namespace
+
+TEST_CASE("continuous: a 0.05 mm blade never passes a 0.01 mm plate unseen, whatever the step", "[continuous]") {
+  for (const double step_mm : {0.02, 1.0, 20.0, 500.0}) {
+    for (int phase = 0; phase < 12; ++phase) {
+      Slide s;
+      const double start = 100 + step_mm * phase / 12;  // the contact falls anywhere in a step
+      build(s, 0.01, 0.05, start);
+      ContinuousChecker checker(s.engine, 0, 1e-6, 10);
+      const ContinuousPath path = s.path();
+      // Checked poses every step_mm of travel; contact when the blade's face reaches the plate's.
+      const double touch_x = start - 0.005 - 0.025;
+      const double t_touch = touch_x / s.speed;
+      bool found = false;
+      for (int k = 0; !found && k * step_mm < start + 50; ++k) {
+        const double ta = k * step_mm / s.speed, tb = (k + 1) * step_mm / s.speed;
+        path.pose(s.q(tb));
+        const bool b_collides = s.engine.check().collided;
+        const ContinuousContact c = checker.verify(ta, s.q(ta), tb, s.q(tb), path, 1);
+        if (b_collides) REQUIRE(c.found);  // a contact at the checked pose is never lost
+        if (!c.found) continue;
+        found = true;
+        INFO("step " << step_mm << " phase " << phase << ": t_free " << c.t_free << " t_hit " << c.t_hit
+                     << " analytic " << t_touch);
+        CHECK_FALSE(c.graze);
+        CHECK(c.t_hit - c.t_free <= 1e-6);
+        CHECK(c.t_free <= t_touch + 1e-12);
+        CHECK(c.t_hit >= t_touch - 1e-12);
+        // The halting pose is free, the contact pose is not.
+        path.pose(c.q_free);
+        CHECK_FALSE(s.engine.check().collided);
+        path.pose(c.q_hit);
+        CHECK(s.engine.check().collided);
+      }
+      CHECK(found);
+    }
+  }
+}
+
+TEST_CASE("continuous: a blade passing 0.001 mm beside the plate is proven free", "[continuous]") {
+  Slide s;
+  const collision::BodyId plate = s.engine.add_body({.name = "plate", .mesh = collision::make_box(Vec3(0.01, 200, 150)), .is_static = true});
+  s.moving = s.engine.add_body({.name = "blade", .mesh = collision::make_box(Vec3(0.05, 60, 100))});
+  s.engine.set_pose(plate, Pose::Identity());
+  // The blade slides along x past the plate's edge: its near face 0.001 mm beyond y = 100.
+  s.offset = Vec3(-100, 100 + 30 + 0.001, 0);
+  ContinuousChecker checker(s.engine, 0, 1e-6, 10);
+  const ContinuousPath path = s.path();
+  for (int k = 0; k < 10; ++k) {
+    const double ta = k * 0.02, tb = (k + 1) * 0.02;  // 20 mm steps
+    path.pose(s.q(tb));
+    REQUIRE_FALSE(s.engine.check().collided);
+    CHECK_FALSE(checker.verify(ta, s.q(ta), tb, s.q(tb), path, 7).found);
+  }
+  // The clearance report saw the closest approach (0.001 mm) with its witnesses.
+  const PairApproach& a = checker.approaches().at(0);
+  REQUIRE(a.distance >= 0);
+  CHECK(a.distance == Approx(0.001).margin(1e-9));
+  CHECK(a.tag == 7);
+  CHECK((a.point_a - a.point_b).norm() == Approx(0.001).margin(1e-9));
+}
+
+TEST_CASE("continuous: with a clearance the halt comes at distance c, not at touching", "[continuous]") {
+  Slide s;
+  build(s, 0.1, 0.5, 100);
+  ContinuousChecker checker(s.engine, 2.0, 1e-6, 10);
+  s.engine.set_clearance(2.0);
+  const ContinuousPath path = s.path();
+  const double t_touch = (100 - 0.05 - 0.25) / s.speed, t_clear = t_touch - 2.0 / s.speed;
+  path.pose(s.q(0.2));
+  const ContinuousContact c = checker.verify(0, s.q(0), 0.2, s.q(0.2), path, 1);
+  REQUIRE(c.found);
+  CHECK(c.t_free <= t_clear + 1e-12);
+  CHECK(c.t_hit >= t_clear - 1e-12);
+  CHECK(c.t_hit - c.t_free <= 1e-6);
+}
