@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ccache pkg-config
   libeigen3-dev libboost-dev libfmt-dev catch2
-  libyaml-cpp-dev libcli11-dev libedit-dev libtinyxml2-dev nlohmann-json3-dev
+  libyaml-cpp-dev libcli11-dev libedit-dev libtinyxml2-dev nlohmann-json3-dev libassimp-dev
   libbenchmark-dev
 )
 # Peers for bench/ only (FCL, KDL, Lua 5.4); the peer benchmarks are skipped without them.

@@ -164,16 +164,39 @@ class Reader {
   }
 
   // A built-in arm by name (robots/builtin.hpp) or a URDF file, relative to the cell file's folder.
-  robots::Robot robot(const YAML::Node& node) const {
+  // `packages`: folders (relative to the cell file) searched for package://NAME before
+  // ROS_PACKAGE_PATH; a package is the folder whose package.xml names it.
+  robots::Robot robot(const YAML::Node& node, const YAML::Node& packages) const {
     if (!node) return robots::puma560();
-    if (!node.IsScalar()) fail(node, fmt::format("robot must be a built-in arm ({}) or a .urdf file", robots::builtin_robot_names()));
+    const std::string usage = fmt::format("a built-in arm ({}), a .urdf file or a package:// URI", robots::builtin_robot_names());
+    if (!node.IsScalar()) fail(node, "robot must be " + usage);
     const auto name = node.Scalar();
     if (auto builtin = robots::builtin_robot(name)) return std::move(*builtin);
-    if (!name.ends_with(".urdf"))
-      fail(node, fmt::format("unknown robot '{}' ({} or a .urdf file)", name, robots::builtin_robot_names()));
-    const auto path = (base_dir_ / name).lexically_normal();
+    std::vector<std::filesystem::path> roots;
+    if (packages) {
+      if (packages.IsScalar()) {
+        roots.push_back((base_dir_ / packages.Scalar()).lexically_normal());
+      } else {
+        if (!packages.IsSequence()) fail(packages, "packages must be a folder or a list of folders");
+        for (const auto& p : packages) {
+          if (!p.IsScalar()) fail(p, "packages entries are folder names");
+          roots.push_back((base_dir_ / p.Scalar()).lexically_normal());
+        }
+      }
+      for (std::size_t i = 0; i < roots.size(); ++i) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(roots[i], ec))
+          fail(packages.IsScalar() ? packages : packages[i], fmt::format("packages: no folder {}", roots[i].string()));
+      }
+    }
+    robots::UrdfOptions options;
+    options.packages = robots::PackagePath::with_environment(std::move(roots));
+    std::string error;
+    const auto path = robots::resolve_uri(name, base_dir_, options.packages, error);
+    if (!error.empty()) fail(node, "robot: " + error);
+    if (path.extension() != ".urdf") fail(node, fmt::format("unknown robot '{}' ({})", name, usage));
     try {
-      return robots::load_urdf(path.string());
+      return robots::load_urdf(path.string(), options);
     } catch (const robots::UrdfError& e) {
       fail(node, fmt::format("robot: {}", e.what()));
     }
@@ -197,9 +220,9 @@ class Reader {
 
   motion::Cell cell(const YAML::Node& root) const {
     if (!root.IsMap()) fail(root, "a cell file is a YAML map (see docs/cell-format.md)");
-    expect_keys(root, {"robot", "base", "tool", "tool_shape", "objects", "collision", "start"}, "the cell");
+    expect_keys(root, {"robot", "packages", "base", "tool", "tool_shape", "objects", "collision", "start"}, "the cell");
     motion::Cell cell;
-    cell.robot = robot(root["robot"]);
+    cell.robot = robot(root["robot"], root["packages"]);
     cell.warnings = cell.robot.warnings;  // URDF mesh notes, already prefixed with urdf:line
     cell.base = pose(root["base"], "base");
     within_extent(root["base"], {}, cell.base, "base");

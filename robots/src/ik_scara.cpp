@@ -3,6 +3,7 @@
 // J4 axis is at p1 + Rot(psi1) (B + Rot(psi2) C). With d = |D|, b = |B|, c = |C|:
 // cos beta = (d^2 - b^2 - c^2) / (2 b c), 2 b c sin beta = sqrt(((b + c)^2 - d^2)(d^2 - (b - c)^2))
 // (well conditioned at full stretch), beta = psi2 + gamma the elbow angle, RIGHTY = beta in [0, pi].
+// Angles are carried as unit (cos, sin) pairs and read off once (ik_pairs.hpp), no libm trigonometry.
 #include "asimov/robots/ik_scara.hpp"
 
 #include "ik_pairs.hpp"
@@ -53,16 +54,19 @@ bool scara_model(const Robot& robot, ScaraModel& m) {
 
 IkResult solve_scara(const Robot& robot, const ScaraModel& m, const Pose& flange, const JointVector& current_in,
                      const Configuration& want, bool single) {
+  using pairs::angle_of;
   IkResult res;
   res.status = IkStatus::out_of_reach;
   JointVector current = current_in;
   if (current.size() != 4) current = ready_joints(robot);
   if (!flange.matrix().allFinite()) return res;
-  // Orientation: a rotation about `up` only.
+  // Orientation: a rotation about `up` only; (cf, sf) its angle phi.
   const collision::Mat3 rel = flange.linear() * m.zero_rotation.transpose();
   if ((rel * m.up - m.up).norm() > kTilt) return res;
   const Vec3 re1 = rel * m.e1;
-  const double phi = std::atan2(re1.dot(m.e2), re1.dot(m.e1));
+  double cf = re1.dot(m.e1), sf = re1.dot(m.e2);
+  const double nf = 1 / std::sqrt(cf * cf + sf * sf);
+  cf *= nf, sf *= nf;
   // The J4 axis point: height gives the quill, the plane the two links.
   const Vec3 t4 = flange * m.p4_in_flange;
   const double lift = m.up.dot(t4 - m.p4);
@@ -72,24 +76,34 @@ IkResult solve_scara(const Robot& robot, const ScaraModel& m, const Pose& flange
   const double b = std::sqrt(b2), c = std::sqrt(c2);
   const double outer = (b + c) * (b + c) - d2, inner = d2 - (b - c) * (b - c);
   if (outer < -1e-9 * (b + c) * (b + c) || inner < -1e-9 * (b + c) * (b + c)) return res;
-  const double sb = std::sqrt(std::max(0.0, outer) * std::max(0.0, inner)), cb = d2 - b2 - c2;  // x 2bc
-  const double beta = std::atan2(want.righty ? sb : -sb, cb);
-  const double gamma = std::atan2(m.bx * m.cy - m.by * m.cx, m.bx * m.cx + m.by * m.cy);
-  const double psi2 = beta - gamma;
-  // psi1 turns B + Rot(psi2) C onto D (kept at the current J1 when D = 0 and b = c).
-  const double cs = std::cos(psi2), sn = std::sin(psi2);
-  const double ex = m.bx + cs * m.cx - sn * m.cy, ey = m.by + sn * m.cx + cs * m.cy;
-  double psi1;
-  if (ex * ex + ey * ey > 1e-18 * b2)
-    psi1 = std::atan2(dy, dx) - std::atan2(ey, ex);
-  else
-    psi1 = m.sign[0] * display_to_dh(robot, current)[0];
+  // Elbow angle beta as a unit pair (x 2bc), then psi2 = beta - gamma, gamma the zero-pose angle B -> C.
+  double sb = std::sqrt(std::max(0.0, outer) * std::max(0.0, inner)), cb = d2 - b2 - c2;
+  if (!want.righty) sb = -sb;
+  const double nb = 1 / std::sqrt(cb * cb + sb * sb);
+  cb *= nb, sb *= nb;
+  const double ig = 1 / (b * c);
+  const double cg = (m.bx * m.cx + m.by * m.cy) * ig, sg = (m.bx * m.cy - m.by * m.cx) * ig;
+  const double c2p = cb * cg + sb * sg, s2p = sb * cg - cb * sg;
+  // psi1 turns e = B + Rot(psi2) C onto D (|e| = |D|); kept at the current J1 when both vanish.
+  const double ex = m.bx + c2p * m.cx - s2p * m.cy, ey = m.by + s2p * m.cx + c2p * m.cy;
+  double c1p, s1p;
+  const double ee = ex * ex + ey * ey;
+  if (ee > 1e-18 * b2 && d2 > 1e-18 * b2) {
+    c1p = ex * dx + ey * dy, s1p = ex * dy - ey * dx;
+    const double n1 = 1 / std::sqrt(c1p * c1p + s1p * s1p);
+    c1p *= n1, s1p *= n1;
+  } else {
+    const double t = m.sign[0] * display_to_dh(robot, current)[0];
+    c1p = std::cos(t), s1p = std::sin(t);
+  }
+  // psi3 = phi - psi1 - psi2 (J4 takes the rest of the roll).
+  const double c12 = c1p * c2p - s1p * s2p, s12 = s1p * c2p + c1p * s2p;
+  const double c3p = cf * c12 + sf * s12, s3p = sf * c12 - cf * s12;
   JointVector q(4);
-  q[0] = m.sign[0] * psi1;
-  q[1] = m.sign[1] * psi2;
+  q[0] = m.sign[0] * angle_of(s1p, c1p);
+  q[1] = m.sign[1] * angle_of(s2p, c2p);
   q[2] = m.sign[2] * lift;
-  q[3] = m.sign[3] * (phi - psi1 - psi2);
-  for (int i : {0, 1, 3}) q[i] = std::remainder(q[i], 2 * std::numbers::pi);
+  q[3] = m.sign[3] * angle_of(s3p, c3p);
   const JointVector raw = dh_to_display(robot, q);
   JointVector sol(4);
   for (int i = 0; i < 4; ++i) {
@@ -113,8 +127,10 @@ IkResult solve_scara(const Robot& robot, const ScaraModel& m, const Pose& flange
     }
     sol[i] = v;
   }
-  const Pose f = flange_pose(robot, sol);
-  const double ep = (f.translation() - flange.translation()).norm(), er = (f.linear() - flange.linear()).norm();
+  // FK check from the pairs: the J4 axis point in the plane (catches the reach clamps) and the
+  // tilt (the rotation is Rot(up, phi) R0 exactly otherwise).
+  const double fx = c1p * ex - s1p * ey - dx, fy = s1p * ex + c1p * ey - dy;
+  const double ep = std::sqrt(fx * fx + fy * fy), er = (rel * m.up - m.up).norm();
   if (!(ep <= kFkPositionTol && er <= kFkRotationTol)) return res;
   res.status = IkStatus::ok;
   res.joints = sol;

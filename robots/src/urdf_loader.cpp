@@ -1,6 +1,8 @@
 // URDF -> Robot (chain form). See urdf_loader.hpp for the folding rules.
 #include "asimov/robots/urdf_loader.hpp"
 
+#include "mesh_files.hpp"
+
 #include "asimov/collision/mesh_io.hpp"
 #include "asimov/collision/text_file.hpp"
 
@@ -56,7 +58,8 @@ struct Joint {
 
 class Parser {
  public:
-  Parser(std::string source, std::string base_dir) : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
+  Parser(std::string source, std::string base_dir, const UrdfOptions& options)
+      : source_(std::move(source)), base_dir_(std::move(base_dir)), options_(options) {}
 
   [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
     throw UrdfError(source_, e ? e->GetLineNum() : 0, what);
@@ -123,15 +126,16 @@ class Parser {
       return collision::make_sphere(r, std::max(kSphereToleranceMm, r * 1e-3));  // as cell files
     }
     if (const XMLElement* m = geometry->FirstChildElement("mesh")) {
-      std::string file = required(m, "filename");
-      if (file.rfind("package://", 0) == 0)
-        fail(m, "package:// mesh URIs are not supported; give a path relative to the URDF file");
-      if (file.rfind("file://", 0) == 0) file = file.substr(7);
-      std::filesystem::path p(file);
-      if (p.is_relative()) p = std::filesystem::path(base_dir_) / p;
+      const std::string file = required(m, "filename");
+      std::string error;
+      const std::filesystem::path p = resolve_uri(file, base_dir_, options_.packages, error);
+      if (!error.empty()) fail(m, "<mesh filename>: " + error);
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(p, ec))  // a collision mesh is never skipped
+        fail(m, "<mesh filename=\"" + file + "\">: no such file: " + p.string());
       const Vec3 scale = triple(m, "scale", Vec3::Ones()) * kMm;
-      try {  // STL or OBJ by extension; collision::MeshError names the file and face
-        collision::LoadedMesh loaded = collision::read_mesh(p.string(), scale);
+      try {  // by extension (STL, OBJ, assimp formats); collision::MeshError names the file and face
+        collision::LoadedMesh loaded = read_mesh_file(p.string(), scale);
         for (auto& w : loaded.warnings) warnings_.push_back(source_ + ":" + std::to_string(m->GetLineNum()) + ": " + w);
         return std::move(loaded.mesh);
       } catch (const collision::MeshError& err) {
@@ -325,6 +329,7 @@ class Parser {
  private:
   std::string source_;
   std::string base_dir_;
+  const UrdfOptions& options_;
   mutable std::vector<std::string> warnings_;  // mesh warnings, "urdf:line: mesh: face N: ..."
 };
 }  // namespace
@@ -332,14 +337,15 @@ class Parser {
 UrdfError::UrdfError(std::string file, int line, const std::string& message)
     : std::runtime_error(file + ":" + std::to_string(line) + ": " + message), file_(std::move(file)), line_(line) {}
 
-Robot load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir) {
+Robot load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir,
+                     const UrdfOptions& options) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
     throw UrdfError(source_name, doc.ErrorLineNum(), std::string("XML error: ") + doc.ErrorStr());
-  return Parser(source_name, base_dir).robot(doc.RootElement());
+  return Parser(source_name, base_dir, options).robot(doc.RootElement());
 }
 
-Robot load_urdf(const std::string& path) {
+Robot load_urdf(const std::string& path, const UrdfOptions& options) {
   std::string xml;
   try {
     xml = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
@@ -347,7 +353,7 @@ Robot load_urdf(const std::string& path) {
     throw UrdfError(path, 0, e.what());
   }
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  return load_urdf_text(xml, path, dir.empty() ? "." : dir.string());
+  return load_urdf_text(xml, path, dir.empty() ? "." : dir.string(), options);
 }
 
 }  // namespace asimov::robots

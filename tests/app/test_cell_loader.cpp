@@ -118,12 +118,29 @@ TEST_CASE("robot: a URDF file relative to the cell file") {
   CHECK(robots::first_limit_violation(cell.robot, cell.start_joints) == -1);
 }
 
+TEST_CASE("robot: built-in Adept arms by name; a packaged URDF by package:// through packages:") {
+  CHECK(load_cell_text("robot: viper_s650\n", "v.yaml").robot.name == "viper_s650");
+  CHECK(load_cell_text("robot: cobra_s600\n", "c.yaml").robot.joint_count() == 4);
+  const std::string cells = std::string(ASIMOV_SOURCE_DIR) + "/programs/cells";
+  const auto demo = load_cell_text("robot: package://asimov_demo_support/urdf/demo6.urdf\npackages: ros_ws/src\n",
+                                   "d.yaml", cells);
+  CHECK(demo.robot.name == "demo6");
+  auto e = error_of("robot: package://asimov_demo_support/urdf/demo6.urdf\npackages: [nowhere]\n");
+  CHECK(e.line == 2);
+  CHECK(std::string(e.what()).find("packages: no folder") != std::string::npos);
+  e = error_of("packages: {a: 1}\nrobot: x.urdf\n");
+  CHECK(std::string(e.what()).find("packages must be a folder or a list") != std::string::npos);
+  e = error_of("robot: package://no_such_pkg/urdf/a.urdf\n");
+  CHECK(e.line == 1);
+  CHECK(std::string(e.what()).find("package 'no_such_pkg' not found") != std::string::npos);
+}
+
 TEST_CASE("robot: a missing or non-URDF robot is a cell error at the robot key") {
   auto e = error_of("objects: []\nrobot: nowhere/arm.urdf\n");
   CHECK(e.line == 2);
   CHECK(std::string(e.what()).find("arm.urdf") != std::string::npos);
   e = error_of("robot: [1, 2]\n");
-  CHECK(std::string(e.what()).find("built-in arm (puma560, viper_s650, cobra_s600) or a .urdf") != std::string::npos);
+  CHECK(std::string(e.what()).find("built-in arm (puma560, viper_s650, cobra_s600), a .urdf file or a package:// URI") != std::string::npos);
 }
 
 namespace {

@@ -7,6 +7,7 @@
 // the geometry of every link is expressed in the frame of the movable joint that carries it.
 // Side branches are allowed only when they contain fixed joints (their geometry is attached).
 #pragma once
+#include "asimov/robots/package_path.hpp"
 #include "asimov/robots/robot.hpp"
 #include <stdexcept>
 #include <string>
@@ -25,13 +26,20 @@ class UrdfError : public std::runtime_error {
   int line_ = 0;
 };
 
-// Loads `path`. Mesh file names are relative to the URDF file's folder (file:// accepted,
-// package:// refused). Joint values of the result are display values: degrees, mm.
+// How a description's files are found: package://NAME/... through `packages` (package_path.hpp).
+struct UrdfOptions {
+  PackagePath packages;
+};
+
+// Loads `path`. Mesh file names: package://NAME/... (options.packages), file://..., or relative
+// to the URDF file's folder; STL and OBJ as collision::read_mesh, COLLADA and the other formats
+// assimp reads with the units and up axis a COLLADA file declares (mesh_files.hpp). Joint values of the result are display values: degrees, mm.
 // Velocity limits come from <limit velocity>; accelerations are 4x the velocity per second
 // (docs/kinematics.md §3 ratio); READY is the zero pose clamped into the limits.
-Robot load_urdf(const std::string& path);
+Robot load_urdf(const std::string& path, const UrdfOptions& options = {});
 
 // Same from text; `source_name` names it in errors, `base_dir` resolves relative mesh files.
-Robot load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir = ".");
+Robot load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir = ".",
+                     const UrdfOptions& options = {});
 
 }  // namespace asimov::robots
