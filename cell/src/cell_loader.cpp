@@ -1,5 +1,7 @@
 #include "asimov/cell/cell_loader.hpp"
 
+#include "fields.hpp"
+
 #include "asimov/collision/mesh_io.hpp"
 #include "asimov/collision/engine.hpp"
 #include "asimov/collision/text_file.hpp"
@@ -34,7 +36,7 @@ objects:
 collision: {halvings: 9, step_mm: 1.0, clearance_mm: 0}
 )";
 
-class Reader {
+class Reader : public Fields {
  public:
   Reader(std::string source, std::filesystem::path base_dir, bool source_is_text)
       : source_(std::move(source)), base_dir_(std::move(base_dir)), source_is_text_(source_is_text) {}
@@ -220,7 +222,9 @@ class Reader {
 
   motion::Cell cell(const YAML::Node& root) const {
     if (!root.IsMap()) fail(root, "a cell file is a YAML map (see docs/cell-format.md)");
-    expect_keys(root, {"robot", "packages", "base", "tool", "tool_shape", "objects", "collision", "start"}, "the cell");
+    expect_keys(root, {"robot", "packages", "base", "tool", "tool_shape", "objects", "collision", "start", "parts",
+                       "gripper", "devices", "logic"},
+                "the cell");
     motion::Cell cell;
     cell.robot = robot(root["robot"], root["packages"]);
     cell.warnings = cell.robot.warnings;  // URDF mesh notes, already prefixed with urdf:line
@@ -263,6 +267,7 @@ class Reader {
         cell.objects.push_back(std::move(obj));
       }
     }
+    read_workcell(root, *this, cell, names);  // workcell.cpp
     if (const auto c = root["collision"]) {
       expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled", "toc_tolerance_s", "pairs",
                       "pair_samples", "stepping"},

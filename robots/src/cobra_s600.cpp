@@ -52,12 +52,8 @@ Robot cobra_s600() {
   r.mapping.assign(4, JointMapping{});
   const double lo[4] = {-105, -150, 0, -360}, hi[4] = {105, 150, 210, 360};
   const double speed[4] = {386, 720, 1100, 1200};  // deg/s, deg/s, mm/s, deg/s
-  r.lower.resize(4), r.upper.resize(4), r.max_velocity.resize(4), r.max_acceleration.resize(4), r.ready.resize(4);
-  for (int i = 0; i < 4; ++i) {
-    r.lower[i] = lo[i], r.upper[i] = hi[i];
-    r.max_velocity[i] = speed[i];
-    r.max_acceleration[i] = 4 * speed[i];  // the 4/s ratio of docs/kinematics.md §3 (a decision)
-  }
+  shapes::set_ranges_and_speeds(r, lo, hi, speed, 4);
+  r.ready.resize(4);
   r.ready << 0, 0, 0, 0;  // arm stretched along +X, quill up (a decision, docs/robots.md)
   r.bodies = cobra_bodies();
   return r;

@@ -137,6 +137,23 @@ inline double to_display(const Robot& robot, int i, double t) {  // dh_to_displa
   return (t - m.offset) * (180 / kPi) * m.sign;
 }
 
+// Both wrists of one arm branch as candidates 4*shoulder + 2*elbow + flip (puma_ik_all,
+// viper_ik_all).
+inline void store_branch(const Robot& robot, BranchSolution& b, int shoulder, int elbow, double theta4_keep,
+                         IkCandidates& out) {
+  for (int flip = 0; flip < 2; ++flip) {
+    wrist(b, flip, theta4_keep);
+    IkCandidate& cand = out[static_cast<std::size_t>(4 * shoulder + 2 * elbow + flip)];
+    cand.dh.resize(6);
+    cand.dh << b.t[0], b.t[1], b.t[2], b.t[3], b.t[4], b.t[5];
+    cand.wrist_singular = b.singular;
+    cand.config.righty = shoulder == 0;
+    cand.config.above = elbow == 0;
+    cand.config.noflip = noflip_of(robot, b.t[4]);
+    cand.valid = true;
+  }
+}
+
 // After the arm joints of one branch (b.t[0..2], b.m, b.mm, b.singular): the wrist in the flip
 // that gives the requested NOFLIP word, then display values, each the 2pi-equivalent nearest
 // `current` inside the limits (the last joint in (-180, 180] when `single`; J4 kept at the wrist

@@ -139,17 +139,7 @@ IkStatus puma_ik_all(const Robot& robot, const Pose& flange, double theta4_keep,
     for (int elbow = 0; elbow < 2; ++elbow) {
       BranchSolution b;
       arm_branch(g, flange, shoulder == 0, elbow == 0, b);
-      for (int flip = 0; flip < 2; ++flip) {
-        wrist(b, flip, theta4_keep);
-        IkCandidate& cand = out[static_cast<std::size_t>(4 * shoulder + 2 * elbow + flip)];
-        cand.dh.resize(6);
-        cand.dh << b.t[0], b.t[1], b.t[2], b.t[3], b.t[4], b.t[5];
-        cand.wrist_singular = b.singular;
-        cand.config.righty = shoulder == 0;
-        cand.config.above = elbow == 0;
-        cand.config.noflip = noflip_of(robot, b.t[4]);
-        cand.valid = true;
-      }
+      store_branch(robot, b, shoulder, elbow, theta4_keep, out);
     }
   }
   return IkStatus::ok;

@@ -123,17 +123,8 @@ IkStatus viper_ik_all(const Robot& robot, const Pose& flange, double theta1_keep
     for (int elbow = 0; elbow < 2; ++elbow) {
       BranchSolution b;
       if (!viper_branch(g, flange, shoulder == 0, elbow == 0, c1k, s1k, b)) continue;
-      for (int flip = 0; flip < 2; ++flip) {
-        wrist(b, flip, theta4_keep);
-        IkCandidate& cand = out[static_cast<std::size_t>(4 * shoulder + 2 * elbow + flip)];
-        cand.dh.resize(6);
-        cand.dh << b.t[0], b.t[1], b.t[2], b.t[3], b.t[4], b.t[5];
-        cand.wrist_singular = b.singular;
-        cand.config.righty = shoulder == 0;
-        cand.config.above = elbow == 0;
-        cand.config.noflip = noflip_of(robot, b.t[4]);
-        cand.valid = any = true;
-      }
+      store_branch(robot, b, shoulder, elbow, theta4_keep, out);
+      any = true;
     }
   }
   return any ? IkStatus::ok : IkStatus::out_of_reach;

@@ -43,4 +43,15 @@ inline Polyhedron cylinder(int axis, double radius, double from, double to, doub
   return transformed(c, p);
 }
 
+// Display ranges and maximum speeds of a built-in arm; accelerations 4x the speed per second
+// (the ratio of docs/kinematics.md §3, a decision).
+inline void set_ranges_and_speeds(Robot& r, const double* lo, const double* hi, const double* speed, int n) {
+  r.lower.resize(n), r.upper.resize(n), r.max_velocity.resize(n), r.max_acceleration.resize(n);
+  for (int i = 0; i < n; ++i) {
+    r.lower[i] = lo[i], r.upper[i] = hi[i];
+    r.max_velocity[i] = speed[i];
+    r.max_acceleration[i] = 4 * speed[i];
+  }
+}
+
 }  // namespace asimov::robots::shapes

@@ -56,12 +56,8 @@ Robot viper_s650() {
   const double lo[6] = {-170, -190, -29, -190, -120, -360};
   const double hi[6] = {170, 45, 256, 190, 120, 360};
   const double speed[6] = {328, 300, 375, 375, 375, 600};
-  r.lower.resize(6), r.upper.resize(6), r.max_velocity.resize(6), r.max_acceleration.resize(6), r.ready.resize(6);
-  for (int i = 0; i < 6; ++i) {
-    r.lower[i] = lo[i], r.upper[i] = hi[i];
-    r.max_velocity[i] = speed[i];
-    r.max_acceleration[i] = 4 * speed[i];  // the 4/s ratio of docs/kinematics.md §3 (a decision)
-  }
+  shapes::set_ranges_and_speeds(r, lo, hi, speed, 6);
+  r.ready.resize(6);
   // READY: upper arm vertical, forearm horizontal forward (a decision, docs/robots.md).
   r.ready << 0, -90, 180, 0, 0, 0;
   r.bodies = viper_bodies();

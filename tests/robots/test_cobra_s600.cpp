@@ -9,6 +9,7 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
+#include "support/link_bodies.hpp"
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
@@ -195,19 +196,6 @@ TEST_CASE("cobra_s600 IK: tilted targets, reach and limits", "[cobra_s600][ik]")
 TEST_CASE("cobra_s600 link bodies: adjacent joined, others apart", "[cobra_s600][bodies]") {
   const Robot r = cobra_s600();
   REQUIRE(r.bodies.size() == 5);
-  for (const auto& pose : {ready_joints(r), jv({0, 90, 0, 0}), jv({50, -120, 210, 200}), jv({-105, 150, 100, -300})}) {
-    std::vector<Pose> f;
-    link_frames(r, pose, f);
-    for (std::size_t a = 0; a < r.bodies.size(); ++a)
-      for (std::size_t b = a + 1; b < r.bodies.size(); ++b) {
-        INFO("pose " << pose.transpose() << ": " << r.bodies[a].name << " / " << r.bodies[b].name);
-        const bool hit = asimov::collision::brute_force_collides(
-            r.bodies[a].mesh, f[static_cast<std::size_t>(r.bodies[a].link)], r.bodies[b].mesh,
-            f[static_cast<std::size_t>(r.bodies[b].link)]);
-        if (b == a + 1)
-          CHECK(hit);
-        else
-          CHECK_FALSE(hit);
-      }
-  }
+  asimov::test::check_adjacent_joined_others_apart(
+      r, {ready_joints(r), jv({0, 90, 0, 0}), jv({50, -120, 210, 200}), jv({-105, 150, 100, -300})});
 }

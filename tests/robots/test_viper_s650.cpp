@@ -10,6 +10,7 @@
 #include "asimov/robots/viper_s650.hpp"
 
 #include "support/joints.hpp"
+#include "support/link_bodies.hpp"
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
@@ -148,7 +149,9 @@ void check_round_trips(const RoundTrip& rt) {
   }
   CHECK(rt.recovered == rt.tested);
   CHECK(rt.mislabelled == 0);
-  CHECK(rt.max_back < 1e-9);
+  // Joints back: 3e-10 deg on 1.2e5 poses; 2e-8 deg at worst on 1.45e6 (next to the elbow band,
+  // where J2 / J3 are ill-conditioned and the position is still exact).
+  CHECK(rt.max_back < 1e-7);
 }
 }  // namespace
 
@@ -274,22 +277,8 @@ TEST_CASE("viper_s650 joint limits: on the limit accepted, past it named", "[vip
 TEST_CASE("viper_s650 link bodies: adjacent joined, others apart", "[viper_s650][bodies]") {
   const Robot r = viper_s650();
   REQUIRE(r.bodies.size() == 7);
-  for (const auto& pose : {ready_joints(r), jv({0, 0, 0, 0, 0, 0}), jv({0, -90, 180, 0, 90, 0}),
-                           jv({30, -60, 150, 45, 60, -30}), jv({-40, -120, 200, -90, -100, 0})}) {
-    std::vector<Pose> f;
-    link_frames(r, pose, f);
-    for (std::size_t a = 0; a < r.bodies.size(); ++a)
-      for (std::size_t b = a + 1; b < r.bodies.size(); ++b) {
-        INFO("pose " << pose.transpose() << ": " << r.bodies[a].name << " / " << r.bodies[b].name);
-        const bool hit = asimov::collision::brute_force_collides(
-            r.bodies[a].mesh, f[static_cast<std::size_t>(r.bodies[a].link)], r.bodies[b].mesh,
-            f[static_cast<std::size_t>(r.bodies[b].link)]);
-        if (b == a + 1)
-          CHECK(hit);
-        else
-          CHECK_FALSE(hit);
-      }
-  }
+  asimov::test::check_adjacent_joined_others_apart(r, {ready_joints(r), jv({0, 0, 0, 0, 0, 0}), jv({0, -90, 180, 0, 90, 0}),
+                                                       jv({30, -60, 150, 45, 60, -30}), jv({-40, -120, 200, -90, -100, 0})});
 }
 
 TEST_CASE("viper_pick's picks: the Viper reaches them tool down, no PUMA configuration does", "[viper_s650]") {

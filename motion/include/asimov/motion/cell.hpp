@@ -1,6 +1,7 @@
 // The work cell as plain data: robot, BASE/TOOL, tool body, static objects, collision settings.
 // Loaded from YAML by app/; the built-in default cell is an embedded YAML document there.
 #pragma once
+#include "asimov/motion/devices.hpp"
 #include "asimov/motion/location.hpp"
 #include "asimov/robots/robot.hpp"
 #include <optional>
@@ -51,6 +52,7 @@ struct Cell {
   CollisionSettings collision;
   robots::JointVector start_joints;      // display [deg]; READY unless the cell says otherwise
   std::vector<std::string> warnings;     // load-time notes on the cell's data (e.g. open meshes)
+  Workcell workcell;                     // parts, gripper, devices, logic; empty for a static cell
 };
 
 }  // namespace asimov::motion

@@ -1,0 +1,305 @@
+#include "asimov/motion/device_clock.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+namespace asimov::motion {
+namespace {
+using collision::Vec3;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// A part rests on a conveyor when its lowest point is this close to the belt's top face.
+constexpr double kOnBeltMm = 1e-3;
+// Changes at one instant before the rules count as a loop (docs/cell-format.md "logic").
+constexpr int kMaxChangesPerInstant = 10000;
+
+// The belt's top face: centre, and the distance from it to the face's edge along `dir`.
+struct Belt {
+  Vec3 centre;
+  double end;
+};
+Belt belt(const Conveyor& c) {
+  const Vec3 half = c.body.size / 2;
+  const Vec3 centre = c.body.pose * Vec3(0, 0, half.z());
+  double end = kInf;
+  for (int a = 0; a < 2; ++a) {
+    const double along = std::abs(c.direction.dot(c.body.pose.linear().col(a)));
+    if (along > 1e-12) end = std::min(end, half[a] / along);
+  }
+  return {centre, end};
+}
+
+double lowest_z(const PartDef& d, const Location& pose) {
+  double z = kInf;
+  for (const auto& v : d.mesh.vertices) z = std::min(z, (pose * v).z());
+  return d.mesh.vertices.empty() ? pose.translation().z() : z;
+}
+
+std::string on_off(bool on) { return on ? "on" : "off"; }
+}  // namespace
+
+bool Region::contains(const Vec3& p) const {
+  const Vec3 local = pose.inverse() * p;
+  return (local.cwiseAbs() - size / 2).maxCoeff() <= 0;
+}
+
+bool name_matches(const std::string& pattern, const std::string& name) {
+  // Iterative wildcard match with one backtrack point (the last '*').
+  std::size_t p = 0, n = 0, star = std::string::npos, mark = 0;
+  const auto eq = [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b)); };
+  while (n < name.size()) {
+    if (p < pattern.size() && (pattern[p] == '?' || (pattern[p] != '*' && eq(pattern[p], name[n])))) {
+      ++p, ++n;
+    } else if (p < pattern.size() && pattern[p] == '*') {
+      star = p++, mark = n;
+    } else if (star != std::string::npos) {
+      p = star + 1, n = ++mark;
+    } else {
+      return false;
+    }
+  }
+  while (p < pattern.size() && pattern[p] == '*') ++p;
+  return p == pattern.size();
+}
+
+bool Workcell::drives(int k) const {
+  for (const auto& s : sensors)
+    if (s.signal == k) return true;
+  for (const auto& r : logic)
+    if (r.set == k) return true;
+  return false;
+}
+
+Interval crossing(const Region& r, const Vec3& p0, double t0, const Vec3& v) {
+  const Location inv = r.pose.inverse();
+  const Vec3 p = inv * p0, w = inv.linear() * v, half = r.size / 2;
+  Interval i{-kInf, kInf};
+  for (int a = 0; a < 3; ++a) {
+    if (w[a] == 0) {
+      if (std::abs(p[a]) > half[a]) return {kInf, -kInf};
+      continue;
+    }
+    double lo = t0 + (-half[a] - p[a]) / w[a], hi = t0 + (half[a] - p[a]) / w[a];
+    if (lo > hi) std::swap(lo, hi);
+    i.in = std::max(i.in, lo), i.out = std::min(i.out, hi);
+  }
+  return i;
+}
+
+Location PartState::pose_at(double t) const {
+  if (velocity.isZero()) return anchor;
+  Location p = anchor;
+  p.translation() += velocity * (std::min(t, end_s) - anchor_s);
+  return p;
+}
+
+DeviceClock::DeviceClock(const Workcell& cell)
+    : cell_(&cell), timed_done_(cell.logic.size(), false), fed_(cell.feeders.size(), 0) {
+  for (const auto& d : cell.parts) {
+    parts_.push_back(PartState{d});
+    place(parts_.size() - 1, d.pose);
+  }
+  settle();
+}
+
+bool DeviceClock::running(int c) const {
+  const auto& conv = cell_->conveyors[static_cast<std::size_t>(c)];
+  return conv.speed_mm_s > 0 && (conv.signal == 0 || signal(conv.signal));
+}
+
+void DeviceClock::place(std::size_t i, const Location& pose) {
+  PartState& p = parts_[i];
+  p.holder = Holder::world, p.conveyor = -1, p.anchor = pose, p.anchor_s = now_;
+  p.velocity.setZero(), p.end_s = kInf;
+  const double bottom = lowest_z(p.def, pose);
+  for (std::size_t c = 0; c < cell_->conveyors.size(); ++c) {
+    const auto& conv = cell_->conveyors[c];
+    const Belt b = belt(conv);
+    const Vec3 local = conv.body.pose.inverse() * pose.translation();
+    const Vec3 half = conv.body.size / 2;
+    if (std::abs(bottom - b.centre.z()) > kOnBeltMm || std::abs(local.x()) > half.x() || std::abs(local.y()) > half.y())
+      continue;
+    p.holder = Holder::conveyor, p.conveyor = static_cast<int>(c);
+    if (running(static_cast<int>(c))) {
+      const double s = conv.direction.dot(pose.translation() - b.centre);
+      if (s < b.end - 1e-9) {  // not already at the end stop
+        p.velocity = conv.direction * conv.speed_mm_s;
+        p.end_s = now_ + (b.end - s) / conv.speed_mm_s;
+      }
+    }
+    return;
+  }
+}
+
+void DeviceClock::rerun_conveyor(int c) {
+  for (std::size_t i = 0; i < parts_.size(); ++i)
+    if (parts_[i].holder == Holder::conveyor && parts_[i].conveyor == c) place(i, parts_[i].pose_at(now_));
+}
+
+bool DeviceClock::inside(const PartState& p, const Region& r) const {
+  if (p.holder == Holder::removed || p.holder == Holder::carried) return false;
+  // A moving part's interval comes from its anchor, so every instant of one run of the belt is
+  // computed from the same numbers (the entry time found by next_change() tests as inside).
+  if (p.velocity.isZero() || now_ >= p.end_s) return r.contains(p.pose_at(now_).translation());
+  const Interval i = crossing(r, p.anchor.translation(), p.anchor_s, p.velocity);
+  return i.in <= now_ && now_ < i.out;
+}
+
+bool DeviceClock::sensed(const Sensor& s) const {
+  for (const auto& p : parts_)
+    if ((s.pattern.empty() || name_matches(s.pattern, p.def.name)) && (s.colour.empty() || s.colour == p.def.colour) &&
+        inside(p, s.region))
+      return true;
+  return false;
+}
+
+bool DeviceClock::spot_empty(std::size_t f) const {
+  for (const auto& p : parts_)
+    if (inside(p, cell_->feeders[f].spot)) return false;
+  return true;
+}
+
+void DeviceClock::feed(std::size_t f, int line) {
+  const Feeder& fd = cell_->feeders[f];
+  if (fed_[f] >= fd.count) return;
+  PartDef d = fd.part;
+  d.name = fmt::format("{}{}", fd.prefix, fed_[f] + 1);
+  if (!fd.colours.empty()) d.colour = fd.colours[static_cast<std::size_t>(fed_[f]) % fd.colours.size()];
+  ++fed_[f];
+  parts_.push_back(PartState{std::move(d)});
+  place(parts_.size() - 1, fd.part.pose);
+  events_.push_back({now_, "feeder", parts_.back().def.name, fd.name, line});
+}
+
+void DeviceClock::change(int k, bool on, int line) {
+  if (signal(k) == on) return;
+  if (on) signals_.insert(k);
+  else signals_.erase(k);
+  events_.push_back({now_, "signal", std::to_string(k), on_off(on), line});
+  for (std::size_t r = 0; r < cell_->logic.size(); ++r) {
+    const auto& rule = cell_->logic[r];
+    if (rule.at_s < 0 && rule.when == k && rule.is_on == on)
+      timers_.push_back({now_ + rule.after_s, seq_++, rule.set, rule.to_on, 0});
+  }
+  for (std::size_t c = 0; c < cell_->conveyors.size(); ++c)
+    if (cell_->conveyors[c].signal == k) rerun_conveyor(static_cast<int>(c));
+  for (std::size_t f = 0; f < cell_->feeders.size(); ++f)
+    if (on && cell_->feeders[f].signal == k) {
+      if (spot_empty(f)) feed(f, line);
+      else events_.push_back({now_, "feeder_blocked", cell_->feeders[f].name, "spot occupied", line});
+    }
+}
+
+void DeviceClock::set_signal(int k, bool on, int line) {
+  change(k, on, line);
+  settle();
+}
+
+void DeviceClock::settle() {
+  for (int round = 0;; ++round) {
+    if (round > kMaxChangesPerInstant)
+      throw DeviceError(fmt::format("logic rules switch signals forever at {} s (a loop of rules without delay)", now_));
+    bool changed = false;
+    // Timers due now, oldest first (ties in the order they were set).
+    std::sort(timers_.begin(), timers_.end(),
+              [](const Timer& a, const Timer& b) { return a.time_s != b.time_s ? a.time_s < b.time_s : a.seq < b.seq; });
+    if (!timers_.empty() && timers_.front().time_s <= now_) {
+      const Timer t = timers_.front();
+      timers_.erase(timers_.begin());
+      change(t.set, t.on, t.line);
+      continue;
+    }
+    for (std::size_t r = 0; r < cell_->logic.size(); ++r)
+      if (cell_->logic[r].at_s >= 0 && !timed_done_[r] && cell_->logic[r].at_s <= now_) {
+        timed_done_[r] = true;
+        timers_.push_back({now_ + cell_->logic[r].after_s, seq_++, cell_->logic[r].set, cell_->logic[r].to_on, 0});
+        changed = true;
+      }
+    for (std::size_t i = 0; i < parts_.size(); ++i) {
+      PartState& p = parts_[i];
+      if (!p.velocity.isZero() && p.end_s <= now_) {
+        const auto& conv = cell_->conveyors[static_cast<std::size_t>(p.conveyor)];
+        place(i, p.pose_at(now_));
+        p.velocity.setZero(), p.end_s = kInf;  // at the end stop: still
+        events_.push_back({now_, "conveyor_end", p.def.name, conv.name, 0});
+        changed = true;
+      }
+    }
+    for (auto& p : parts_)
+      for (const auto& s : cell_->sinks)
+        if (inside(p, s.region)) {
+          p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
+          p.holder = Holder::removed;
+          events_.push_back({now_, "sink", p.def.name, s.name, 0});
+          changed = true;
+        }
+    for (std::size_t f = 0; f < cell_->feeders.size(); ++f)
+      if (cell_->feeders[f].when_empty && fed_[f] < cell_->feeders[f].count && spot_empty(f)) {
+        feed(f, 0);
+        changed = true;
+      }
+    for (const auto& s : cell_->sensors) {
+      const bool on = sensed(s);
+      if (on != signal(s.signal)) {
+        change(s.signal, on, 0);
+        changed = true;
+      }
+    }
+    if (!changed) return;
+  }
+}
+
+double DeviceClock::next_change() const {
+  double next = kInf;
+  for (const auto& t : timers_) next = std::min(next, t.time_s);
+  for (const auto& r : cell_->logic)
+    if (r.at_s > now_) next = std::min(next, r.at_s);
+  const auto later = [&](double t) {
+    if (t > now_) next = std::min(next, t);
+  };
+  for (const auto& p : parts_) {
+    if (p.velocity.isZero() || p.end_s <= now_ || p.holder != Holder::conveyor) continue;
+    later(p.end_s);
+    const auto edges = [&](const Region& r) {
+      const Interval i = crossing(r, p.anchor.translation(), p.anchor_s, p.velocity);
+      if (i.empty()) return;
+      if (i.in <= p.end_s) later(i.in);
+      if (i.out <= p.end_s) later(i.out);
+    };
+    for (const auto& s : cell_->sensors) edges(s.region);
+    for (const auto& s : cell_->sinks) edges(s.region);
+    for (const auto& f : cell_->feeders)
+      if (f.when_empty) edges(f.spot);
+  }
+  return next;
+}
+
+void DeviceClock::advance_to(double t) {
+  while (now_ < t) {
+    now_ = std::min(t, next_change());
+    settle();
+  }
+}
+
+void DeviceClock::carry(std::size_t i, int line) {
+  PartState& p = parts_[i];
+  p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
+  p.holder = Holder::carried, p.conveyor = -1;
+  events_.push_back({now_, "grasp", p.def.name, "", line});
+  settle();
+}
+
+void DeviceClock::put_down(std::size_t i, const Location& pose, int line) {
+  place(i, pose);
+  const Vec3 t = pose.translation();
+  events_.push_back({now_, "release", parts_[i].def.name,
+                     parts_[i].holder == Holder::conveyor ? cell_->conveyors[static_cast<std::size_t>(parts_[i].conveyor)].name
+                                                           : "",
+                     line});
+  events_.push_back({now_, "placed", parts_[i].def.name, fmt::format("{:.6f} {:.6f} {:.6f}", t.x(), t.y(), t.z()), line});
+  settle();
+}
+
+}  // namespace asimov::motion

@@ -1,0 +1,253 @@
+// Devices on the simulated clock (motion/device_clock.hpp): conveyors, sensors, feeders, sinks,
+// logic rules, as exact functions of time.
+#include "asimov/motion/device_clock.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace asimov;
+using motion::DeviceClock;
+using motion::Holder;
+using motion::Workcell;
+using collision::Vec3;
+
+namespace {
+motion::Location at(double x, double y, double z) { return motion::trans(x, y, z, 0, 0, 0); }
+
+// A belt 1000 mm long along +X, top face at z = 0, from x = 0 to 1000; output 1 runs it.
+motion::Conveyor belt(double speed = 100, int signal = 1) {
+  motion::Conveyor c;
+  c.name = "belt";
+  c.body = {at(500, 0, -20), {1000, 200, 40}};
+  c.direction = Vec3::UnitX();
+  c.speed_mm_s = speed;
+  c.signal = signal;
+  return c;
+}
+
+// A 20 mm cube whose origin is its centre, resting on the belt at x.
+motion::PartDef cube(const std::string& name, double x, const std::string& colour = "") {
+  return {name, colour, collision::make_box({20, 20, 20}), at(x, 0, 10)};
+}
+
+const motion::CellEvent* find(const DeviceClock& c, const std::string& kind, const std::string& subject) {
+  for (const auto& e : c.events())
+    if (e.kind == kind && e.subject == subject) return &e;
+  return nullptr;
+}
+}  // namespace
+
+TEST_CASE("a part on a running conveyor moves with it and stops at the belt's end") {
+  Workcell w;
+  w.conveyors.push_back(belt());
+  w.parts.push_back(cube("p", 100));
+  DeviceClock clock(w);
+  REQUIRE(clock.parts()[0].holder == Holder::conveyor);
+  clock.advance_to(1.0);
+  CHECK(clock.part_pose(0).translation().x() == 100);  // output 1 off: the belt stands
+  clock.set_signal(1, true, 7);
+  clock.advance_to(3.5);
+  CHECK(clock.part_pose(0).translation().x() == Approx(350).margin(1e-9));
+  clock.set_signal(1, false);
+  clock.advance_to(10);
+  CHECK(clock.part_pose(0).translation().x() == Approx(350).margin(1e-9));
+  clock.set_signal(1, true);
+  clock.advance_to(100);
+  CHECK(clock.part_pose(0).translation().x() == Approx(1000).margin(1e-9));  // origin at the end
+  const auto* end = find(clock, "conveyor_end", "p");
+  REQUIRE(end);
+  CHECK(end->time_s == Approx(10 + 6.5).margin(1e-9));
+  const auto* sig = find(clock, "signal", "1");
+  REQUIRE(sig);
+  CHECK(sig->line == 7);
+  CHECK(sig->time_s == 1.0);
+}
+
+TEST_CASE("a part off the belt's top face does not move") {
+  Workcell w;
+  w.conveyors.push_back(belt(100, 0));
+  w.parts.push_back({"high", "", collision::make_box({20, 20, 20}), at(100, 0, 15)});  // 5 mm above
+  w.parts.push_back({"beside", "", collision::make_box({20, 20, 20}), at(100, 300, 10)});
+  DeviceClock clock(w);
+  clock.advance_to(2);
+  CHECK(clock.parts()[0].holder == Holder::world);
+  CHECK(clock.part_pose(0).translation().x() == 100);
+  CHECK(clock.part_pose(1).translation().x() == 100);
+}
+
+TEST_CASE("a sensor switches at the exact instant the part's origin crosses its box") {
+  Workcell w;
+  w.conveyors.push_back(belt(100, 0));
+  w.parts.push_back(cube("p", 0));
+  motion::Sensor s;
+  s.name = "eye";
+  s.signal = 1001;
+  s.region = {at(500, 0, 10), {50, 100, 100}};  // x in [475, 525]
+  w.sensors.push_back(s);
+  DeviceClock clock(w);
+  CHECK_FALSE(clock.signal(1001));
+  clock.advance_to(4.749);
+  CHECK_FALSE(clock.signal(1001));
+  clock.advance_to(4.76);  // a tick that straddles the entry: the event carries the exact time
+  CHECK(clock.signal(1001));
+  const auto* on = find(clock, "signal", "1001");
+  REQUIRE(on);
+  CHECK(on->time_s == Approx(4.75).margin(1e-12));
+  clock.advance_to(6);
+  CHECK_FALSE(clock.signal(1001));
+  CHECK(clock.events().back().time_s == Approx(5.25).margin(1e-12));
+  CHECK(clock.events().back().detail == "off");
+}
+
+TEST_CASE("a sensor filters by name pattern and colour") {
+  Workcell w;
+  w.parts.push_back(cube("bolt1", 0, "red"));
+  w.parts.push_back(cube("nut1", 100, "blue"));
+  motion::Sensor any{"any", 1001, {at(50, 0, 10), {200, 50, 50}}, "", ""};
+  motion::Sensor bolts{"bolts", 1002, {at(100, 0, 10), {50, 50, 50}}, "bolt*", ""};
+  motion::Sensor blue{"blue", 1003, {at(100, 0, 10), {50, 50, 50}}, "", "blue"};
+  w.sensors = {any, bolts, blue};
+  DeviceClock clock(w);
+  CHECK(clock.signal(1001));
+  CHECK_FALSE(clock.signal(1002));
+  CHECK(clock.signal(1003));
+  CHECK(motion::name_matches("B?LT*", "bolt12"));
+  CHECK_FALSE(motion::name_matches("bolt?", "bolt12"));
+  CHECK(motion::name_matches("*", ""));
+}
+
+TEST_CASE("a feeder with when_empty refills its spot up to its count") {
+  Workcell w;
+  w.conveyors.push_back(belt(100, 0));
+  motion::Feeder f;
+  f.name = "hopper";
+  f.prefix = "box";
+  f.part = cube("", 0);
+  f.when_empty = true;
+  f.count = 3;
+  f.colours = {"red", "blue"};
+  f.spot = {f.part.pose, {40, 40, 40}};  // the origin leaves it after 20 mm: 0.2 s
+  w.feeders.push_back(f);
+  DeviceClock clock(w);
+  REQUIRE(clock.parts().size() == 1);
+  clock.advance_to(10);
+  REQUIRE(clock.parts().size() == 3);  // the limit
+  CHECK(clock.parts()[0].def.name == "box1");
+  CHECK(clock.parts()[1].def.colour == "blue");
+  CHECK(clock.parts()[2].def.colour == "red");
+  const auto* second = find(clock, "feeder", "box2");
+  REQUIRE(second);
+  CHECK(second->time_s == Approx(0.2).margin(1e-12));
+  CHECK(find(clock, "feeder", "box3")->time_s == Approx(0.4).margin(1e-12));
+}
+
+TEST_CASE("a feeder on a signal feeds on each rising edge, not while its spot is taken") {
+  Workcell w;
+  motion::Feeder f;
+  f.name = "press";
+  f.prefix = "blank";
+  f.part = cube("", 0);
+  f.signal = 2;
+  f.count = 2;
+  f.spot = {f.part.pose, {40, 40, 40}};
+  w.feeders.push_back(f);
+  DeviceClock clock(w);
+  CHECK(clock.parts().empty());
+  clock.set_signal(2, true);
+  CHECK(clock.parts().size() == 1);
+  clock.set_signal(2, false);
+  clock.set_signal(2, true);  // the first blank still lies there
+  CHECK(clock.parts().size() == 1);
+  CHECK(find(clock, "feeder_blocked", "press"));
+  clock.carry(0, 3);
+  clock.put_down(0, at(500, 0, 10), 4);
+  clock.set_signal(2, false);
+  clock.set_signal(2, true);
+  CHECK(clock.parts().size() == 2);
+  clock.set_signal(2, false);
+  clock.carry(1, 5);
+  clock.put_down(1, at(600, 0, 10), 6);
+  clock.set_signal(2, true);
+  CHECK(clock.parts().size() == 2);  // count reached
+}
+
+TEST_CASE("a sink removes parts that enter it") {
+  Workcell w;
+  w.conveyors.push_back(belt(200, 0));
+  w.parts.push_back(cube("p", 0));
+  w.sinks.push_back({"chute", {at(900, 0, 10), {100, 300, 100}}});
+  DeviceClock clock(w);
+  clock.advance_to(10);
+  CHECK(clock.parts()[0].holder == Holder::removed);
+  const auto* e = find(clock, "sink", "p");
+  REQUIRE(e);
+  CHECK(e->time_s == Approx(850.0 / 200).margin(1e-12));
+  CHECK(clock.part_pose(0).translation().x() == Approx(850).margin(1e-9));
+}
+
+TEST_CASE("logic rules: delayed set, timed input, follow") {
+  Workcell w;
+  w.logic.push_back({3, true, -1, 0.5, 1003, true, 1});
+  w.logic.push_back({0, true, 2.0, 0, 1005, true, 2});
+  w.logic.push_back({4, true, -1, 0.1, 1004, true, 3});
+  w.logic.push_back({4, false, -1, 0.1, 1004, false, 3});
+  DeviceClock clock(w);
+  clock.advance_to(1);
+  clock.set_signal(3, true);
+  clock.set_signal(4, true);
+  clock.advance_to(1.4);
+  CHECK_FALSE(clock.signal(1003));
+  CHECK(clock.signal(1004));  // on since 1.1 s
+  clock.advance_to(1.5);
+  CHECK(clock.signal(1003));
+  CHECK(find(clock, "signal", "1003")->time_s == Approx(1.5).margin(1e-12));
+  clock.set_signal(4, false);
+  clock.advance_to(1.55);
+  CHECK(clock.signal(1004));
+  clock.advance_to(1.6);
+  CHECK_FALSE(clock.signal(1004));
+  CHECK_FALSE(clock.signal(1005));
+  clock.advance_to(3);
+  CHECK(clock.signal(1005));
+  CHECK(find(clock, "signal", "1005")->time_s == 2.0);
+  CHECK(w.drives(1004));
+  CHECK_FALSE(w.drives(1006));
+}
+
+TEST_CASE("rules that switch each other without delay are a clear error, not a hang") {
+  Workcell w;
+  w.logic.push_back({2001, true, -1, 0, 2002, true, 1});
+  w.logic.push_back({2002, true, -1, 0, 2001, false, 2});
+  w.logic.push_back({2001, false, -1, 0, 2002, false, 3});
+  w.logic.push_back({2002, false, -1, 0, 2001, true, 4});
+  DeviceClock clock(w);
+  CHECK_THROWS_AS(clock.set_signal(2001, true), motion::DeviceError);
+}
+
+TEST_CASE("a part released onto a moving conveyor starts moving at the release instant") {
+  Workcell w;
+  w.conveyors.push_back(belt(100, 0));
+  w.parts.push_back({"p", "", collision::make_box({20, 20, 20}), at(200, 500, 10)});  // on the floor
+  DeviceClock clock(w);
+  clock.carry(0, 10);
+  CHECK(clock.parts()[0].holder == Holder::carried);
+  clock.advance_to(2);
+  clock.put_down(0, at(300, 0, 10), 11);
+  CHECK(clock.parts()[0].holder == Holder::conveyor);
+  clock.advance_to(3.25);
+  CHECK(clock.part_pose(0).translation().x() == Approx(425).margin(1e-9));
+  const auto* rel = find(clock, "release", "p");
+  REQUIRE(rel);
+  CHECK(rel->detail == "belt");
+  CHECK(rel->line == 11);
+}
+
+TEST_CASE("next_change is infinite for a cell at rest") {
+  Workcell w;
+  w.parts.push_back(cube("p", 0));
+  DeviceClock clock(w);
+  CHECK(std::isinf(clock.next_change()));
+  clock.advance_to(1e9);
+  CHECK(clock.time_s() == 1e9);
+}
