@@ -212,8 +212,8 @@ std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data) 
   html += "<title>asimov replay</title>\n";
   html += "<!-- written by `asimov run --replay`; three.js (MIT, three.js authors) is inlined below -->\n";
   html += "</head>\n<body>\n";
-  html += "<script type=\"application/json\" id=\"asimov-replay-data\">" + script_safe(data.dump()) + "</script>\n";
-  html += "<script type=\"importmap\">" + script_safe(imports.dump()) + "</script>\n";
+  html += "<script type=\"application/json\" id=\"asimov-replay-data\">" + script_safe(data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
+  html += "<script type=\"importmap\">" + script_safe(imports.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
   html += "<script type=\"module\" id=\"asimov-replay-viewer\">\n" + script_safe(assets.viewer) + "\n</script>\n";
   html += "</body>\n</html>\n";
   return html;

@@ -1,5 +1,7 @@
 #include "app/report.hpp"
 
+#include "asimov/collision/text_file.hpp"
+
 #include "app/atomic_file.hpp"
 
 #include <fmt/format.h>
@@ -20,7 +22,7 @@ nlohmann::json joints(const robots::JointVector& q) {
 }
 
 nlohmann::json error_object(const interpreter::Diagnostic& d) {
-  return {{"message", d.message}, {"detail", d.detail}, {"file", d.file},
+  return {{"message", d.message}, {"detail", collision::printable(d.detail)}, {"file", collision::printable(d.file)},
           {"line", d.line},       {"column", d.column}, {"program", d.program},
           {"step", d.step}};
 }
@@ -143,7 +145,7 @@ nlohmann::json trace_document(const std::string& program, const robots::Robot& r
 }
 
 Result<void> write_json_file(const std::string& path, const nlohmann::json& doc) {
-  return write_file_atomically(path, doc.dump(2) + "\n");
+  return write_file_atomically(path, doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 std::string collision_lines(const motion::CollisionReport& c) {

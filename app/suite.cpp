@@ -486,7 +486,7 @@ using ordered_json = nlohmann::ordered_json;
 // decisions a person takes, so they are only noted.
 void update_report(ordered_json& expected, const json& actual, const std::string& path,
                    std::vector<std::string>& notes) {
-  const json plain = json::parse(expected.dump());
+  const json plain = json::parse(expected.dump(-1, ' ', false, json::error_handler_t::replace));
   if (is_range(plain)) {
     std::vector<std::string> diffs;
     match_report(plain, actual, path, diffs);
@@ -507,7 +507,7 @@ void update_report(ordered_json& expected, const json& actual, const std::string
   }
   std::vector<std::string> diffs;
   match_report(plain, actual, path, diffs);
-  if (!diffs.empty()) expected = ordered_json::parse(actual.dump());
+  if (!diffs.empty()) expected = ordered_json::parse(actual.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
 }  // namespace
@@ -543,7 +543,7 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
     else notes.push_back("left for a person: report: " + a.report_problem);
   }
   if (doc != before) {
-    const Result<void> written = write_file_atomically(file.string(), doc.dump(2) + "\n");
+    const Result<void> written = write_file_atomically(file.string(), doc.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n");
     notes.push_back(written ? "wrote " + file.lexically_normal().generic_string()
                             : "not updated: " + written.error().message);
   }

@@ -16,6 +16,11 @@ packages=(
 if [ "${ASIMOV_WITH_PEERS:-1}" = 1 ]; then
   packages+=(libfcl-dev liborocos-kdl-dev lua5.4)
 fi
+# The sanitizer lane and the fuzz targets of scripts/test.sh (issue 17): clang 14 with its
+# sanitizer and libFuzzer runtimes.
+if [ "${ASIMOV_WITH_SANITIZERS:-1}" = 1 ]; then
+  packages+=(clang libclang-rt-14-dev)
+fi
 # Plots of the work-precision reports (scripts/accuracy.sh); nothing else needs them.
 if [ "${ASIMOV_WITH_PLOTS:-1}" = 1 ]; then
   packages+=(python3-matplotlib)

@@ -208,9 +208,9 @@ class Reader : public Fields {
   // 1e-16 of their size: at 1e18 mm a whole link rounds away) and overflow its products near
   // 1e150 mm (an arm inside a 1e150 mm box went unseen): a cell error (docs/stiff-cases.md).
   static constexpr double kMaxCoordinateMm = 1e9;
-  // Objects in one cell (docs/limits.md): far above a real cell, low enough that loading and
-  // the pair set-up of the biggest one stay within seconds.
-  static constexpr std::size_t kMaxObjects = 100000;
+  // Objects in one cell (docs/limits.md): far above a real cell; loading and the pair set-up
+  // of 20,000 take about a second, and the engine's participation matrix is n^2 bits (50 MB).
+  static constexpr std::size_t kMaxObjects = 20000;
   void within_extent(const YAML::Node& node, const collision::Polyhedron& mesh, const collision::Pose& pose,
                      const std::string& what) const {
     double far = pose.translation().cwiseAbs().maxCoeff();
@@ -401,8 +401,9 @@ std::optional<DepthError> yaml_too_deep(const std::string& text) {
 }  // namespace
 
 std::string CellError::format() const {
-  if (line > 0) return fmt::format("{}:{}:{}: {}", file, line, column, what());
-  return fmt::format("{}: {}", file, what());
+  // Messages quote the file's text (yaml-cpp's too): printable, whatever bytes it holds.
+  if (line > 0) return collision::printable(fmt::format("{}:{}:{}: {}", file, line, column, what()));
+  return collision::printable(fmt::format("{}: {}", file, what()));
 }
 
 namespace {

@@ -206,13 +206,6 @@ struct Engine::Impl {
     return ((xlo.x() > yhi.x() + pad) + (ylo.x() > xhi.x() + pad) + (xlo.y() > yhi.y() + pad) +
             (ylo.y() > xhi.y() + pad) + (xlo.z() > yhi.z() + pad) + (ylo.z() > xhi.z() + pad)) != 0;
   }
-  void count_pairs() {
-    pair_count.assign(bodies.size(), 0);
-    for (const BodyPair& p : participation.pairs()) {
-      ++pair_count[p.a];
-      ++pair_count[p.b];
-    }
-  }
   static void preprocess(Body& b) {
     if (b.grid) return;
     const std::size_t faces = b.def.mesh.triangles.size();
@@ -583,9 +576,15 @@ BodyId Engine::add_body(BodyDef def) {
   b.def = std::move(def);
   impl_->bodies.push_back(std::move(b));
   impl_->participation.resize(impl_->bodies.size());
+  // Pair counts kept up to date pair by pair: recounting all pairs per body added was
+  // quadratic in a cell of many objects.
+  impl_->pair_count.push_back(0);
   for (BodyId other = 0; other < id; ++other)
-    if (!Impl::never_tested(impl_->bodies[other], impl_->bodies[id])) impl_->participation.set(other, id, true);
-  impl_->count_pairs();
+    if (!Impl::never_tested(impl_->bodies[other], impl_->bodies[id])) {
+      impl_->participation.set(other, id, true);
+      ++impl_->pair_count[other];
+      ++impl_->pair_count[id];
+    }
   return id;
 }
 
@@ -600,8 +599,12 @@ void Engine::set_pair_enabled(BodyId a, BodyId b, bool enabled) {
   if (a == b || a >= body_count() || b >= body_count()) return;
   // Pairs inside one rigid group and static-static pairs are never tested (docs/collision-method.md §1).
   if (enabled && Impl::never_tested(impl_->bodies[a], impl_->bodies[b])) return;
+  if (impl_->participation.enabled(a, b) == enabled) return;
   impl_->participation.set(a, b, enabled);
-  impl_->count_pairs();
+  for (const BodyId k : {a, b}) {
+    if (enabled) ++impl_->pair_count[k];
+    else --impl_->pair_count[k];
+  }
 }
 bool Engine::pair_enabled(BodyId a, BodyId b) const { return impl_->participation.enabled(a, b); }
 bool Engine::has_enabled_pairs() const { return !impl_->participation.pairs().empty(); }

@@ -15,7 +15,8 @@ std::string read_file_bounded(const std::string& path, std::size_t max_bytes) {
   if (::stat(path.c_str(), &st) != 0) throw FileReadError(fmt::format("cannot open the file ({})", std::strerror(errno)));
   if (S_ISDIR(st.st_mode)) throw FileReadError("is a directory, not a file");
   const auto too_large = [&] {
-    return FileReadError(fmt::format("is larger than {} MiB, the limit for this kind of file", max_bytes >> 20));
+    const std::string limit = max_bytes >= (1u << 20) ? fmt::format("{} MiB", max_bytes >> 20) : fmt::format("{} bytes", max_bytes);
+    return FileReadError(fmt::format("is larger than {}, the limit for this kind of file", limit));
   };
   if (S_ISREG(st.st_mode) && static_cast<std::size_t>(st.st_size) > max_bytes) throw too_large();
   const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
@@ -38,6 +39,38 @@ std::string read_file_bounded(const std::string& path, std::size_t max_bytes) {
     }
   }
   return text;
+}
+
+std::string printable(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\t' || (c >= 0x20 && c < 0x7f)) {
+      out += static_cast<char>(c);
+      ++i;
+      continue;
+    }
+    // A UTF-8 sequence: its length from the lead byte, continuation bytes 10xxxxxx, no overlong
+    // form, no surrogate, nothing above U+10FFFF, and no C1 control (U+0080..U+009F).
+    const std::size_t n = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+    bool ok = n > 0 && i + n <= text.size();
+    for (std::size_t k = 1; ok && k < n; ++k) ok = (static_cast<unsigned char>(text[i + k]) & 0xc0) == 0x80;
+    if (ok) {
+      const auto b1 = static_cast<unsigned char>(text[i + 1]);
+      if ((c == 0xe0 && b1 < 0xa0) || (c == 0xed && b1 >= 0xa0) || (c == 0xf0 && b1 < 0x90) || (c == 0xf4 && b1 >= 0x90) ||
+          (c == 0xc2 && b1 < 0xa0))
+        ok = false;
+    }
+    if (ok) {
+      out.append(text.substr(i, n));
+      i += n;
+    } else {
+      out += '?';
+      ++i;
+    }
+  }
+  return out;
 }
 
 }  // namespace asimov::collision

@@ -90,15 +90,18 @@ StaticKind static_kind(const Node& n) {
         default: return StaticKind::real;
       }
     }
-    case NodeKind::binary: {
-      if (n.op == ast::Op::compound) return StaticKind::unknown;
-      if (n.op != ast::Op::add) return StaticKind::real;
-      const StaticKind a = static_kind(n.kids[0]), b = static_kind(n.kids[1]);
-      return a == b ? a : StaticKind::unknown;
-    }
+    case NodeKind::binary:
+      if (n.op != ast::Op::add) return binary_kind(n.op, StaticKind::unknown, StaticKind::unknown);
+      return binary_kind(n.op, static_kind(n.kids[0]), static_kind(n.kids[1]));
     case NodeKind::absent: break;
   }
   return StaticKind::unknown;
+}
+
+StaticKind binary_kind(ast::Op op, StaticKind a, StaticKind b) {
+  if (op == ast::Op::compound) return StaticKind::unknown;
+  if (op != ast::Op::add) return StaticKind::real;
+  return a == b ? a : StaticKind::unknown;
 }
 
 void locate_at(Diagnostic& d, const Program& p, int line) {

@@ -80,6 +80,9 @@ const SimpleForm* simple_form(ast::Kw kw);
 // strings and numbers is a load-time error).
 enum class StaticKind { unknown, real, string };
 StaticKind static_kind(const Node& n);
+// The kind of `a op b` from the kinds of a and b (what static_kind says of a binary node,
+// without walking it again: a chain of n additions is checked in O(n)).
+StaticKind binary_kind(ast::Op op, StaticKind a, StaticKind b);
 // Sets Node::plain over the tree (bottom-up).
 void mark_plain(Node& n);
 

@@ -1,5 +1,7 @@
 #include "errors.hpp"
 
+#include "asimov/collision/text_file.hpp"
+
 #include "asimov/interpreter/interpreter.hpp"
 
 #include <fmt/format.h>
@@ -55,8 +57,10 @@ std::string format_interrupt(const RunResult& r) {
 
 // The report of dialect §10 (declared in interpreter.hpp, the public face).
 std::string format_diagnostic(const Diagnostic& d) {
+  // The source line and details quote the file: escape sequences and bad bytes never reach
+  // the terminal raw (collision::printable).
   std::string out = d.message;
-  if (!d.detail.empty()) out += "  " + d.detail;
+  if (!d.detail.empty()) out += "  " + collision::printable(d.detail);
   out += '\n';
   const bool syntax = d.column > 0;
   if (syntax) {
@@ -69,7 +73,7 @@ std::string format_diagnostic(const Diagnostic& d) {
     out += d.line > 0 ? fmt::format(" {}:{}\n", d.file, d.line) : fmt::format(" {}\n", d.file);
   }
   if (!d.source_line.empty()) {
-    out += "    " + d.source_line + '\n';
+    out += "    " + collision::printable(d.source_line) + '\n';
     if (syntax) {
       // Caret under the 1-based column; tabs copied so it lines up with the source.
       std::string pad = "    ";

@@ -24,6 +24,9 @@ Node ExpressionCompiler::expression(const ast::Expr& e) {
 
 // Precedence climbing over the flat operator list the parser produced.
 Node ExpressionCompiler::climb(Node lhs, const std::vector<ast::Operation>& rest, std::size_t& pos, int min_prec) {
+  // The kind of lhs is carried along the chain: asking static_kind of the grown left side at
+  // each operator walked it again, quadratic in the chain's length.
+  StaticKind kl = pos < rest.size() && precedence(rest[pos].op) >= min_prec ? static_kind(lhs) : StaticKind::unknown;
   while (pos < rest.size() && precedence(rest[pos].op) >= min_prec) {
     const Op op = rest[pos].op;
     const int p = precedence(op);
@@ -31,7 +34,7 @@ Node ExpressionCompiler::climb(Node lhs, const std::vector<ast::Operation>& rest
     ++pos;
     while (pos < rest.size() && precedence(rest[pos].op) > p)
       rhs = climb(std::move(rhs), rest, pos, p + 1);
-    const StaticKind kl = static_kind(lhs), kr = static_kind(rhs);
+    const StaticKind kr = static_kind(rhs);
     if ((kl == StaticKind::string && kr == StaticKind::real) || (kl == StaticKind::real && kr == StaticKind::string))
       error("a string and a number cannot be mixed");
     else if ((kl == StaticKind::string || kr == StaticKind::string) && op != Op::add && !(op >= Op::eq && op <= Op::ge))
@@ -42,6 +45,7 @@ Node ExpressionCompiler::climb(Node lhs, const std::vector<ast::Operation>& rest
     bin.kids.push_back(std::move(lhs));
     bin.kids.push_back(std::move(rhs));
     lhs = std::move(bin);
+    kl = binary_kind(op, kl, kr);
   }
   return lhs;
 }
@@ -178,6 +182,10 @@ void ExpressionCompiler::format_items(const ast::TypeStmt& t, std::vector<ast::F
     if (const auto* f = boost::get<ast::Format>(&item)) {
       ast::Format spec = *f;
       spec.code = static_cast<char>(std::toupper(static_cast<unsigned char>(spec.code)));
+      // Widths and counts within the string limit, checked here: /I2000000000 wrote 2 GB at run
+      // time before any limit applied.
+      if (spec.width > kMaxStringLength || spec.decimals > kMaxStringLength)
+        error(fmt::format("/{}{} is wider than {} characters", spec.code, std::max(spec.width, spec.decimals), kMaxStringLength));
       formats.push_back(spec);
     } else {
       formats.push_back(ast::Format{0, 0, 0});

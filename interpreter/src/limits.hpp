@@ -10,5 +10,10 @@ constexpr int kMaxArrayIndex = 65535;          // highest array index
 constexpr unsigned kMaxLabel = 65535;          // highest statement label
 constexpr int kMaxSubscripts = 3;              // a[i,j,k]
 constexpr std::size_t kMaxLoadErrors = 20;     // syntax errors reported per LOAD
+// Expressions are parsed, checked, compiled and evaluated by recursion; a statement past these
+// limits is refused at load with *Expression too complex* (docs/limits.md): far above what a
+// person writes, far below what the stack holds, also under AddressSanitizer.
+constexpr int kMaxExpressionNesting = 64;      // parentheses, brackets, calls and signs inside one another
+constexpr int kMaxExpressionOperators = 1000;  // operators in one statement (a chain is as deep as it is long)
 
 }  // namespace asimov::interpreter

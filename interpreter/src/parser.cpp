@@ -6,6 +6,7 @@
 #include "instructions.hpp"
 #include "limits.hpp"
 
+#include <fmt/format.h>
 #include <boost/fusion/include/adapt_struct.hpp>
 #include <boost/spirit/home/x3.hpp>
 
@@ -14,6 +15,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <optional>
+#include <set>
 #include <string_view>
 
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::VarRef, name, subscript)
@@ -304,6 +308,58 @@ std::string refine(std::string::const_iterator where, std::string::const_iterato
   return std::isfinite(v) ? detail : "number out of range";
 }
 
+// Where a line passes the expression limits of limits.hpp, and which; nullopt when it does not.
+// Counted on the text before X3 sees it (the parser itself recurses per level): brackets
+// outside strings and comments, operators (symbols and MOD AND BAND OR XOR BOR BXOR NOT), and
+// runs of operators in a row (unary signs nest: - - - x). Over-counting is harmless here.
+struct TooComplex {
+  std::size_t offset;
+  std::string detail;
+};
+std::optional<TooComplex> too_complex(const std::string& text) {
+  static const std::set<std::string> words = {"mod", "and", "band", "or", "xor", "bor", "bxor", "not"};
+  int depth = 0, ops = 0, run = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == ';') break;
+    if (c == ' ' || c == '\t') continue;
+    if (c == '"') {
+      const auto close = text.find('"', i + 1);
+      if (close == std::string::npos) break;
+      i = close;
+      run = 0;
+      continue;
+    }
+    bool op = false;
+    if (c == '(' || c == '[') {
+      ++depth;
+      run = 0;
+    } else if (c == ')' || c == ']') {
+      if (depth > 0) --depth;
+      run = 0;
+    } else if (std::strchr("+-*/<>=:", c)) {
+      op = true;
+      if (std::strchr("<>=", c) && i + 1 < text.size() && std::strchr("<>=", text[i + 1])) ++i;  // ==, <>, <=, ...
+    } else if (std::isalpha(static_cast<unsigned char>(c))) {
+      std::size_t end = i;
+      std::string w;
+      while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '.' || text[end] == '_'))
+        w += static_cast<char>(std::tolower(static_cast<unsigned char>(text[end++])));
+      op = words.count(w) > 0;
+      if (!op) run = 0;
+      i = end - 1;
+    } else {
+      run = 0;
+    }
+    if (op) ++ops, ++run;
+    if (depth + run > kMaxExpressionNesting)
+      return TooComplex{i, fmt::format("more than {} parentheses, brackets, calls and signs inside one another", kMaxExpressionNesting)};
+    if (ops > kMaxExpressionOperators)
+      return TooComplex{i, fmt::format("more than {} operators in one statement", kMaxExpressionOperators)};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 ParsedSource parse_source(const std::string& source, const std::string& file) {
@@ -311,13 +367,12 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
   out.file = file;
   std::size_t start = 0;
   while (start <= source.size()) {
-    std::size_t end = source.find('\n', start);
+    // Lines end with LF, CR LF or a lone CR (old Mac files were one line of "unexpected text").
+    std::size_t end = source.find_first_of("\r\n", start);
     if (end == std::string::npos) end = source.size();
-    std::string line = source.substr(start, end - start);
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    out.text.push_back(line);
+    out.text.push_back(source.substr(start, end - start));
     if (end == source.size()) break;
-    start = end + 1;
+    start = end + (source[end] == '\r' && end + 1 < source.size() && source[end + 1] == '\n' ? 2 : 1);
   }
   if (!out.text.empty() && out.text.back().empty()) out.text.pop_back();  // final newline
   out.lines.resize(out.text.size());
@@ -354,6 +409,13 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       fail(bad, "character outside ASCII");
       continue;
     }
+    if (!in_data) {
+      if (const auto deep = too_complex(text)) {
+        fail(text.begin() + static_cast<std::ptrdiff_t>(deep->offset), deep->detail);
+        out.errors.back().message = "*Expression too complex*";
+        continue;
+      }
+    }
     try {
       unsigned number = 0;
       if (x3::phrase_parse(first, last, label, skipper, number)) line.label = number;
@@ -378,6 +440,13 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       x3::phrase_parse(first, last, x3::eps, skipper);
       if (first != last) {
         std::string detail = line.statement ? "unexpected text" : "expected a statement";
+        // A number where the statement starts that did not parse as a label: too large.
+        if (!line.statement && !line.label && std::isdigit(static_cast<unsigned char>(*first))) {
+          auto digits_end = first;
+          while (digits_end != last && std::isdigit(static_cast<unsigned char>(*digits_end))) ++digits_end;
+          if (digits_end - first > 5 || std::stoul(std::string(first, digits_end)) > kMaxLabel)
+            detail = fmt::format("label {} is above {}", std::string(first, digits_end), kMaxLabel);
+        }
         const auto* keyword = line.statement ? boost::get<ast::Instruction>(&*line.statement) : nullptr;
         if (*first == '=' && keyword && keyword->args.size() <= 1)
           detail = "\"" + text.substr(static_cast<std::size_t>(line.column - 1),

@@ -33,7 +33,7 @@ void raise_not_finite() { raise(Message::illegal_value, "result is not a finite 
 
 int to_index(double x) {
   const double r = std::round(x);  // halves away from zero
-  if (!(r >= -2e9 && r <= 2e9)) raise(Message::illegal_value, fmt::format("{} is not an integer", x));
+  if (!(r >= -2e9 && r <= 2e9)) raise(Message::illegal_value, fmt::format("{} is outside the integers -2e9..2e9", x));
   return static_cast<int>(r);
 }
 

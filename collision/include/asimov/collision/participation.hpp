@@ -20,13 +20,16 @@ class Participation {
   std::size_t size() const { return n_; }
   void set(std::uint32_t a, std::uint32_t b, bool enabled);  // a != b, either order
   bool enabled(std::uint32_t a, std::uint32_t b) const;
-  const std::vector<BodyPair>& pairs() const { return pairs_; }  // sorted, a < b
+  const std::vector<BodyPair>& pairs() const;  // sorted, a < b
 
  private:
-  std::size_t bit(std::uint32_t a, std::uint32_t b) const { return std::size_t{a} * n_ + b; }
+  std::size_t bit(std::uint32_t a, std::uint32_t b) const { return std::size_t{a} * stride_ + b; }
+  void sort() const;
   std::size_t n_ = 0;
-  std::vector<std::uint64_t> bits_;  // row-major n x n, both halves kept in sync
-  std::vector<BodyPair> pairs_;
+  std::size_t stride_ = 0;           // capacity: rows and columns allocated
+  std::vector<std::uint64_t> bits_;  // row-major stride x stride, both halves kept in sync
+  mutable std::vector<BodyPair> pairs_;
+  mutable bool sorted_ = true;       // pairs_ is sorted (set() appends; pairs() sorts)
 };
 
 }  // namespace asimov::collision

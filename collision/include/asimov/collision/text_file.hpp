@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace asimov::collision {
 
@@ -20,5 +21,10 @@ inline constexpr std::size_t kMaxTextFileBytes = std::size_t{64} << 20;   // pro
 inline constexpr std::size_t kMaxMeshFileBytes = std::size_t{512} << 20;  // STL / OBJ
 
 std::string read_file_bounded(const std::string& path, std::size_t max_bytes);
+
+// `text` safe to print on a terminal and in JSON: control characters (C0, DEL, C1: escape
+// sequences that would clear or recolour the screen) and bytes that are not valid UTF-8 become
+// '?', one per byte, so a caret under a column still lines up; tabs and valid UTF-8 stay.
+std::string printable(std::string_view text);
 
 }  // namespace asimov::collision

@@ -1,0 +1,21 @@
+// The STL (binary and ASCII) and OBJ readers, from the same bytes. MeshError is the documented
+// outcome of bad input.
+#include "asimov/collision/mesh_io.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace asimov::collision;
+  const std::string bytes(reinterpret_cast<const char*>(data), size);
+  try {
+    (void)parse_stl(bytes, "fuzz.stl");
+  } catch (const MeshError&) {
+  }
+  try {
+    (void)parse_obj(bytes, "fuzz.obj");
+  } catch (const MeshError&) {
+  }
+  return 0;
+}
