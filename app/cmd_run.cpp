@@ -142,6 +142,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   summary.stepping = sim.cell().collision.stepping;
   summary.accuracy = sim.accuracy();
   summary.timing = sim.timing();
+  if (const auto* cell = interp.cell_state()) summary.workcell = workcell_json(*cell);
   summary.wall_s = since(start);
 
   for (const auto& w : summary.result.warnings) err << "Warning: " << interpreter::format_diagnostic(w);

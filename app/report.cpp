@@ -81,6 +81,8 @@ nlohmann::json run_report(const RunSummary& s) {
                              {"voxel_pairs", s.counts.voxel_pairs},
                              {"face_pairs", s.counts.face_pairs},
                              {"bisection_checks", s.bisection_checks}};
+  if (s.workcell.is_object())
+    for (const auto& [key, value] : s.workcell.items()) doc[key] = value;
   doc["accuracy"] = accuracy_json(s);
   doc["timing"] = timing_json(s.timing, s.wall_s);
   return doc;

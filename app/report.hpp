@@ -18,7 +18,12 @@ struct RunSummary {
   motion::RunAccuracy accuracy;
   motion::RunTiming timing;
   double wall_s = 0;                // whole command: cell load to the end of the run
+  nlohmann::json workcell;          // "events" and "parts" (workcell_json); null: a static cell
 };
+
+// The reacting cell's part of the report: "events" (time, kind, subject, detail, line) and
+// "parts" (name, state, final pose).
+nlohmann::json workcell_json(const motion::CellRuntime& cell);
 
 // The "accuracy" and "timing" objects of the report.
 nlohmann::json accuracy_json(const RunSummary& summary);

@@ -317,9 +317,7 @@ void Evaluator::execute(const Instr& in) {
       return motion(in);
     case Code::signal:  // SIGNAL n, ...: n > 0 on, n < 0 off, 0 ignored
       for (const Node& n : in.args) {
-        const int k = signal_number(n, true);
-        if (k > 0) memory_.signals.insert(k);
-        if (k < 0) memory_.signals.erase(-k);
+        set_signal(signal_number(n, true));
       }
       return;
     case Code::timer: {
@@ -339,6 +337,8 @@ void Evaluator::execute(const Instr& in) {
                           : w == ast::Kw::close || w == ast::Kw::closei ? HandState::closed
                                                                         : HandState::relaxed;
       if (w == ast::Kw::open || w == ast::Kw::close || w == ast::Kw::relax) return sim_.request_hand(h);
+      check_motion(sim_.finish_motion());  // the hand acts where the motion ended, then HAND.TIME
+      hand_changed(h, in.line);
       return check_motion(sim_.hand_immediate(h, memory_.settings.hand_time_s));  // OPENI ...
     }
     case Code::wait: case Code::wait_event: return wait(in);
@@ -602,6 +602,7 @@ void Evaluator::resume_halted_motion() {
 // Starts a resolved motion (also RETRY's restart of an interrupted one).
 void Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
+  const bool hand_pending = sim_.hand_pending();  // OPEN / CLOSE act as this motion starts
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
   if (r.status == motion::MotionStatus::interrupted) check_motion(r);  // the previous motion's halt
@@ -610,6 +611,7 @@ void Evaluator::start_motion(const MotionRequest& m) {
   last_motion_ = m;
   if (r.status == motion::MotionStatus::error) raise_text(r.error.message, r.error.detail);
   if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
+  if (hand_pending && !sim_.hand_pending()) hand_changed(sim_.hand(), m.line);
 }
 
 void Evaluator::type(const Instr& in) {
@@ -644,13 +646,15 @@ void Evaluator::wait(const Instr& in) {
   }
   if (in.args.empty()) return check_motion(sim_.wait(limits_.tick_s));
   const double give_up = sim_.time_s() + limits_.max_wait_s;
+  waited_.clear();
   while (to_real(eval(in.args[0]), "WAIT condition") == 0) {
     if (limits_.interrupt && limits_.interrupt->load(std::memory_order_relaxed)) {
       --stack_.back().pc;  // as between steps: PROCEED waits again
       raise(ErrorKind::interrupted);
     }
     if (sim_.time_s() >= give_up)
-      raise(ErrorKind::wait_limit, fmt::format("still false after {} s", format_number(limits_.max_wait_s)));
+      raise(ErrorKind::wait_limit,
+            fmt::format("still false after {} s{}", format_number(limits_.max_wait_s), undriven_signals()));
     check_motion(sim_.wait(limits_.tick_s));
   }
 }

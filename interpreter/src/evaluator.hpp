@@ -50,6 +50,11 @@ class Evaluator {
   std::optional<double> next_speed() const { return speed_next_; }
   // PROMPT's input (null: std::cin).
   void set_input(std::istream* in, bool interactive) { in_ = in, interactive_ = interactive; }
+  // The reacting cell's parts and devices, advanced to the arm's clock (evaluator_cell.cpp);
+  // null for a cell without parts or devices.
+  motion::CellRuntime* cell_runtime();
+  // The same for reports, never raising (a logic loop leaves the state before it).
+  const motion::CellRuntime* cell_state();
 
  private:
   struct Frame {
@@ -175,6 +180,11 @@ class Evaluator {
     }
   }
   double real(const Node& n, const char* what);
+  // The reacting cell (evaluator_cell.cpp).
+  void set_signal(int k);                       // SIGNAL k (negative: off)
+  bool signal_on(int k);                        // SIG(k), remembered for WAIT's message
+  void hand_changed(motion::HandState h, int line);  // grasp / release at the flange now
+  std::string undriven_signals() const;         // WAIT: the waited inputs no device drives
   void store_real(const Node& target, double x);
   bool store_in_place(const Node& target, double x);
   bool defined(const Node& n);
@@ -201,6 +211,8 @@ class Evaluator {
   std::optional<motion::InterruptReport> halt_;  // this run's motion halted by Ctrl-C
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
   FastCtx ctx_;                               // globals_ and the running frame's slots
+  std::unique_ptr<motion::CellRuntime> cell_;  // parts and devices (cell_runtime())
+  std::set<int> waited_;                      // signals SIG() read during the current WAIT
 };
 
 }  // namespace asimov::interpreter

@@ -134,7 +134,7 @@ Value Evaluator::function(const Node& n) {
     bool all = true;
     for (const Node& k : n.kids) {
       const int s = signal_number(k, false);
-      all = all && (memory_.signals.count(std::abs(s)) > 0) == (s > 0);
+      all = all && signal_on(std::abs(s)) == (s > 0);
     }
     return truth(all);
   }

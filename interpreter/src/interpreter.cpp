@@ -153,6 +153,8 @@ void Interpreter::set_input(std::istream& in, bool interactive) {
   if (impl_->evaluator) impl_->evaluator->set_input(&in, interactive);
 }
 
+const motion::CellRuntime* Interpreter::cell_state() { return impl_->eval().cell_state(); }
+
 bool Interpreter::can_resume() const { return impl_->evaluator && impl_->evaluator->can_resume(); }
 
 RunResult Interpreter::proceed() {

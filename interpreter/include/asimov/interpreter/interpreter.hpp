@@ -1,6 +1,7 @@
 // The public face of the VAL II interpreter: load .v2 sources, check them, run a program
 // against a motion::Simulator. Errors never escape as exceptions from these calls.
 #pragma once
+#include "asimov/motion/cell_runtime.hpp"
 #include "asimov/motion/simulator.hpp"
 #include <atomic>
 #include <iosfwd>
@@ -102,6 +103,9 @@ class Interpreter {
 
   // For the monitor (monitor.cpp): what LOAD put in memory, read and changed in place.
   Memory& memory();
+  // The cell's parts and devices at the simulator's time (events, part poses); null for a cell
+  // without parts or devices.
+  const motion::CellRuntime* cell_state();
   // Runs `name` for a monitor DO: a stop there is not resumable, and the execution stopped
   // before (if any) stays resumable.
   RunResult run_detached(const std::string& name);

@@ -1,0 +1,42 @@
+// The report's "events" and "parts" for a cell with parts or devices (docs/cell-format.md).
+#include "report.hpp"
+
+#include "asimov/motion/location.hpp"
+
+namespace asimov::app {
+namespace {
+const char* holder_name(motion::Holder h) {
+  switch (h) {
+    case motion::Holder::world: return "resting";
+    case motion::Holder::conveyor: return "on_conveyor";
+    case motion::Holder::carried: return "carried";
+    case motion::Holder::removed: return "removed";
+  }
+  return "resting";
+}
+}  // namespace
+
+nlohmann::json workcell_json(const motion::CellRuntime& cell) {
+  const auto& clock = cell.clock();
+  auto events = nlohmann::json::array();
+  for (const auto& e : clock.events()) {
+    nlohmann::json j = {{"time_s", e.time_s}, {"kind", e.kind}, {"subject", e.subject}};
+    if (!e.detail.empty()) j["detail"] = e.detail;
+    if (e.line > 0) j["line"] = e.line;
+    events.push_back(std::move(j));
+  }
+  auto parts = nlohmann::json::array();
+  for (std::size_t i = 0; i < clock.parts().size(); ++i) {
+    const auto& p = clock.parts()[i];
+    const motion::Location pose = clock.part_pose(i);
+    const auto oat = motion::decompose(pose);
+    nlohmann::json j = {{"name", p.def.name},
+                        {"state", holder_name(p.holder)},
+                        {"pose", {oat[0], oat[1], oat[2], oat[3], oat[4], oat[5]}}};
+    if (!p.def.colour.empty()) j["colour"] = p.def.colour;
+    parts.push_back(std::move(j));
+  }
+  return {{"events", std::move(events)}, {"parts", std::move(parts)}};
+}
+
+}  // namespace asimov::app

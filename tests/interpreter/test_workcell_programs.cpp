@@ -1,0 +1,120 @@
+// Programs against a reacting cell: SIGNAL / SIG / WAIT through the devices' clock, CLOSEI /
+// OPENI grasping and releasing parts (interpreter/src/evaluator_cell.cpp).
+#include "interpreter_fixture.hpp"
+
+#include "asimov/robots/robot.hpp"
+
+using namespace asimov;
+
+namespace {
+motion::Location at(double x, double y, double z) { return motion::trans(x, y, z, 0, 0, 0); }
+
+// The default PUMA with a belt far from the arm (output 1 runs it), a 20 mm cube on it and a
+// sensor (input 1001) 475 mm down the belt; a table under the flange and a cube in the grasp
+// zone (the zone is centred on the flange at READY).
+motion::Cell reacting_cell(bool close_on_air_error = false) {
+  motion::Cell cell = test::empty_puma_cell();
+  cell.collision.enabled = false;  // devices and hand only (the table stands in the arm)
+  auto& w = cell.workcell;
+  motion::Conveyor belt{"belt", {at(0, -3000, -20), {1000, 200, 40}}, collision::Vec3::UnitX(), 100, 1};
+  w.conveyors.push_back(belt);
+  cell.objects.push_back({"belt", collision::make_box(belt.body.size), belt.body.pose});
+  w.parts.push_back({"riding", "", collision::make_box({20, 20, 20}), at(-500, -3000, 10)});
+  w.sensors.push_back({"eye", 1001, {at(0, -3000, 10), {50, 200, 100}}, "", ""});
+  const motion::Location flange = robots::flange_pose(cell.robot, cell.start_joints);
+  const collision::Vec3 f = flange.translation();
+  cell.objects.push_back({"table", collision::make_box({300, 300, 40}), at(f.x(), f.y(), f.z() - 300)});
+  w.parts.push_back({"held", "", collision::make_box({20, 20, 20}), at(f.x(), f.y(), f.z())});
+  w.gripper.declared = true;
+  w.gripper.zone = {motion::Location::Identity(), {40, 40, 40}};
+  w.gripper.close_on_air_error = close_on_air_error;
+  return cell;
+}
+
+struct CellFixture {
+  explicit CellFixture(bool air_error = false) : sim(reacting_cell(air_error)), interp(sim, out) {}
+  interpreter::RunResult run(const std::string& text) {
+    const auto diags = interp.load_source(text, "test.v2");
+    for (const auto& d : diags) REQUIRE(d.warning);
+    return interp.run("main");
+  }
+  motion::Simulator sim;
+  std::ostringstream out;
+  interpreter::Interpreter interp;
+};
+
+const motion::CellEvent* find(const motion::CellRuntime& c, const std::string& kind, const std::string& subject) {
+  for (const auto& e : c.clock().events())
+    if (e.kind == kind && e.subject == subject) return &e;
+  return nullptr;
+}
+}  // namespace
+
+TEST_CASE("WAIT SIG(input) ends when the conveyor brings the part to the sensor") {
+  CellFixture f;
+  const auto r = f.run(".PROGRAM main()\n  SIGNAL 1\n  WAIT SIG(1001)\n  TYPE \"seen\"\n.END\n");
+  REQUIRE(r.status == interpreter::RunStatus::completed);
+  CHECK(f.out.str() == "seen\n");
+  const auto* cell = f.interp.cell_state();
+  REQUIRE(cell);
+  const auto* on = find(*cell, "signal", "1001");
+  REQUIRE(on);
+  CHECK(on->time_s == Approx(4.75).margin(1e-12));  // origin at x = -25 after 475 mm at 100 mm/s
+  CHECK(f.sim.time_s() >= 4.75);
+  CHECK(f.sim.time_s() < 4.75 + f.interp.limits().tick_s + 1e-12);
+  const auto* out = find(*cell, "signal", "1");
+  REQUIRE(out);
+  CHECK(out->line == 2);
+}
+
+TEST_CASE("a WAIT no device can satisfy names the undriven signal") {
+  CellFixture f;
+  f.interp.limits().max_wait_s = 0.5;
+  const auto r = f.run(".PROGRAM main()\n  WAIT SIG(1002)\n.END\n");
+  REQUIRE(r.status == interpreter::RunStatus::error);
+  CHECK(r.error.message == "*Wait limit exceeded*");
+  CHECK(r.error.detail == "still false after 0.5 s; no device in the cell drives signal 1002");
+}
+
+TEST_CASE("CLOSEI grasps the part in the zone, OPENI puts it on the table; HAND.TIME passes") {
+  CellFixture f;
+  const auto r = f.run(".PROGRAM main()\n  PARAMETER HAND.TIME = 0.25\n  CLOSEI\n  DRIVE 1, 20, 50\n  OPENI\n.END\n");
+  REQUIRE(r.status == interpreter::RunStatus::completed);
+  const auto* cell = f.interp.cell_state();
+  REQUIRE(cell);
+  const auto* grasp = find(*cell, "grasp", "held");
+  REQUIRE(grasp);
+  CHECK(grasp->line == 3);
+  CHECK(grasp->time_s == 0);
+  const auto* rel = find(*cell, "release", "held");
+  REQUIRE(rel);
+  CHECK(rel->line == 5);
+  // The part lies on the table (top face 280 mm below the flange height at READY).
+  const motion::Location flange0 = robots::flange_pose(f.sim.robot(), f.sim.cell().start_joints);
+  const double top = flange0.translation().z() - 280;
+  std::size_t held = 1;
+  CHECK(cell->clock().parts()[held].holder == motion::Holder::world);
+  CHECK(cell->clock().part_pose(held).translation().z() == Approx(top + 10).margin(1e-9));
+  CHECK(f.sim.time_s() > 0.5);  // two hand times and the drive
+}
+
+TEST_CASE("CLOSEI on air is reported, or an error when the cell says so; OPENI over nothing stops") {
+  SECTION("reported") {
+    CellFixture f;
+    REQUIRE(f.run(".PROGRAM main()\n  DRIVE 1, 90, 50\n  CLOSEI\n.END\n").status == interpreter::RunStatus::completed);
+    CHECK(find(*f.interp.cell_state(), "close_on_air", ""));
+  }
+  SECTION("an error") {
+    CellFixture f(true);
+    const auto r = f.run(".PROGRAM main()\n  DRIVE 1, 90, 50\n  CLOSEI\n.END\n");
+    REQUIRE(r.status == interpreter::RunStatus::error);
+    CHECK(r.error.message == "*Nothing in the gripper*");
+  }
+  SECTION("no support below") {
+    CellFixture f;
+    const auto r = f.run(".PROGRAM main()\n  CLOSEI\n  DRIVE 2, 60, 50\n  OPENI\n.END\n");
+    REQUIRE(r.status == interpreter::RunStatus::error);
+    CHECK(r.error.message == "*No support below the part*");
+    CHECK(r.error.detail.find("no support below part held") == 0);
+  }
+}
