@@ -49,6 +49,11 @@ std::string error_of(const std::string& body, const std::string& name = "t.xacro
   return "no error";
 }
 
+void has(const std::string& what, const std::string& part) {
+  INFO(what);
+  CHECK(what.find(part) != std::string::npos);
+}
+
 // A two-link arm whose joint values come from the text given.
 std::string joint(const std::string& origin_z, const std::string& lower, const std::string& upper) {
   return "<link name=\"a\"/><link name=\"b\"/><joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child "
@@ -149,10 +154,6 @@ TEST_CASE("xacro: a robot through relative includes loads with the computed valu
 }
 
 TEST_CASE("xacro: errors name file, line and construct", "[urdf][xacro]") {
-  auto has = [](const std::string& what, const std::string& part) {
-    INFO(what);
-    CHECK(what.find(part) != std::string::npos);
-  };
   has(error_of("\n<e v=\"${nope}\"/>"), "t.xacro:3: xacro: unknown property 'nope'");
   has(error_of("<e v=\"${1 / 0}\"/>"), "division by zero");
   has(error_of("<e v=\"${(1 + 2}\"/>"), "missing ')'");
@@ -180,10 +181,6 @@ TEST_CASE("xacro: errors name file, line and construct", "[urdf][xacro]") {
 }
 
 TEST_CASE("xacro: hostile input: cycles, recursion, include depth, size", "[urdf][xacro]") {
-  auto has = [](const std::string& what, const std::string& part) {
-    INFO(what);
-    CHECK(what.find(part) != std::string::npos);
-  };
   // A file including itself, and two including each other.
   has(error_of("<xacro:include filename=\"self.xacro\"/>", "self.xacro"), "include cycle");
   write("b.xacro", std::string(kNs) + "<xacro:include filename=\"a.xacro\"/></robot>\n");
