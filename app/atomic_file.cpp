@@ -9,31 +9,27 @@
 
 namespace asimov::app {
 
-bool write_file_atomically(const std::string& path, const std::string& text, std::string& why) {
+Result<void> write_file_atomically(const std::string& path, const std::string& text) {
   // The pid keeps concurrent writers (asimov test -j, two runs) off each other's temporary file.
   const std::string tmp = fmt::format("{}.tmp{}", path, ::getpid());
   std::error_code ec;
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      why = fmt::format("cannot write {}", tmp);
-      return false;
-    }
+    if (!out) return Error{fmt::format("cannot write {}", tmp), {}, path, 0};
     out << text;
     out.flush();
     if (!out) {
-      why = fmt::format("error while writing {}", tmp);
       std::filesystem::remove(tmp, ec);
-      return false;
+      return Error{fmt::format("error while writing {}", tmp), {}, path, 0};
     }
   }
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
-    why = fmt::format("cannot rename {} to {}: {}", tmp, path, ec.message());
+    Error e{fmt::format("cannot rename {} to {}: {}", tmp, path, ec.message()), {}, path, 0};
     std::filesystem::remove(tmp, ec);
-    return false;
+    return e;
   }
-  return true;
+  return {};
 }
 
 }  // namespace asimov::app

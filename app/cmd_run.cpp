@@ -39,9 +39,10 @@ const interpreter::Diagnostic* first_error(const std::vector<interpreter::Diagno
 }
 
 int write_report(const std::string& path, const nlohmann::json& doc, std::ostream& err) {
-  std::string why;
-  if (path.empty() || write_json_file(path, doc, why)) return kExitCompleted;
-  err << "*Cannot write file*  " << why << '\n';
+  if (path.empty()) return kExitCompleted;
+  const Result<void> written = write_json_file(path, doc);
+  if (written) return kExitCompleted;
+  err << "*Cannot write file*  " << written.error().message << '\n';
   return kExitUsage;
 }
 
@@ -84,9 +85,13 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
     }
   }
   ReplayAssets replay_assets;  // read before the run: a missing viewer is a usage error, not a late surprise
-  if (std::string why; !opt.replay.empty() && !load_replay_assets(replay_assets, why)) {
-    err << "*Cannot write replay*  " << why << '\n';
-    return kExitUsage;
+  if (!opt.replay.empty()) {
+    Result<ReplayAssets> assets = load_replay_assets();
+    if (!assets) {
+      err << "*Cannot write replay*  " << assets.error().message << '\n';
+      return kExitUsage;
+    }
+    replay_assets = std::move(assets).value();
   }
   using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
@@ -152,8 +157,9 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       err << fmt::format("Program completed: {}\n", main);
       break;
     case interpreter::RunStatus::error:
+    case interpreter::RunStatus::interrupted:
       err << interpreter::format_diagnostic(summary.result.error) << interpreter::format_interrupt(summary.result);
-      rc = interpreter::is_interrupt(summary.result.error) ? kExitInterrupted : kExitProgramError;
+      rc = summary.result.status == interpreter::RunStatus::interrupted ? kExitInterrupted : kExitProgramError;
       break;
     case interpreter::RunStatus::paused:  // PAUSE / HALT end a batch run: nobody can PROCEED here
     case interpreter::RunStatus::halted:
@@ -168,11 +174,12 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.trace()), err);
       w != kExitCompleted)
     return w;
-  if (std::string why; !opt.replay.empty() &&
-                       !write_file_atomically(opt.replay, replay_html(replay_assets, replay_data(opt.file, sim, summary.result)), why)) {
-    err << "*Cannot write file*  " << why << '\n';
-    return kExitUsage;
-  }
+  if (!opt.replay.empty())
+    if (const auto written = write_file_atomically(opt.replay, replay_html(replay_assets, replay_data(opt.file, sim, summary.result)));
+        !written) {
+      err << "*Cannot write file*  " << written.error().message << '\n';
+      return kExitUsage;
+    }
   return rc;
 }
 

@@ -205,9 +205,8 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
   out << fmt::format("{} passed, {} failed, {} case{} in {:.2f} s\n", cases.size() - failed, failed, cases.size(),
                      cases.size() == 1 ? "" : "s", total_s);
   if (!opt.junit.empty()) {
-    std::string why;
-    if (!write_file_atomically(opt.junit, junit_document(cases, outcomes, failed, total_s), why)) {
-      err << "*Cannot write file*  " << why << '\n';
+    if (const auto written = write_file_atomically(opt.junit, junit_document(cases, outcomes, failed, total_s)); !written) {
+      err << "*Cannot write file*  " << written.error().message << '\n';
       return kExitUsage;
     }
   }

@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -49,56 +48,17 @@ nlohmann::json pose_json(const collision::Pose& p) {
   return v;
 }
 
-std::string upper_word(const std::string& line) {
-  std::istringstream in(line);
-  std::string w;
-  in >> w;
-  if (!w.empty() && std::all_of(w.begin(), w.end(), [](unsigned char c) { return std::isdigit(c); })) in >> w;  // step label
-  std::transform(w.begin(), w.end(), w.begin(), [](unsigned char c) { return std::toupper(c); });
-  return w;
-}
-
-bool motion_keyword(const std::string& w) {
-  static const char* const kWords[] = {"MOVE", "MOVES", "MOVET", "MOVEST", "APPRO", "APPROS", "DEPART",
-                                       "DEPARTS", "DRAW", "ALIGN", "READY", "DRIVE"};
-  return std::any_of(std::begin(kWords), std::end(kWords), [&w](const char* k) { return w == k; });
-}
-
-// The program line of each step tag. The simulator only knows the step (file line - .PROGRAM
-// line); a step is named only where exactly one program of the file has a motion instruction
-// at that step, otherwise the page shows the bare step.
-nlohmann::json step_lines(const std::string& file, const std::vector<int>& tags) {
-  std::string text;
+// The program line of each step in the frames, from the motions the run started: a step is
+// named where exactly one motion instruction ran at it (programs of a file may share a step
+// number), otherwise the page shows the bare step.
+nlohmann::json step_lines(const std::vector<interpreter::MotionStep>& motions, const std::vector<int>& steps) {
   auto out = nlohmann::json::object();
-  if (!read_file(file, text)) return out;
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);) lines.push_back(l.empty() || l.back() != '\r' ? l : l.substr(0, l.size() - 1));
-  struct Prog { std::string name; int line, end; };
-  std::vector<Prog> progs;
-  for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
-    const std::string w = upper_word(lines[static_cast<std::size_t>(i)]);
-    if (w == ".PROGRAM") {
-      std::string rest = lines[static_cast<std::size_t>(i)].substr(lines[static_cast<std::size_t>(i)].find_first_not_of(" \t") + 8);
-      std::string name = rest.substr(0, rest.find('('));
-      name.erase(std::remove_if(name.begin(), name.end(), [](unsigned char c) { return std::isspace(c); }), name.end());
-      std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
-      progs.push_back({name, i + 1, static_cast<int>(lines.size()) + 1});
-    } else if (w == ".END" && !progs.empty()) {
-      progs.back().end = std::min(progs.back().end, i + 1);
-    }
-  }
-  for (int tag : tags) {
-    const Prog* hit = nullptr;
+  for (int step : steps) {
+    const interpreter::MotionStep* hit = nullptr;
     int count = 0;
-    for (const Prog& p : progs) {
-      const int line = p.line + tag;
-      if (tag > 0 && line < p.end && motion_keyword(upper_word(lines[static_cast<std::size_t>(line - 1)]))) hit = &p, ++count;
-    }
-    if (count != 1) continue;
-    std::string src = lines[static_cast<std::size_t>(hit->line + tag - 1)];
-    src.erase(0, src.find_first_not_of(" \t"));
-    out[std::to_string(tag)] = {{"program", hit->name}, {"line", hit->line + tag}, {"text", src}};
+    for (const interpreter::MotionStep& m : motions)
+      if (m.step == step) hit = &m, ++count;
+    if (count == 1) out[std::to_string(step)] = {{"program", hit->program}, {"line", hit->line}, {"text", hit->text}};
   }
   return out;
 }
@@ -131,20 +91,20 @@ std::string replay_asset_dir() {
   return ASIMOV_REPLAY_DIR;
 }
 
-bool load_replay_assets(ReplayAssets& assets, std::string& why) {
+Result<ReplayAssets> load_replay_assets() {
+  ReplayAssets assets;
   const std::filesystem::path dir = replay_asset_dir();
   const std::pair<const char*, std::string*> files[] = {
       {"three.module.min.js", &assets.three}, {"OrbitControls.js", &assets.orbit_controls}, {"viewer.js", &assets.viewer}};
   for (const auto& [name, text] : files) {
-    if (dir.empty() || !read_file(dir / name, *text)) {
-      why = fmt::format("{} is missing: install three.js with scripts/install-deps.sh (npm ci in app/replay), "
-                        "then re-run cmake; or point ASIMOV_REPLAY_DIR at a folder holding "
-                        "three.module.min.js, OrbitControls.js and viewer.js",
-                        (dir / name).string());
-      return false;
-    }
+    if (dir.empty() || !read_file(dir / name, *text))
+      return Error{fmt::format("{} is missing: install three.js with scripts/install-deps.sh (npm ci in app/replay), "
+                               "then re-run cmake; or point ASIMOV_REPLAY_DIR at a folder holding "
+                               "three.module.min.js, OrbitControls.js and viewer.js",
+                               (dir / name).string()),
+                   {}, (dir / name).string(), 0};
   }
-  return true;
+  return assets;
 }
 
 nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result) {
@@ -157,7 +117,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   // at the end of the run shows that, except after a contact, where the halting pose ends it.
   const double end_s = result.status == interpreter::RunStatus::collision ? result.collision.time_free_s : sim.time_s();
   if (samples.empty() || samples.back().time_s < end_s)
-    samples.push_back({end_s, sim.joints(), samples.empty() ? 0 : samples.back().tag, false});
+    samples.push_back({end_s, sim.joints(), samples.empty() ? 0 : samples.back().step, false});
 
   auto bodies = nlohmann::json::array();
   std::vector<std::size_t> moving;
@@ -190,15 +150,16 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   std::vector<float> joints, world;
   std::vector<std::int32_t> steps;
   std::vector<std::uint8_t> checked;
-  std::vector<int> tags;
+  std::vector<int> distinct_steps;
   for (const motion::ReplaySample& s : samples) {
     times.push_back(s.time_s);
     for (int j = 0; j < n; ++j) joints.push_back(static_cast<float>(s.joints[j]));
     motion::scene_poses(cell, scene, s.joints, frames, poses);
     for (std::size_t i : moving) push_pose(world, poses[i]);
-    steps.push_back(s.tag);
+    steps.push_back(s.step);
     checked.push_back(s.checked ? 1 : 0);
-    if (std::find(tags.begin(), tags.end(), s.tag) == tags.end()) tags.push_back(s.tag);
+    if (std::find(distinct_steps.begin(), distinct_steps.end(), s.step) == distinct_steps.end())
+      distinct_steps.push_back(s.step);
   }
 
   nlohmann::json doc = {
@@ -214,11 +175,11 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
       {"moving", moving},
       {"frames", {{"count", samples.size()},
                   {"time_s", b64(times)},          // Float64
-                  {"step", b64(steps)},            // Int32: the motion's step tag
+                  {"step", b64(steps)},            // Int32: the motion's program step
                   {"checked", b64(checked)},       // Uint8: 1 at a checked pose (the trace's)
                   {"joints_deg", b64(joints)},     // Float32, count x joint_count
                   {"poses", b64(world)}}},         // Float32, count x moving x 7
-      {"steps", step_lines(file, tags)},
+      {"steps", step_lines(result.motions, distinct_steps)},
       {"end_time_s", samples.back().time_s}};
   if (result.status == interpreter::RunStatus::collision) {
     const motion::CollisionReport& c = result.collision;

@@ -2,6 +2,7 @@
 // (three.js + OrbitControls + app/replay/viewer.js inlined; the scene and the frames as JSON with
 // base64 typed arrays). Format and asset lookup: app/README.md.
 #pragma once
+#include "asimov/core/result.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include <nlohmann/json.hpp>
 #include <string>
@@ -19,8 +20,8 @@ struct ReplayAssets {
 // The folder the assets are read from: $ASIMOV_REPLAY_DIR when set, else the build tree's copy
 // (CMake configures its absolute path into the binary, app/replay/replay.cmake).
 std::string replay_asset_dir();
-// Reads the three files; false (with `why` naming the missing file and the fix) when one is missing.
-bool load_replay_assets(ReplayAssets& assets, std::string& why);
+// Reads the three files; the error names the missing file and the fix when one is missing.
+Result<ReplayAssets> load_replay_assets();
 
 // The page's data: bodies (meshes in their local frames), the frames (time, step, joints, world
 // pose of every moving body), the program lines of the steps and the contact, if any. `sim` is

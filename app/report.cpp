@@ -32,7 +32,8 @@ const char* status_name(const interpreter::RunResult& r) {
   switch (r.status) {
     case interpreter::RunStatus::completed: return "completed";
     case interpreter::RunStatus::collision: return "collision";
-    case interpreter::RunStatus::error: return interpreter::is_interrupt(r.error) ? "interrupted" : "error";
+    case interpreter::RunStatus::error: return "error";
+    case interpreter::RunStatus::interrupted: return "interrupted";
     case interpreter::RunStatus::paused: return "paused";
     case interpreter::RunStatus::halted: return "halted";
   }
@@ -64,7 +65,8 @@ nlohmann::json run_report(const RunSummary& s) {
                         {"toc_bracket_s", c.time_s - c.time_free_s},
                         {"faces", {c.face_a, c.face_b}}};
   }
-  if (r.status == interpreter::RunStatus::error) doc["error"] = error_object(r.error);
+  if (r.status == interpreter::RunStatus::error || r.status == interpreter::RunStatus::interrupted)
+    doc["error"] = error_object(r.error);
   if (r.interrupt)  // Ctrl-C inside a motion: where the arm stopped
     doc["interrupt"] = {{"time_s", r.interrupt->time_s},
                         {"path_fraction", r.interrupt->path_fraction},
@@ -121,8 +123,8 @@ nlohmann::json trace_document(const std::string& program, const robots::Robot& r
           {"samples", std::move(rows)}};
 }
 
-bool write_json_file(const std::string& path, const nlohmann::json& doc, std::string& why) {
-  return write_file_atomically(path, doc.dump(2) + "\n", why);
+Result<void> write_json_file(const std::string& path, const nlohmann::json& doc) {
+  return write_file_atomically(path, doc.dump(2) + "\n");
 }
 
 std::string collision_lines(const motion::CollisionReport& c) {

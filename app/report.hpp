@@ -1,5 +1,6 @@
 // The --report and --trace JSON documents of `asimov run` (schema in README.md).
 #pragma once
+#include "asimov/core/result.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include <nlohmann/json.hpp>
 #include <string>
@@ -39,8 +40,8 @@ nlohmann::json trace_document(const std::string& program, const robots::Robot& r
                               const std::vector<motion::TraceSample>& samples);
 
 // Writes `doc` to `path` through a temporary file and a rename, so a reader never sees half a
-// file. Returns false (and fills `why`) when the file cannot be written.
-bool write_json_file(const std::string& path, const nlohmann::json& doc, std::string& why);
+// file; the error when the file cannot be written.
+Result<void> write_json_file(const std::string& path, const nlohmann::json& doc);
 
 // The human-readable lines that follow "*Collision*" (dialect §10).
 std::string collision_lines(const motion::CollisionReport& c);

@@ -543,10 +543,9 @@ std::vector<std::string> update_expectation(const Case& c, const Expectation& e,
     else notes.push_back("left for a person: report: " + a.report_problem);
   }
   if (doc != before) {
-    std::string why;
-    notes.push_back(write_file_atomically(file.string(), doc.dump(2) + "\n", why)
-                        ? "wrote " + file.lexically_normal().generic_string()
-                        : "not updated: " + why);
+    const Result<void> written = write_file_atomically(file.string(), doc.dump(2) + "\n");
+    notes.push_back(written ? "wrote " + file.lexically_normal().generic_string()
+                            : "not updated: " + written.error().message);
   }
   return notes;
 }

@@ -185,8 +185,8 @@ inline AnalyticScene j1_into_wall() {
 
 inline std::vector<AnalyticScene> analytic_scenes() { return {box_onto_plane(), j1_into_wall(), edge_on_edge()}; }
 
-inline motion::MotionResult start(motion::Simulator& sim, const AnalyticScene& s, int tag = 1) {
-  return s.straight ? sim.start_move(s.target, true, {}, tag) : sim.start_joint_move(s.target_joints, {}, tag);
+inline motion::MotionResult start(motion::Simulator& sim, const AnalyticScene& s, int step = 1) {
+  return s.straight ? sim.start_move(s.target, true, {}, step) : sim.start_joint_move(s.target_joints, {}, step);
 }
 
 // One motion of the scene with `settings`; the result of finish_motion().

@@ -12,7 +12,7 @@ namespace asimov::interpreter::ast {
 namespace x3 = boost::spirit::x3;
 
 // Operators, shared by the parser (symbols) and the checker (precedence, code).
-// ORDER: kPrecedence in checker.cpp, kText in evaluator.cpp (both static_assert'ed).
+// ORDER: kPrecedence in checker.cpp, kText in operators.cpp (both static_assert'ed).
 enum class Op : int {
   neg, plus, not_,                        // unary
   mul, div, mod,                          // level 3
@@ -74,15 +74,17 @@ struct Call {
   std::vector<boost::optional<Expr>> args;
 };
 
-// Keywords that start an instruction, and trailing words (spelled in parser.cpp's symbol tables).
+// Keywords: those that start an instruction and the trailing, unit, declaration and binding
+// words, all rows of instructions.def (the parser spells them from there). `assign` is the
+// binding without a keyword (`x = 1`).
 enum class Kw : int {
-  none, assign, set, decompose, here, move, moves, appro, appros, depart, departs, break_,
-  speed, type, goto_, return_, stop, end, else_, while_, do_, until, exit, next, pause, halt,
-  dot_end, always, monitor, then, auto_, local, global, elseif, case_, of, value, any, tool,
-  base, ready, draw, righty, lefty, above, below, flip, noflip, single, multiple,
-  dot_locations, dot_reals, dot_strings, signal, align, drive, wait, wait_event, prompt, open,
-  close, relax, openi, closei, relaxi, movet, movest, duration, enable, disable, parameter, mmps,
-  ips, count
+  none, assign,
+#define ASIMOV_MOTION(kw, ...) kw,
+#define ASIMOV_SIMPLE(kw, ...) kw,
+#define ASIMOV_STATEMENT(kw, ...) kw,
+#define ASIMOV_WORD(kw, ...) kw,
+#include "instructions.def"
+  count
 };
 
 // KEYWORD [ [expression] { "," [expression] } ] [ MMPS | IPS ] [ trailing_word ] [ ":" ]

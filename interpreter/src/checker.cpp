@@ -152,9 +152,8 @@ class Checker {
   }
 
   void data_line(const ast::DataLine& d) {
-    std::string why;
-    if (auto item = compile_data_line(d, data_kind_, joint_count_, symbols_, why)) out_.data.push_back(std::move(*item));
-    else error(why);
+    if (auto item = compile_data_line(d, data_kind_, joint_count_, symbols_)) out_.data.push_back(std::move(*item));
+    else error(item.error().message);
   }
 
   // --- programs ------------------------------------------------------------------------
@@ -454,12 +453,6 @@ class Checker {
         return;
       }
       case Kw::value: case Kw::any: return case_part(i);
-      case Kw::righty: case Kw::lefty: case Kw::above: case Kw::below: case Kw::flip:
-      case Kw::noflip: case Kw::single: case Kw::multiple:
-        expect_args(i, 0, 0, "a configuration word");
-        simple(i, Code::configure);
-        prog_.code.back().word = i.kw;
-        return;
       case Kw::enable: case Kw::disable: return switches(i);
       case Kw::prompt: return prompt(i);
       case Kw::here: {

@@ -1,29 +1,55 @@
 #include "code.hpp"
 
-#include <array>
+#include <iterator>
 
 namespace asimov::interpreter {
 namespace {
 
 using ast::Kw;
+using namespace word_flag;
 
-constexpr std::array<SimpleForm, 29> kSimpleForms = {{
-    {Kw::tool, Code::tool, 0, 1, "TOOL"}, {Kw::signal, Code::signal, 1, -1, "SIGNAL"},
-    {Kw::base, Code::base, 1, 4, "BASE"}, {Kw::ready, Code::ready, 0, 0, "READY"},
-    {Kw::draw, Code::draw, 1, 3, "DRAW"}, {Kw::align, Code::align, 0, 0, "ALIGN"},
-    {Kw::drive, Code::drive, 3, 3, "DRIVE"}, {Kw::move, Code::move, 1, 1, "the motion instruction"},
-    {Kw::moves, Code::moves, 1, 1, "the motion instruction"}, {Kw::depart, Code::depart, 1, 1, "the motion instruction"},
-    {Kw::departs, Code::departs, 1, 1, "the motion instruction"}, {Kw::appro, Code::appro, 2, 2, "APPRO"},
-    {Kw::appros, Code::appros, 2, 2, "APPRO"}, {Kw::break_, Code::break_, 0, 0, "BREAK"},
-    {Kw::return_, Code::return_, 0, 0, "RETURN"}, {Kw::stop, Code::stop, 0, 0, "STOP"},
-    {Kw::pause, Code::pause, 0, 0, "PAUSE"}, {Kw::halt, Code::halt, 0, 0, "HALT"},
-    {Kw::movet, Code::movet, 2, 2, "MOVET"}, {Kw::movest, Code::movest, 2, 2, "MOVEST"},
-    {Kw::wait, Code::wait, 0, 1, "WAIT"}, {Kw::wait_event, Code::wait_event, 2, 2, "WAIT.EVENT"},
-    {Kw::open, Code::hand, 0, 0, "OPEN"}, {Kw::close, Code::hand, 0, 0, "CLOSE"},
-    {Kw::relax, Code::hand, 0, 0, "RELAX"}, {Kw::openi, Code::hand, 0, 0, "OPENI"},
-    {Kw::closei, Code::hand, 0, 0, "CLOSEI"}, {Kw::relaxi, Code::hand, 0, 0, "RELAXI"},
-    {Kw::duration, Code::duration, 1, 1, "DURATION"},
-}};
+enum Path : bool { joint = false, straight = true };
+
+constexpr SimpleForm kSimpleForms[] = {
+#define ASIMOV_MOTION(kw, spelling, min, max, path, what) {Kw::kw, Code::kw, min, max, what},
+#define ASIMOV_SIMPLE(kw, spelling, code, min, max, flags, what) {Kw::kw, Code::code, min, max, what},
+#include "instructions.def"
+};
+
+constexpr Word kWords[] = {
+#define ASIMOV_MOTION(kw, spelling, ...) {spelling, Kw::kw, reserved | do_ok, true},
+#define ASIMOV_SIMPLE(kw, spelling, code, min, max, flags, what) {spelling, Kw::kw, flags, true},
+#define ASIMOV_STATEMENT(kw, spelling, flags) {spelling, Kw::kw, flags, true},
+#define ASIMOV_ALIAS(kw, spelling, flags) {spelling, Kw::kw, flags, true},
+#define ASIMOV_WORD(kw, spelling, flags) {spelling, Kw::kw, flags, false},
+#define ASIMOV_SPELLING(spelling, flags) {spelling, Kw::none, flags, false},
+#include "instructions.def"
+};
+
+// Indexed by Code: the motions' paths (false for every other code).
+constexpr bool kStraight[] = {
+#define ASIMOV_MOTION(kw, spelling, min, max, path, what) path,
+#define ASIMOV_CODE(code) false,
+#include "instructions.def"
+};
+
+// Every Kw but none and assign has exactly one row; every Code one entry.
+constexpr std::size_t kKeywordRows = 0
+#define ASIMOV_MOTION(...) +1
+#define ASIMOV_SIMPLE(...) +1
+#define ASIMOV_STATEMENT(...) +1
+#define ASIMOV_WORD(...) +1
+#include "instructions.def"
+    ;
+static_assert(kKeywordRows + 2 == static_cast<std::size_t>(Kw::count));
+constexpr std::size_t kCodes = 0
+#define ASIMOV_MOTION(...) +1
+#define ASIMOV_CODE(...) +1
+#include "instructions.def"
+    ;
+static_assert(std::size(kStraight) == kCodes && kCodes <= 256);  // Code is an unsigned char
+static_assert(std::size(kSimpleForms) <= kKeywordRows);
+static_assert(std::size(kWords) > kKeywordRows);
 
 }  // namespace
 
@@ -32,6 +58,10 @@ const SimpleForm* simple_form(ast::Kw kw) {
     if (f.kw == kw) return &f;
   return nullptr;
 }
+
+std::span<const Word> words() { return kWords; }
+
+bool straight_path(Code code) { return kStraight[static_cast<std::size_t>(code)]; }
 
 void mark_plain(Node& n) {
   bool plain = n.kind == NodeKind::number || n.kind == NodeKind::variable

@@ -2,6 +2,7 @@
 // resolved to slots (globals, parameters, programs) and jumps resolved to instruction indices.
 #pragma once
 #include "ast.hpp"
+#include "instructions.hpp"
 #include "functions.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include "realcode.hpp"
@@ -37,13 +38,15 @@ struct Node {
   std::shared_ptr<const RealCode> fast;  // top-level plain real trees: the compiled form
 };
 
+// Opcodes: the motions and the other codes of instructions.def.
 enum class Code : unsigned char {
-  assign, set, here, decompose, type, move, moves, appro, appros, depart, departs, break_,
-  speed, jump, jump_false, jump_true, for_init, for_next, call, return_, stop, case_init,
-  case_test, tool, base, configure, ready, draw, signal, timer, align, drive, unsupported,
-  movet, movest, hand, wait, wait_event, prompt, duration, enable, disable, parameter, pause,
-  halt
+#define ASIMOV_MOTION(kw, ...) kw,
+#define ASIMOV_CODE(code) code,
+#include "instructions.def"
 };
+
+// The motion instructions' path (instructions.def): a straight line of the tool or a joint move.
+bool straight_path(Code code);
 
 struct Instr {
   Code code = Code::jump;
@@ -62,8 +65,9 @@ struct Instr {
   ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE; hand: OPEN...
 };
 
-// Instructions that compile to one Instr holding their arguments (checker.cpp): the keyword,
-// its code and how many arguments it takes (max -1: any number).
+// Instructions that compile to one Instr holding their arguments (the ASIMOV_MOTION and
+// ASIMOV_SIMPLE rows of instructions.def): the keyword, its code and how many arguments it
+// takes (max -1: any number).
 struct SimpleForm {
   ast::Kw kw;
   Code code;

@@ -8,12 +8,8 @@
 
 namespace asimov::interpreter {
 
-std::optional<DataItem> compile_data_line(const ast::DataLine& d, ast::Kw section, int joint_count,
-                                          Symbols& symbols, std::string& why) {
-  auto fail = [&](std::string text) -> std::optional<DataItem> {
-    why = std::move(text);
-    return std::nullopt;
-  };
+Result<DataItem> compile_data_line(const ast::DataLine& d, ast::Kw section, int joint_count, Symbols& symbols) {
+  auto fail = [](std::string text) -> Result<DataItem> { return Error{std::move(text), {}, {}, 0}; };
   DataItem item;
   const std::string name = normalize_name(d.name);
   const char prefix = name.empty() ? '\0' : name[0];

@@ -3,7 +3,7 @@
 #pragma once
 #include "ast.hpp"
 #include "asimov/interpreter/values.hpp"
-#include <optional>
+#include "asimov/core/result.hpp"
 #include <string>
 
 namespace asimov::interpreter {
@@ -18,8 +18,8 @@ struct DataItem {
   Value value;
 };
 
-// `section` is Kw::dot_locations, dot_reals or dot_strings. On a bad line: nullopt and `why`.
-std::optional<DataItem> compile_data_line(const ast::DataLine& d, ast::Kw section, int joint_count,
-                                          Symbols& symbols, std::string& why);
+// `section` is Kw::dot_locations, dot_reals or dot_strings. A bad line: the error's message
+// says why (the checker reports it at the line).
+Result<DataItem> compile_data_line(const ast::DataLine& d, ast::Kw section, int joint_count, Symbols& symbols);
 
 }  // namespace asimov::interpreter

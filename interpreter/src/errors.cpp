@@ -9,7 +9,7 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<std::string_view, 11> kErrorMessages = {
+constexpr std::array<std::string_view, 11> kMessageTexts = {
     "*Syntax error*",
     "*Undefined program or variable name*",
     "*Undefined value*",
@@ -22,20 +22,20 @@ constexpr std::array<std::string_view, 11> kErrorMessages = {
     "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps or in a motion
     "*Wait limit exceeded*",  // WAIT still false after Limits::max_wait_s simulated seconds
 };
-static_assert(kErrorMessages.size() == static_cast<std::size_t>(ErrorKind::count));
+static_assert(kMessageTexts.size() == static_cast<std::size_t>(Message::count));
 
 }  // namespace
 
-std::string_view error_message(ErrorKind kind) {
-  return kErrorMessages[static_cast<std::size_t>(kind)];
+std::string_view message_text(Message kind) {
+  return kMessageTexts[static_cast<std::size_t>(kind)];
 }
 
-void raise(ErrorKind kind, std::string detail) {
-  throw RuntimeError{std::string(error_message(kind)), std::move(detail)};
-}
+Fault fault(Message kind, std::string detail) { return Fault{kind, std::string(message_text(kind)), std::move(detail)}; }
+
+void raise(Message kind, std::string detail) { throw fault(kind, std::move(detail)); }
 
 void raise_text(std::string message, std::string detail) {
-  throw RuntimeError{std::move(message), std::move(detail)};
+  throw Fault{Message::motion, std::move(message), std::move(detail)};
 }
 
 std::string format_pause(const RunResult& r) {
@@ -43,8 +43,6 @@ std::string format_pause(const RunResult& r) {
   return fmt::format("Program {}: {}, step {}", r.status == RunStatus::paused ? "paused" : "halted", r.program,
                      r.step);
 }
-
-bool is_interrupt(const Diagnostic& d) { return d.message == error_message(ErrorKind::interrupted); }
 
 std::string format_interrupt(const RunResult& r) {
   if (!r.interrupt) return {};

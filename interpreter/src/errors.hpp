@@ -1,27 +1,34 @@
-// Runtime error kinds and their VAL texts (dialect §10), and the one raise point. The
-// evaluator's run loop is the one protected boundary that turns a raise into a Diagnostic.
-// errors.cpp also formats reports (format_diagnostic, declared in interpreter.hpp).
+// The VAL messages of dialect §10 (Message, their texts) and the one raise point. raise() is
+// for the problems found while evaluating a statement (*Illegal value*, *Undefined value*, ...,
+// often deep in an expression): it throws a Fault, which only Evaluator::protected_run catches
+// (docs/design.md "Errors"). What ends a run otherwise
+// (contact, PAUSE, HALT, Ctrl-C, a motion error, a limit) is a RunStatus returned through the
+// run loop. errors.cpp also formats reports (format_diagnostic, declared in interpreter.hpp).
 #pragma once
 #include <string>
 #include <string_view>
 
 namespace asimov::interpreter {
 
-// ORDER: kErrorMessages in errors.cpp.
-enum class ErrorKind : int {
+// ORDER: kMessageTexts in errors.cpp.
+enum class Message : int {
   syntax, undefined_name, undefined_value, illegal_value, division_by_zero, too_many_calls,
   too_many_statements, motion, not_supported, interrupted, wait_limit, count
 };
 
-std::string_view error_message(ErrorKind kind);
+std::string_view message_text(Message kind);
 
-// What raise() throws; caught only by Evaluator::run.
-struct RuntimeError {
-  std::string message;  // "*Illegal value*", or the simulator's text for motion errors
+// A VAL message that stops the run: what raise() throws, and what a status return of the run
+// loop leaves in Evaluator::fault_ for the report.
+struct Fault {
+  Message kind = Message::motion;  // motion: `message` is the simulator's own text
+  std::string message;             // "*Illegal value*", or the simulator's text for motion errors
   std::string detail;
 };
 
-[[noreturn]] void raise(ErrorKind kind, std::string detail = {});
+Fault fault(Message kind, std::string detail = {});
+[[noreturn]] void raise(Message kind, std::string detail = {});
+// A VAL error with its own text (the cell's devices and parts: "*Nothing in the gripper*").
 [[noreturn]] void raise_text(std::string message, std::string detail);
 
 }  // namespace asimov::interpreter

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -17,16 +18,6 @@ namespace asimov::interpreter {
 namespace {
 
 using ast::Op;
-
-// Thrown by finish_motion() on contact; caught next to RuntimeError in run().
-struct CollisionStop {
-  motion::CollisionReport report;
-};
-
-// Thrown by PAUSE and HALT once the motion has ended; caught in run().
-struct PauseStop {
-  bool halt = false;
-};
 
 }  // namespace
 
@@ -47,7 +38,7 @@ RunResult Evaluator::run(int slot, bool resumable) {
   last_motion_.reset();
   RunResult r = protected_run(memory_.symbols.programs[static_cast<std::size_t>(slot)], [&] {
     const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
-    if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
+    if (!program) return stop(fault(Message::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]));
     Frame& top = stack_.next();
     top.program = program.get();
     top.owned.clear();
@@ -55,6 +46,7 @@ RunResult Evaluator::run(int slot, bool resumable) {
     for (Variable& v : top.owned) top.params.push_back(&v);
     top.temps.resize(static_cast<std::size_t>(program->temps));
     stack_.commit();
+    return RunStatus::completed;
   });
   if (!resumable) {
     stopped_.reset();
@@ -89,22 +81,25 @@ RunResult Evaluator::resume(bool retry) {
   return protected_run(s.program, [&] {
     // After Ctrl-C halted a motion, PROCEED and RETRY first carry out its rest (a real
     // controller resumes the interrupted motion towards its target).
-    if (s.motion_halted) resume_halted_motion();
+    if (s.motion_halted)
+      if (const RunStatus st = resume_halted_motion(); st != RunStatus::completed) return st;
     // After a collision the step that found the contact runs again (PROCEED and RETRY);
     // RETRY after an error re-runs the failing step; PROCEED after an error skips it.
     // After PAUSE both continue with the next step.
     // After Ctrl-C (or PAUSE) both run the step not yet run.
-    if (s.status == RunStatus::paused || s.interrupted) return;
+    if (s.status == RunStatus::paused || s.status == RunStatus::interrupted) return RunStatus::completed;
     if (!stack_.empty() && (retry || s.status == RunStatus::collision)) --stack_.back().pc;
-    if (retry && s.status == RunStatus::collision && last_motion_) start_motion(*last_motion_);
+    if (retry && s.status == RunStatus::collision && last_motion_) return start_motion(*last_motion_);
+    return RunStatus::completed;
   });
 }
 
 // --- the protected boundary -----------------------------------------------------------------
 
-RunResult Evaluator::protected_run(const std::string& name, const std::function<void()>& setup) {
+RunResult Evaluator::protected_run(const std::string& name, const std::function<RunStatus()>& setup) {
   RunResult result;
   warnings_.clear();
+  motion_sites_.clear();
   halt_.reset();
   // The simulator reads the Ctrl-C flag while this run goes on, and only then.
   struct InterruptWiring {
@@ -134,14 +129,18 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     locate(result.error, motion_program_, motion_line_);
   };
 
+  RunStatus status = RunStatus::completed;
   try {
-    setup();
-    loop();
-    finish_motion();  // the last motion completes at the end of the run
-  } catch (const RuntimeError& e) {
-    result.status = RunStatus::error;
-    result.error.message = e.message;
-    result.error.detail = e.detail;
+    status = setup();
+    if (status == RunStatus::completed) status = loop();
+    if (status == RunStatus::completed) status = finish_motion();  // the last motion completes at the end
+  } catch (Fault& e) {  // raise(): a VAL error found while evaluating a statement
+    status = stop(std::move(e));
+  }
+  if (status == RunStatus::error || status == RunStatus::interrupted) {
+    result.status = status;
+    result.error.message = fault_.message;
+    result.error.detail = fault_.detail;
     locate(result.error, current_program_, current_line_);
     // The motion already started still completes (forward processing); contact wins. After
     // Ctrl-C (the flag is still set) it stops at once, where it is, and its rest is kept.
@@ -153,27 +152,31 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
       }
     } catch (...) {
     }
-  } catch (const CollisionStop& c) {
-    collided(c.report);
-  } catch (const PauseStop& p) {
-    result.status = p.halt ? RunStatus::halted : RunStatus::paused;
+  } else if (status == RunStatus::collision) {
+    collided(contact_);
+  } else if (status == RunStatus::paused || status == RunStatus::halted) {
+    result.status = status;
     locate(result.error, current_program_, current_line_);
     result.error = Diagnostic{};
-    if (p.halt) stack_.clear();  // HALT cannot be resumed
+    if (status == RunStatus::halted) stack_.clear();  // HALT cannot be resumed
   }
   if (result.status == RunStatus::completed) {
     result.program = name;
     result.line = result.step = 0;
   } else if (!stack_.empty() || result.status == RunStatus::collision || halt_) {
     stopped_ = Stopped{stack_.take(), result.status, name, speed_always_, speed_next_, last_motion_,
-                       duration_always_, duration_next_,
-                       result.error.message == error_message(ErrorKind::interrupted), halt_.has_value(),
-                       memory_.programs};
+                       duration_always_, duration_next_, halt_.has_value(), memory_.programs};
   }
   result.interrupt = halt_;
   stack_.clear();
   result.warnings = std::move(warnings_);
   warnings_.clear();
+  for (const auto& [program, line] : motion_sites_) {
+    Diagnostic at;
+    locate_at(at, *program, line);
+    at.source_line.erase(0, at.source_line.find_first_not_of(" \t"));
+    result.motions.push_back({at.step, at.program, line, std::move(at.source_line)});
+  }
   return result;
 }
 
@@ -182,7 +185,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 // The dispatch loop. The statements that dominate loops (real assignments, jumps, FOR steps)
 // run inline here through their compiled expressions; any value the compiled form does not
 // handle, and every other statement, goes through execute(), which raises the exact errors.
-void Evaluator::loop() {
+RunStatus Evaluator::loop() {
   const std::atomic<bool>* interrupt = limits_.interrupt;
   const std::uint64_t max_statements = limits_.max_statements;
   std::uint64_t statements = 0;  // this execution's steps (a run or a resumption)
@@ -201,10 +204,10 @@ void Evaluator::loop() {
       const Instr& in = code[f.pc];
       current_line_ = in.line;
       // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
-      if (interrupt && interrupt->load(std::memory_order_relaxed)) raise(ErrorKind::interrupted);
+      if (interrupt && interrupt->load(std::memory_order_relaxed)) return stop(fault(Message::interrupted));
       ++f.pc;
       if (++statements > max_statements)
-        raise(ErrorKind::too_many_statements, fmt::format("more than {}", max_statements));
+        return stop(fault(Message::too_many_statements, fmt::format("more than {}", max_statements)));
       double x;
       switch (in.code) {
         case Code::assign:
@@ -250,13 +253,54 @@ void Evaluator::loop() {
         }
         default: break;
       }
-      execute(in);
+      if (const RunStatus s = execute(in); s != RunStatus::completed) return s;
       if (in.code == Code::call || in.code == Code::return_ || in.code == Code::stop) break;
     }
   }
+  return RunStatus::completed;
 }
 
-void Evaluator::execute(const Instr& in) {
+RunStatus Evaluator::stop(Fault f) {
+  fault_ = std::move(f);
+  return fault_.kind == Message::interrupted ? RunStatus::interrupted : RunStatus::error;
+}
+
+// The statements that can end a run (they wait for or start a motion, or pause); every other
+// one goes on in statement().
+RunStatus Evaluator::execute(const Instr& in) {
+  switch (in.code) {
+#define ASIMOV_MOTION(kw, ...) case Code::kw:
+#include "instructions.def"
+      return motion(in);
+    case Code::hand: return hand(in);
+    case Code::wait: case Code::wait_event: return wait(in);
+    case Code::break_: return finish_motion();
+    case Code::pause: case Code::halt:  // PAUSE and HALT wait for the motion
+      if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
+      return in.code == Code::halt ? RunStatus::halted : RunStatus::paused;
+    default:
+      statement(in);
+      return RunStatus::completed;
+  }
+}
+
+RunStatus Evaluator::hand(const Instr& in) {
+  using motion::HandState;
+  const ast::Kw w = in.word;
+  const HandState h = w == ast::Kw::open || w == ast::Kw::openi     ? HandState::open
+                      : w == ast::Kw::close || w == ast::Kw::closei ? HandState::closed
+                                                                    : HandState::relaxed;
+  if (w == ast::Kw::open || w == ast::Kw::close || w == ast::Kw::relax) {
+    sim_.request_hand(h);
+    return RunStatus::completed;
+  }
+  // The hand acts where the motion ended, then HAND.TIME.
+  if (const RunStatus s = check_motion(sim_.finish_motion()); s != RunStatus::completed) return s;
+  hand_changed(h, in.line);
+  return check_motion(sim_.hand_immediate(h, memory_.settings.hand_time_s));  // OPENI ...
+}
+
+void Evaluator::statement(const Instr& in) {
   Frame& f = stack_.back();
   switch (in.code) {
     case Code::assign: {
@@ -268,9 +312,9 @@ void Evaluator::execute(const Instr& in) {
       if (prefix == '$') {
         to_string_value(v);
       } else if (kind_of(v) == Kind::trans || kind_of(v) == Kind::ppoint) {
-        raise(ErrorKind::illegal_value, "a location is assigned with SET");
+        raise(Message::illegal_value, "a location is assigned with SET");
       } else if (prefix == '#' || kind_of(v) != Kind::real) {
-        raise(ErrorKind::illegal_value, fmt::format("{} cannot hold a {}", in.target.text, kind_name(kind_of(v))));
+        raise(Message::illegal_value, fmt::format("{} cannot hold a {}", in.target.text, kind_name(kind_of(v))));
       }
       store(in.target, std::move(v));
       return;
@@ -279,12 +323,12 @@ void Evaluator::execute(const Instr& in) {
       Value v = eval(in.args[0]);
       const Kind want = in.target.text[0] == '#' ? Kind::ppoint : Kind::trans;
       if (in.target.text[0] == '$' || kind_of(v) != want)
-        raise(ErrorKind::illegal_value, fmt::format("{} cannot hold a {}", in.target.text, kind_name(kind_of(v))));
+        raise(Message::illegal_value, fmt::format("{} cannot hold a {}", in.target.text, kind_name(kind_of(v))));
       store(in.target, std::move(v));
       return;
     }
     case Code::here:
-      if (in.target.text[0] == '$') raise(ErrorKind::illegal_value, "HERE needs a location variable");
+      if (in.target.text[0] == '$') raise(Message::illegal_value, "HERE needs a location variable");
       if (in.target.text[0] == '#') store(in.target, sim_.joints());
       else store(in.target, finite_location(sim_.here()));  // huge BASE/TOOL may overflow
       return;
@@ -298,23 +342,23 @@ void Evaluator::execute(const Instr& in) {
         parts.assign(x.begin(), x.end());
       }
       if (in.target.text[0] == '$' || in.target.text[0] == '#')
-        raise(ErrorKind::illegal_value, "DECOMPOSE needs a real array");
+        raise(Message::illegal_value, "DECOMPOSE needs a real array");
       Variable& var = variable(in.target);
-      if (var.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", in.target.text));
+      if (var.scalar) raise(Message::illegal_value, fmt::format("{} is not an array", in.target.text));
       Index idx = in.target.subscripted ? index(in.target) : Index{0, 0, 0};
       const std::size_t last = in.target.kids.empty() ? 0 : in.target.kids.size() - 1;
       for (double p : parts) {
-        if (idx[last] > kMaxArrayIndex) raise(ErrorKind::illegal_value, "index above 65535");
+        if (idx[last] > kMaxArrayIndex) raise(Message::illegal_value, "index above 65535");
         var.elements[idx] = p;
         ++idx[last];
       }
       return;
     }
     case Code::type: return type(in);
-    case Code::move: case Code::moves: case Code::appro: case Code::appros:
-    case Code::depart: case Code::departs: case Code::ready: case Code::draw: case Code::align:
-    case Code::drive:
-      return motion(in);
+#define ASIMOV_MOTION(kw, ...) case Code::kw:
+#include "instructions.def"
+    case Code::hand: case Code::wait: case Code::wait_event: case Code::break_: case Code::pause: case Code::halt:
+      return;  // execute()
     case Code::signal:  // SIGNAL n, ...: n > 0 on, n < 0 off, 0 ignored
       for (const Node& n : in.args) {
         set_signal(signal_number(n, true));
@@ -322,38 +366,22 @@ void Evaluator::execute(const Instr& in) {
       return;
     case Code::timer: {
       const int k = to_index(to_real(eval(in.args[0]), "timer number"));
-      if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));
+      if (k < 1 || k > 16) raise(Message::illegal_value, fmt::format("timer {}", k));
       memory_.timers[static_cast<std::size_t>(k)] = {to_real(eval(in.args[1]), "TIMER value"), sim_.time_s()};
       return;
     }
     case Code::unsupported:
-      if (!in.always) raise(ErrorKind::not_supported, in.target.text);
+      if (!in.always) raise(Message::not_supported, in.target.text);
       return warn_once(in.target.text, in);
-    case Code::movet: case Code::movest: return motion(in);
-    case Code::hand: {
-      using motion::HandState;
-      const ast::Kw w = in.word;
-      const HandState h = w == ast::Kw::open || w == ast::Kw::openi     ? HandState::open
-                          : w == ast::Kw::close || w == ast::Kw::closei ? HandState::closed
-                                                                        : HandState::relaxed;
-      if (w == ast::Kw::open || w == ast::Kw::close || w == ast::Kw::relax) return sim_.request_hand(h);
-      check_motion(sim_.finish_motion());  // the hand acts where the motion ended, then HAND.TIME
-      hand_changed(h, in.line);
-      return check_motion(sim_.hand_immediate(h, memory_.settings.hand_time_s));  // OPENI ...
-    }
-    case Code::wait: case Code::wait_event: return wait(in);
     case Code::prompt: return prompt(in);
     case Code::duration: {
       const double t = to_real(eval(in.args[0]), "DURATION");
-      if (!(t >= 0)) raise(ErrorKind::illegal_value, fmt::format("DURATION {}", format_number(t)));
+      if (!(t >= 0)) raise(Message::illegal_value, fmt::format("DURATION {}", format_number(t)));
       if (in.always) duration_always_ = t, duration_next_.reset();
       else duration_next_ = t;
       return;
     }
     case Code::enable: case Code::disable: case Code::parameter: return settings(in);
-    case Code::pause: case Code::halt:
-      finish_motion();  // PAUSE and HALT wait for the motion
-      throw PauseStop{in.code == Code::halt};
     case Code::case_init:
       f.temps[static_cast<std::size_t>(in.temp)] = to_real(eval(in.args[0]), "CASE value");
       return;
@@ -396,10 +424,9 @@ void Evaluator::execute(const Instr& in) {
         warn_once(std::string(name) + " (no meaning for this arm: ignored)", in);
       return request_configuration(in.word, sim_.request());
     }
-    case Code::break_: return finish_motion();
     case Code::speed: {
       const double s = to_real(eval(in.args[0]));
-      if (!(s > 0 && s <= 100)) raise(ErrorKind::illegal_value, fmt::format("SPEED {}", format_number(s)));
+      if (!(s > 0 && s <= 100)) raise(Message::illegal_value, fmt::format("SPEED {}", format_number(s)));
       if (in.monitor) {
         speed_monitor_ = s;
       } else if (in.always) {
@@ -421,7 +448,7 @@ void Evaluator::execute(const Instr& in) {
       const double from = real(in.args[0], "FOR start");
       const double to = real(in.args[1], "FOR limit");
       const double step = in.args.size() > 2 ? real(in.args[2], "FOR step") : 1.0;
-      if (step == 0) raise(ErrorKind::illegal_value, "FOR with STEP 0");
+      if (step == 0) raise(Message::illegal_value, "FOR with STEP 0");
       store(in.target, from);
       f.temps[static_cast<std::size_t>(in.temp)] = to;
       f.temps[static_cast<std::size_t>(in.temp) + 1] = step;
@@ -444,11 +471,11 @@ void Evaluator::execute(const Instr& in) {
 
 void Evaluator::call(const Instr& in) {
   const auto& program = memory_.programs[static_cast<std::size_t>(in.program)];
-  if (!program) raise(ErrorKind::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(in.program)]);
-  if (static_cast<int>(stack_.size()) >= std::min(limits_.max_call_depth, kMaxCallDepth))
-    raise(ErrorKind::too_many_calls, fmt::format("{} levels", stack_.size()));
+  if (!program) raise(Message::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(in.program)]);
+  if (static_cast<int>(stack_.size()) >= limits_.max_call_depth)
+    raise(Message::too_many_calls, fmt::format("{} levels", stack_.size()));
   if (in.args.size() > program->params.size())
-    raise(ErrorKind::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
+    raise(Message::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
   Frame& frame = stack_.next();  // pushed once the arguments are evaluated in the caller's frame
   frame.program = program.get();
   // Variables owned by the frame: those of an earlier call, emptied when it returned (no
@@ -497,34 +524,36 @@ void Evaluator::pop_frame() {
   stack_.pop();
 }
 
-void Evaluator::finish_motion() {
-  if (sim_.motion_pending()) check_motion(sim_.finish_motion());
+RunStatus Evaluator::finish_motion() {
+  return sim_.motion_pending() ? check_motion(sim_.finish_motion()) : RunStatus::completed;
 }
 
 // The motion that the simulator finished failed: contact stops the run, an error is reported
 // at the motion instruction.
-void Evaluator::check_motion(const motion::MotionResult& r) {
-  if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
-  if (r.status == motion::MotionStatus::interrupted) {
-    // Ctrl-C halted the motion: reported at the motion instruction, as a contact is; the step
-    // that was waiting for the motion (none at the run's end) runs again after its rest.
-    halt_ = r.interrupt;
-    if (!stack_.empty()) --stack_.back().pc;
-    current_program_ = motion_program_;
-    current_line_ = motion_line_;
-    raise(ErrorKind::interrupted);
+RunStatus Evaluator::check_motion(const motion::MotionResult& r) {
+  switch (r.status) {
+    case motion::MotionStatus::ok: return RunStatus::completed;
+    case motion::MotionStatus::collision: contact_ = r.collision; return RunStatus::collision;
+    case motion::MotionStatus::interrupted:
+      // Ctrl-C halted the motion: reported at the motion instruction, as a contact is; the step
+      // that was waiting for the motion (none at the run's end) runs again after its rest.
+      halt_ = r.interrupt;
+      if (!stack_.empty()) --stack_.back().pc;
+      current_program_ = motion_program_;
+      current_line_ = motion_line_;
+      return stop(fault(Message::interrupted));
+    case motion::MotionStatus::error:
+      current_program_ = motion_program_;  // reported at the motion instruction
+      current_line_ = motion_line_;
+      return stop(Fault{Message::motion, r.error.message, r.error.detail});
   }
-  if (r.status == motion::MotionStatus::error) {
-    current_program_ = motion_program_;  // reported at the motion instruction
-    current_line_ = motion_line_;
-    raise_text(r.error.message, r.error.detail);
-  }
+  return RunStatus::completed;
 }
 
-void Evaluator::motion(const Instr& in) {
-  finish_motion();  // a motion instruction waits for the previous motion to end
-  const bool straight = in.code == Code::moves || in.code == Code::appros || in.code == Code::departs
-      || in.code == Code::draw || in.code == Code::movest;
+RunStatus Evaluator::motion(const Instr& in) {
+  // A motion instruction waits for the previous motion to end.
+  if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
+  const bool straight = straight_path(in.code);
   std::optional<Value> target;
   switch (in.code) {
     case Code::ready: target = motion::ready_target(sim_.robot()); break;  // the robot's READY
@@ -533,10 +562,10 @@ void Evaluator::motion(const Instr& in) {
       const int j = to_index(to_real(eval(in.args[0]), "joint"));
       const double change = to_real(eval(in.args[1]), "DRIVE change");
       const double s = to_real(eval(in.args[2]), "DRIVE speed");
-      if (!(s >= 1 && s <= 100)) raise(ErrorKind::illegal_value, fmt::format("DRIVE speed {}", format_number(s)));
+      if (!(s >= 1 && s <= 100)) raise(Message::illegal_value, fmt::format("DRIVE speed {}", format_number(s)));
       robots::JointVector target;
       if (!motion::drive_target(sim_.joints(), j, change, target))
-        raise(ErrorKind::illegal_value, fmt::format("joint {}", j));
+        raise(Message::illegal_value, fmt::format("joint {}", j));
       MotionRequest m;
       m.joints = target;
       m.speed = motion::drive_speed(speed_monitor_, s);
@@ -563,11 +592,12 @@ void Evaluator::motion(const Instr& in) {
       target = motion::appro_target(as_pose(loc, sim_), d);
       break;
     }
-    default: {  // DEPART: HERE is taken once the previous motion has ended
+    case Code::depart: case Code::departs: {  // HERE is taken once the previous motion has ended
       const double d = to_real(eval(in.args[0]), "DEPART distance");
       target = motion::depart_target(sim_.here(), d);
       break;
     }
+    default: raise(Message::not_supported, "a motion without a target in Evaluator::motion");
   }
   MotionRequest m;
   m.speed = {speed_monitor_, speed_next_.value_or(speed_always_), -1, duration_next_.value_or(duration_always_)};
@@ -580,38 +610,45 @@ void Evaluator::motion(const Instr& in) {
     m.joints = *j;
   } else {
     if (kind_of(*target) != Kind::trans && kind_of(*target) != Kind::ppoint)
-      raise(ErrorKind::illegal_value, fmt::format("location expected, not a {}", kind_name(kind_of(*target))));
+      raise(Message::illegal_value, fmt::format("location expected, not a {}", kind_name(kind_of(*target))));
     m.pose = as_pose(*target, sim_);
   }
-  start_motion(m);
+  return start_motion(m);
 }
 
 // PROCEED / RETRY after Ctrl-C halted a motion: the rest of it, from where the arm stopped;
 // when a DO has moved the arm since (the simulator dropped the rest), the same motion
 // instruction again from where the arm is. The monitor speed now in effect applies.
-void Evaluator::resume_halted_motion() {
-  if (!last_motion_) return;
+RunStatus Evaluator::resume_halted_motion() {
+  if (!last_motion_) return RunStatus::completed;
   motion_program_ = last_motion_->program;
   motion_line_ = last_motion_->line;
   if (sim_.halted_motion()) return check_motion(sim_.resume_motion(speed_monitor_));
   MotionRequest m = *last_motion_;
   m.speed.monitor = speed_monitor_;
-  start_motion(m);
+  return start_motion(m);
 }
 
 // Starts a resolved motion (also RETRY's restart of an interrupted one).
-void Evaluator::start_motion(const MotionRequest& m) {
+RunStatus Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
+  if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
+    motion_sites_.emplace_back(m.program, m.line);
   const bool hand_pending = sim_.hand_pending();  // OPEN / CLOSE act as this motion starts
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
-  if (r.status == motion::MotionStatus::interrupted) check_motion(r);  // the previous motion's halt
+  if (r.status == motion::MotionStatus::interrupted) return check_motion(r);  // the previous motion's halt
   motion_program_ = m.program;
   motion_line_ = m.line;
   last_motion_ = m;
-  if (r.status == motion::MotionStatus::error) raise_text(r.error.message, r.error.detail);
-  if (r.status == motion::MotionStatus::collision) throw CollisionStop{r.collision};
+  if (r.status == motion::MotionStatus::error)  // reported at the statement that started it
+    return stop(Fault{Message::motion, r.error.message, r.error.detail});
+  if (r.status == motion::MotionStatus::collision) {
+    contact_ = r.collision;
+    return RunStatus::collision;
+  }
   if (hand_pending && !sim_.hand_pending()) hand_changed(sim_.hand(), m.line);
+  return RunStatus::completed;
 }
 
 void Evaluator::type(const Instr& in) {
@@ -630,18 +667,18 @@ std::vector<Value> Evaluator::eval_all(const std::vector<Node>& nodes) {
 
 motion::Location Evaluator::as_transformation(const Value& v) {
   if (const auto* t = std::get_if<motion::Location>(&v)) return *t;
-  raise(ErrorKind::illegal_value, fmt::format("transformation expected, not a {}", kind_name(kind_of(v))));
+  raise(Message::illegal_value, fmt::format("transformation expected, not a {}", kind_name(kind_of(v))));
 }
 
 // --- waiting, terminal input, settings -------------------------------------------------------
 
 // WAIT cond: the clock advances tick by tick until cond holds (bare WAIT: one tick).
 // WAIT.EVENT , t: t seconds. Both wait for the motion first.
-void Evaluator::wait(const Instr& in) {
-  finish_motion();
+RunStatus Evaluator::wait(const Instr& in) {
+  if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
   if (in.code == Code::wait_event) {
     const double t = to_real(eval(in.args[1]), "WAIT.EVENT time");
-    if (!(t >= 0)) raise(ErrorKind::illegal_value, fmt::format("WAIT.EVENT {}", format_number(t)));
+    if (!(t >= 0)) raise(Message::illegal_value, fmt::format("WAIT.EVENT {}", format_number(t)));
     return check_motion(sim_.wait(t));
   }
   if (in.args.empty()) return check_motion(sim_.wait(limits_.tick_s));
@@ -650,13 +687,14 @@ void Evaluator::wait(const Instr& in) {
   while (to_real(eval(in.args[0]), "WAIT condition") == 0) {
     if (limits_.interrupt && limits_.interrupt->load(std::memory_order_relaxed)) {
       --stack_.back().pc;  // as between steps: PROCEED waits again
-      raise(ErrorKind::interrupted);
+      return stop(fault(Message::interrupted));
     }
     if (sim_.time_s() >= give_up)
-      raise(ErrorKind::wait_limit,
-            fmt::format("still false after {} s{}", format_number(limits_.max_wait_s), undriven_signals()));
-    check_motion(sim_.wait(limits_.tick_s));
+      return stop(fault(Message::wait_limit,
+                        fmt::format("still false after {} s{}", format_number(limits_.max_wait_s), undriven_signals())));
+    if (const RunStatus s = check_motion(sim_.wait(limits_.tick_s)); s != RunStatus::completed) return s;
   }
+  return RunStatus::completed;
 }
 
 // PROMPT text, variable: prints the text and reads one line into a string or a real.
@@ -670,15 +708,15 @@ void Evaluator::prompt(const Instr& in) {
     std::string line;
     if (!read_reply(input, line)) {
       out_ << '\n';
-      raise(ErrorKind::illegal_value, "end of input at PROMPT");
+      raise(Message::illegal_value, "end of input at PROMPT");
     }
     if (!interactive_) out_ << '\n';  // the reply is not echoed: keep the output in lines
     if (string_target) {
-      if (line.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
+      if (line.size() > kMaxStringLength) raise(Message::illegal_value, "string longer than 128 characters");
       return store(in.target, line);
     }
     if (const auto v = parse_reply_number(line)) return store(in.target, *v);
-    if (!interactive_) raise(ErrorKind::illegal_value, fmt::format("\"{}\" is not a number", line));
+    if (!interactive_) raise(Message::illegal_value, fmt::format("\"{}\" is not a number", line));
   }
 }
 
@@ -696,7 +734,7 @@ void Evaluator::warn_once(const std::string& keyword, const Instr& in) {
   for (const Diagnostic& w : warnings_)
     if (w.detail == keyword) return;
   Diagnostic w;
-  w.message = std::string(error_message(ErrorKind::not_supported));
+  w.message = std::string(message_text(Message::not_supported));
   w.detail = keyword;
   w.warning = true;
   locate_at(w, *current_program_, in.line);

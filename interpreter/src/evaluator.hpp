@@ -3,6 +3,7 @@
 #pragma once
 #include "checker.hpp"
 #include "code.hpp"
+#include "errors.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include "settings.hpp"
 #include "asimov/interpreter/values.hpp"
@@ -123,25 +124,32 @@ class Evaluator {
     std::optional<MotionRequest> motion;
     double duration_always = 0;
     std::optional<double> duration_next;
-    bool interrupted = false;                   // Ctrl-C: pc is the step not yet run
     bool motion_halted = false;                 // Ctrl-C halted `motion`: its rest runs first
     std::vector<std::shared_ptr<const Program>> pinned;  // the frames' programs, even if reloaded
   };
 
-  // The one protected boundary: runs `setup` then the loop; raises become the result.
-  RunResult protected_run(const std::string& name, const std::function<void()>& setup);
-  void start_motion(const MotionRequest& m);
-  void execute(const Instr& in);
-  void loop();  // runs stack_ until it is empty
+  // The one protected boundary: runs `setup` then the loop and turns the status they return
+  // (or a raised Fault) into the result.
+  //
+  // Status returns: the statements that can end a run return RunStatus::completed to go on, or
+  // the status that ends it (collision: the report in contact_; error / interrupted: the
+  // message in fault_, set by stop()).
+  RunResult protected_run(const std::string& name, const std::function<RunStatus()>& setup);
+  RunStatus start_motion(const MotionRequest& m);
+  RunStatus execute(const Instr& in);  // the statements that can end a run, else statement()
+  void statement(const Instr& in);
+  RunStatus loop();  // runs stack_ until it is empty
   void call(const Instr& in);
   void pop_frame();
-  void motion(const Instr& in);
+  RunStatus motion(const Instr& in);
+  RunStatus hand(const Instr& in);
   void type(const Instr& in);
   std::vector<Value> eval_all(const std::vector<Node>& nodes);
-  void finish_motion();
-  void check_motion(const motion::MotionResult& r);  // a failed finish: collision, error, Ctrl-C
-  void resume_halted_motion();  // PROCEED / RETRY after Ctrl-C halted a motion
-  void wait(const Instr& in);
+  RunStatus finish_motion();
+  RunStatus check_motion(const motion::MotionResult& r);  // a failed finish: collision, error, Ctrl-C
+  RunStatus resume_halted_motion();  // PROCEED / RETRY after Ctrl-C halted a motion
+  RunStatus stop(Fault f);  // keeps `f` for the report: RunStatus::error, or interrupted
+  RunStatus wait(const Instr& in);
   void prompt(const Instr& in);
   void settings(const Instr& in);
   void warn_once(const std::string& keyword, const Instr& in);
@@ -206,9 +214,12 @@ class Evaluator {
   std::istream* in_ = nullptr;                // PROMPT input (null: std::cin)
   bool interactive_ = false;                  // PROMPT asks again on bad input
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
+  std::vector<std::pair<const Program*, int>> motion_sites_;  // this execution's motions (RunResult::motions)
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
   std::optional<motion::InterruptReport> halt_;  // this run's motion halted by Ctrl-C
+  Fault fault_;                               // what ended the run (status error / interrupted)
+  motion::CollisionReport contact_;           // what ended the run (status collision)
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
   FastCtx ctx_;                               // globals_ and the running frame's slots
   std::unique_ptr<motion::CellRuntime> cell_;  // parts and devices (cell_runtime())

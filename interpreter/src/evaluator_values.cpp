@@ -27,7 +27,7 @@ Index Evaluator::index(const Node& n) {
     const double x = real(n.kids[i], "index");
     int k;
     if (!small_index(x, k)) k = to_index(x);
-    if (k < 0 || k > kMaxArrayIndex) raise(ErrorKind::illegal_value, fmt::format("index {} of {}", k, n.text));
+    if (k < 0 || k > kMaxArrayIndex) raise(Message::illegal_value, fmt::format("index {} of {}", k, n.text));
     idx[i] = k;
   }
   return idx;
@@ -47,15 +47,15 @@ Value Evaluator::read(const Node& n) { return lookup(n); }
 const Value& Evaluator::lookup(const Node& n) {
   Variable& v = variable(n);
   if (!n.subscripted) {
-    if (v.is_array()) raise(ErrorKind::illegal_value, fmt::format("{} is an array", n.text));
-    if (!v.scalar) raise(ErrorKind::undefined_value, n.text);
+    if (v.is_array()) raise(Message::illegal_value, fmt::format("{} is an array", n.text));
+    if (!v.scalar) raise(Message::undefined_value, n.text);
     return *v.scalar;
   }
-  if (n.kids.empty()) raise(ErrorKind::illegal_value, fmt::format("{}[] here", n.text));
+  if (n.kids.empty()) raise(Message::illegal_value, fmt::format("{}[] here", n.text));
   const Index idx = index(n);
-  if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", n.text));
+  if (v.scalar) raise(Message::illegal_value, fmt::format("{} is not an array", n.text));
   const Value* e = v.elements.get(idx);
-  if (!e) raise(ErrorKind::undefined_value, element_name(n, idx));
+  if (!e) raise(Message::undefined_value, element_name(n, idx));
   return *e;
 }
 
@@ -63,17 +63,17 @@ void Evaluator::store(const Node& target, Value value) {
   Variable& v = variable(target);
   auto check_kind = [&](const Value& old) {
     if (kind_of(old) != kind_of(value))
-      raise(ErrorKind::illegal_value, fmt::format("{} holds a {}, not a {}", target.text,
+      raise(Message::illegal_value, fmt::format("{} holds a {}, not a {}", target.text,
                                                   kind_name(kind_of(old)), kind_name(kind_of(value))));
   };
   if (!target.subscripted) {
-    if (v.is_array()) raise(ErrorKind::illegal_value, fmt::format("{} is an array", target.text));
+    if (v.is_array()) raise(Message::illegal_value, fmt::format("{} is an array", target.text));
     if (v.scalar) check_kind(*v.scalar);
     v.scalar = std::move(value);
     return;
   }
   const Index idx = index(target);
-  if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", target.text));
+  if (v.scalar) raise(Message::illegal_value, fmt::format("{} is not an array", target.text));
   if (!v.elements.empty()) check_kind(v.elements.begin()->second);
   v.elements.set(idx, std::move(value));
 }
@@ -83,7 +83,7 @@ bool Evaluator::defined(const Node& n) {
   if (!n.subscripted) return v.scalar.has_value();
   try {
     return v.elements.count(index(n)) > 0;
-  } catch (const RuntimeError&) {
+  } catch (const Fault&) {
     return false;
   }
 }
@@ -109,12 +109,12 @@ Value Evaluator::eval(const Node& n) {
     case NodeKind::encode: {
       bool newline = true;
       std::string text = format_items(n.formats, eval_all(n.kids), newline);
-      if (text.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
+      if (text.size() > kMaxStringLength) raise(Message::illegal_value, "string longer than 128 characters");
       return text;
     }
-    case NodeKind::absent: raise(ErrorKind::undefined_value, "omitted argument");
+    case NodeKind::absent: raise(Message::undefined_value, "omitted argument");
   }
-  raise(ErrorKind::illegal_value, "bad expression");
+  raise(Message::illegal_value, "bad expression");
 }
 
 // A signal number: outputs 1-512, inputs 1001-1512, soft signals 2001-2512 (negative: off).
@@ -122,9 +122,9 @@ int Evaluator::signal_number(const Node& n, bool output) {
   const int k = to_index(to_real(eval(n), "signal number"));
   const int a = std::abs(k);
   const bool out = a >= 1 && a <= 512, in = a >= 1001 && a <= 1512, soft = a >= 2001 && a <= 2512;
-  if (k != 0 && !out && !in && !soft) raise(ErrorKind::illegal_value, fmt::format("signal {}", k));
-  if (output && in) raise(ErrorKind::illegal_value, fmt::format("signal {} is an input", k));
-  if (!output && k == 0) raise(ErrorKind::illegal_value, "signal 0");
+  if (k != 0 && !out && !in && !soft) raise(Message::illegal_value, fmt::format("signal {}", k));
+  if (output && in) raise(Message::illegal_value, fmt::format("signal {} is an input", k));
+  if (!output && k == 0) raise(Message::illegal_value, "signal 0");
   return k;
 }
 
@@ -147,11 +147,11 @@ Value Evaluator::function(const Node& n) {
   if (n.func == Func::vplus) {
     std::string name;
     for (char c : n.text) name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    raise(ErrorKind::not_supported, name);
+    raise(Message::not_supported, name);
   }
   if (n.func == Func::timer) {
     const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
-    if (k < 1 || k > 16) raise(ErrorKind::illegal_value, fmt::format("timer {}", k));
+    if (k < 1 || k > 16) raise(Message::illegal_value, fmt::format("timer {}", k));
     const auto& [value, since] = memory_.timers[static_cast<std::size_t>(k)];
     return value + (sim_.time_s() - since);
   }
@@ -238,9 +238,9 @@ void Evaluator::store_real(const Node& target, double x) {
     return;
   }
   const Index idx = index(target);
-  if (v.scalar) raise(ErrorKind::illegal_value, fmt::format("{} is not an array", target.text));
+  if (v.scalar) raise(Message::illegal_value, fmt::format("{} is not an array", target.text));
   if (!v.elements.empty() && kind_of(v.elements.begin()->second) != Kind::real)
-    raise(ErrorKind::illegal_value, fmt::format("{} holds a {}, not a real", target.text,
+    raise(Message::illegal_value, fmt::format("{} holds a {}, not a real", target.text,
                                                 kind_name(kind_of(v.elements.begin()->second))));
   if (Value* e = v.elements.get(idx)) *e = x;
   else v.elements.set(idx, x);

@@ -41,13 +41,13 @@ double real_arg(const std::vector<std::optional<Value>>& args, std::size_t i) {
 }
 
 const Value& arg(const std::vector<std::optional<Value>>& args, std::size_t i) {
-  if (i >= args.size() || !args[i]) raise(ErrorKind::undefined_value, "missing argument");
+  if (i >= args.size() || !args[i]) raise(Message::undefined_value, "missing argument");
   return *args[i];
 }
 
 motion::Location trans_only(const Value& v) {
   if (const auto* t = std::get_if<motion::Location>(&v)) return *t;
-  raise(ErrorKind::illegal_value, fmt::format("transformation expected, not a {}", kind_name(kind_of(v))));
+  raise(Message::illegal_value, fmt::format("transformation expected, not a {}", kind_name(kind_of(v))));
 }
 
 motion::Location rotation(int axis, double deg) {
@@ -92,7 +92,7 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::asin:
     case Func::acos: {
       const double v = x(0);
-      if (std::fabs(v) > 1) raise(ErrorKind::illegal_value, fmt::format("{} outside [-1, 1]", v));
+      if (std::fabs(v) > 1) raise(Message::illegal_value, fmt::format("{} outside [-1, 1]", v));
       return (f == Func::asin ? std::asin(v) : std::acos(v)) / kDeg;
     }
     case Func::atan2: {
@@ -102,7 +102,7 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     }
     case Func::sqrt: {
       const double v = x(0);
-      if (v < 0) raise(ErrorKind::illegal_value, fmt::format("SQRT({})", v));
+      if (v < 0) raise(Message::illegal_value, fmt::format("SQRT({})", v));
       return std::sqrt(v);
     }
     case Func::sqr: return finite(x(0) * x(0));
@@ -130,7 +130,7 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       double r = 0;
       for (std::size_t i = 0; i < args.size(); ++i) {
         const int b = to_index(to_real(arg(args, i)));
-        if (b < 1 || b > 32) raise(ErrorKind::illegal_value, fmt::format("bit {} not in 1..32", b));
+        if (b < 1 || b > 32) raise(Message::illegal_value, fmt::format("bit {} not in 1..32", b));
         r = static_cast<double>(static_cast<std::int64_t>(r) | (std::int64_t{1} << (b - 1)));
       }
       return r;
@@ -144,7 +144,7 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::ppoint: {
       const int n = sim.robot().joint_count();
       if (static_cast<int>(args.size()) > n)
-        raise(ErrorKind::illegal_value, fmt::format("{} joint values for {} joints", args.size(), n));
+        raise(Message::illegal_value, fmt::format("{} joint values for {} joints", args.size(), n));
       robots::JointVector j(n);
       for (int i = 0; i < n; ++i) j[i] = x(static_cast<std::size_t>(i));
       return j;
@@ -166,7 +166,7 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::len: return static_cast<double>(to_string_value(arg(args, 0)).size());
     case Func::chr: {
       const int c = to_index(x(0));
-      if (c < 32 || c > 126) raise(ErrorKind::illegal_value, fmt::format("$CHR({})", c));
+      if (c < 32 || c > 126) raise(Message::illegal_value, fmt::format("$CHR({})", c));
       return std::string(1, static_cast<char>(c));
     }
     case Func::asc: {
@@ -184,13 +184,13 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       } catch (...) {
         used = 0;
       }
-      if (used == 0 || !std::isfinite(v)) raise(ErrorKind::illegal_value, fmt::format("VAL(\"{}\")", s));
+      if (used == 0 || !std::isfinite(v)) raise(Message::illegal_value, fmt::format("VAL(\"{}\")", s));
       return v;
     }
     case Func::mid: {  // $MID($s, i, n): 1-based
       const std::string& s = to_string_value(arg(args, 0));
       const int i = to_index(x(1)), n = to_index(x(2));
-      if (i < 1 || n < 0) raise(ErrorKind::illegal_value, fmt::format("$MID(, {}, {})", i, n));
+      if (i < 1 || n < 0) raise(Message::illegal_value, fmt::format("$MID(, {}, {})", i, n));
       if (static_cast<std::size_t>(i) > s.size()) return std::string();
       return s.substr(static_cast<std::size_t>(i - 1), static_cast<std::size_t>(n));
     }
@@ -202,11 +202,11 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       // (>1e154) vectors from squaring to infinity and leaving a zero "rotation".
       const Eigen::Vector3d x_axis = b - a;
       if (!x_axis.allFinite() || !(c - a).allFinite()) raise_not_finite();
-      if (x_axis.stableNorm() < 1e-9) raise(ErrorKind::illegal_value, "FRAME: a and b coincide");
+      if (x_axis.stableNorm() < 1e-9) raise(Message::illegal_value, "FRAME: a and b coincide");
       const Eigen::Vector3d x_hat = x_axis.stableNormalized();
       const Eigen::Vector3d y_part = (c - a) - (c - a).dot(x_hat) * x_hat;
       if (!y_part.allFinite()) raise_not_finite();
-      if (y_part.stableNorm() < 1e-9) raise(ErrorKind::illegal_value, "FRAME: c is on the line a-b");
+      if (y_part.stableNorm() < 1e-9) raise(Message::illegal_value, "FRAME: c is on the line a-b");
       const Eigen::Vector3d y_hat = y_part.stableNormalized();
       motion::Location t = motion::Location::Identity();
       t.linear().col(0) = x_hat;
@@ -225,7 +225,7 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::timer:
     case Func::count: break;
   }
-  raise(ErrorKind::illegal_value, "bad function");
+  raise(Message::illegal_value, "bad function");
 }
 
 }  // namespace asimov::interpreter

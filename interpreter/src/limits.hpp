@@ -8,7 +8,6 @@ constexpr std::size_t kNameLength = 15;        // significant characters of a na
 constexpr std::size_t kMaxStringLength = 128;  // characters in a string value
 constexpr int kMaxArrayIndex = 65535;          // highest array index
 constexpr unsigned kMaxLabel = 65535;          // highest statement label
-constexpr int kMaxCallDepth = 1000;            // nested CALLs before *Too many nested calls*
 constexpr int kMaxSubscripts = 3;              // a[i,j,k]
 constexpr std::size_t kMaxLoadErrors = 20;     // syntax errors reported per LOAD
 

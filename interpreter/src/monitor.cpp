@@ -46,18 +46,29 @@ constexpr std::array<CommandInfo, 23> kCommands = {{
 }};
 static_assert(kCommands.size() == static_cast<std::size_t>(Command::count));
 
-// Instruction words offered by completion after DO (dialect §5, §6).
-constexpr std::array<std::string_view, 40> kInstructions = {
-    "ABOVE", "ALIGN", "APPRO", "APPROS", "BASE", "BELOW", "BREAK", "CALL", "CLOSE", "CLOSEI",
-    "DECOMPOSE", "DEPART", "DEPARTS", "DISABLE", "DRAW", "DRIVE", "DURATION", "ENABLE", "FLIP", "HERE",
-    "LEFTY", "MOVE", "MOVES", "MOVET", "MOVEST", "MULTIPLE", "NOFLIP", "OPEN", "OPENI", "PARAMETER",
-    "READY", "RELAX", "RELAXI", "RIGHTY", "SET", "SIGNAL", "SINGLE", "SPEED", "TOOL", "TYPE"};
+// Instruction words offered by completion after DO (dialect §5, §6): the do_ok words of
+// instructions.def, upper case and sorted.
+const std::vector<std::string>& do_words() {
+  static const std::vector<std::string> out = [] {
+    std::vector<std::string> w;
+    for (const Word& word : words())
+      if (word.flags & word_flag::do_ok) {
+        std::string s(word.spelling);
+        for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        w.push_back(std::move(s));
+      }
+    std::sort(w.begin(), w.end());
+    return w;
+  }();
+  return out;
+}
 
-// Statements DO refuses: control flow and declarations (dialect §9).
-constexpr std::array<std::string_view, 24> kNotForDo = {
-    "if", "else", "elseif", "elif", "end", "while", "do", "until", "for", "case", "value",
-    "any", "goto", "exit", "next", "return", "auto", "local", "global", ".program", ".end", "stop",
-    "pause", "halt"};
+// Statements DO refuses: control flow and declarations (dialect §9), the no_do words.
+bool not_for_do(const std::string& lower_word) {
+  for (const Word& w : words())
+    if ((w.flags & word_flag::no_do) && w.spelling == lower_word) return true;
+  return false;
+}
 
 constexpr const char* kDoProgram = "do.tmp";      // DO runs as this one-statement program
 constexpr const char* kExecProgram = "exec.tmp";  // EXECUTE prog(args) calls prog from this one
@@ -254,9 +265,7 @@ CommandStatus Monitor::execute(const std::string& line) {
 }
 
 CommandStatus Monitor::dispatch(Command c, Args rest) {
-  const bool no_args = c == Command::abort || c == Command::calibrate || c == Command::directory
-      || c == Command::proceed || c == Command::quit || c == Command::retry || c == Command::status
-      || c == Command::where || c == Command::zero;
+  const bool no_args = command_info(c).usage.empty();  // the kCommands row shows no argument
   if (no_args && !rest.empty()) return fail("*Syntax error*", fmt::format("{} takes no argument", command_info(c).name));
   switch (c) {
     case Command::abort:  // with nothing stopped: nothing to do
@@ -325,7 +334,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
            : r.status == RunStatus::collision     ? ExecState::collision
            : r.status == RunStatus::paused        ? ExecState::paused
            : r.status == RunStatus::halted        ? ExecState::halted
-           : is_interrupt(r.error)                ? ExecState::interrupted
+           : r.status == RunStatus::interrupted   ? ExecState::interrupted
                                                   : ExecState::error;
     state_step_ = r.step;
     halted_ = r.interrupt;
@@ -337,6 +346,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
     case RunStatus::paused:  // PAUSE (PROCEED continues) and HALT are not failures
     case RunStatus::halted: out_ << format_pause(r) << '\n'; return CommandStatus::ok;
     case RunStatus::error:
+    case RunStatus::interrupted:
       out_ << format_diagnostic(d) << format_interrupt(r);  // Ctrl-C in a motion: where the arm stopped
       return CommandStatus::failed;
     case RunStatus::collision: {
@@ -387,7 +397,7 @@ CommandStatus Monitor::cmd_do(Args rest) {
   std::size_t end = 0;
   while (end < rest.size() && !std::isspace(static_cast<unsigned char>(rest[end])) && rest[end] != ';') ++end;
   const std::string first = lower(rest.substr(0, end));
-  if (std::isdigit(static_cast<unsigned char>(rest[0])) || std::find(kNotForDo.begin(), kNotForDo.end(), first) != kNotForDo.end())
+  if (std::isdigit(static_cast<unsigned char>(rest[0])) || not_for_do(first))
     return fail("*Syntax error*", "control flow and declarations are not allowed in DO");
   if (first == "signal") {  // the monitor may also set inputs (dialect §6 [ext])
     std::vector<int> numbers;
@@ -584,9 +594,8 @@ CommandStatus Monitor::cmd_store(Args rest, bool locations_only) {
   if (programs.empty()) programs = interp_.program_names();
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && confirm && !confirm("Replace file? (Y/N) ")) return CommandStatus::ok;
-  std::string why;
-  if (!write_file_atomic(path, store_text(interp_.memory(), programs, locations_only), why))
-    return fail("*Cannot write file*", why);
+  if (const auto written = write_file_atomic(path, store_text(interp_.memory(), programs, locations_only)); !written)
+    return fail("*Cannot write file*", written.error().message);
   return CommandStatus::ok;
 }
 
@@ -663,7 +672,7 @@ CommandStatus Monitor::cmd_status() {
   if (state_ == ExecState::completed) state = "completed";
   if (state_ == ExecState::interrupted) state = fmt::format("interrupted at step {}", state_step_);
   if (state_ == ExecState::interrupted && halted_)
-    state += fmt::format(", motion of step {} halted at {:.1f} % of its path", halted_->tag, 100 * halted_->path_fraction);
+    state += fmt::format(", motion of step {} halted at {:.1f} % of its path", halted_->step, 100 * halted_->path_fraction);
   if (state_ == ExecState::paused) state = fmt::format("paused at step {}", state_step_);
   if (state_ == ExecState::halted) state = fmt::format("halted at step {}", state_step_);
   if (state_ == ExecState::error) state = fmt::format("stopped by error at step {}", state_step_);
@@ -767,7 +776,7 @@ std::vector<std::string> Monitor::completions(const std::string& line, const std
   const Command c = m.match == Match::found ? m.command : Command::count;
   const bool instruction_word = c == Command::do_ && trim(before.substr(end)).empty();
   if (instruction_word)
-    for (std::string_view k : kInstructions) offer(cased(std::string(k)));
+    for (const std::string& k : do_words()) offer(cased(k));
   const bool programs = c == Command::execute || c == Command::listp || c == Command::delete_
       || c == Command::store || c == Command::do_;
   if (programs)

@@ -21,7 +21,7 @@ namespace {
 std::int32_t to_int32(double x) {
   const double t = std::trunc(x);
   if (!(t >= -2147483648.0 && t <= 2147483647.0))
-    raise(ErrorKind::illegal_value, fmt::format("{} is not a 32-bit integer", format_number(x)));
+    raise(Message::illegal_value, fmt::format("{} is not a 32-bit integer", format_number(x)));
   return static_cast<std::int32_t>(t);
 }
 
@@ -54,7 +54,7 @@ const char* op_text(Op op) {
 Value apply_binary(Op op, const Value& a, const Value& b) {
   if (op == Op::compound) {
     if (kind_of(a) != Kind::trans || kind_of(b) != Kind::trans)
-      raise(ErrorKind::illegal_value, "\":\" needs two transformations");
+      raise(Message::illegal_value, "\":\" needs two transformations");
     motion::Location t = std::get<motion::Location>(a) * std::get<motion::Location>(b);
     // One Newton step towards the nearest rotation, R (3I - R^T R)/2: chains of 10^6 compounds
     // stay orthonormal to 1e-15 instead of drifting to 1e-10 (docs/stiff-cases.md); exact
@@ -67,15 +67,15 @@ Value apply_binary(Op op, const Value& a, const Value& b) {
     const std::string& x = to_string_value(a);
     const std::string& y = to_string_value(b);
     if (op == Op::add) {
-      if (x.size() + y.size() > kMaxStringLength) raise(ErrorKind::illegal_value, "string longer than 128 characters");
+      if (x.size() + y.size() > kMaxStringLength) raise(Message::illegal_value, "string longer than 128 characters");
       return x + y;
     }
-    if (!is_relational(op)) raise(ErrorKind::illegal_value, fmt::format("\"{}\" on strings", op_text(op)));
+    if (!is_relational(op)) raise(Message::illegal_value, fmt::format("\"{}\" on strings", op_text(op)));
     return truth(compare(op, x, y));
   }
   return real_binary(op, to_real(a, op_text(op)), to_real(b, op_text(op)));
 }
 
-void raise_division_by_zero() { raise(ErrorKind::division_by_zero); }
+void raise_division_by_zero() { raise(Message::division_by_zero); }
 
 }  // namespace asimov::interpreter

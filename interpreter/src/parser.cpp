@@ -3,6 +3,7 @@
 // character that cannot continue a name, so `speed.x` is a name, not SPEED.
 #include "parser.hpp"
 
+#include "instructions.hpp"
 #include "limits.hpp"
 
 #include <boost/fusion/include/adapt_struct.hpp>
@@ -54,22 +55,23 @@ namespace x3 = boost::spirit::x3;
 using ast::Kw;
 using ast::Op;
 
-// Reserved words: they never parse as variable names (dialect §1).
-constexpr std::string_view kReserved[] = {
-    "and", "or", "xor", "not", "mod", "band", "bor", "bxor", "to", "step", "then", "else",
-    "end", "do", "until", "while", "for", "if", "goto", "call", "return", "stop", "set",
-    "decompose", "here", "move", "moves", "appro", "appros", "depart", "departs", "break",
-    "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
-    "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
-    "auto", "local", "global", "elseif", "elif", "ready", "draw", "righty", "lefty", "above",
-    "below", "flip", "noflip", "single", "multiple", "signal", "timer", "align", "drive", "wait",
-    "prompt", "open", "close", "relax", "openi", "closei", "relaxi", "movet", "movest",
-    "duration", "enable", "disable", "parameter", "switch"};
-
+// Reserved words (the `reserved` rows of instructions.def): they never parse as variable
+// names (dialect §1).
 bool is_reserved(const std::string& word) {
   std::string lower = word;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return std::find(std::begin(kReserved), std::end(kReserved), lower) != std::end(kReserved);
+  for (const Word& w : words())
+    if ((w.flags & word_flag::reserved) && w.spelling == lower) return true;
+  return false;
+}
+
+// An X3 symbol table of the words of instructions.def that `pick` selects.
+template <class Pick>
+x3::symbols<Kw> keyword_table(Pick pick) {
+  x3::symbols<Kw> table;
+  for (const Word& w : words())
+    if (w.kw != Kw::none && pick(w)) table.add(std::string(w.spelling), w.kw);
+  return table;
 }
 
 // Reals without "nan"/"inf" spellings, unsigned (the sign is a unary operator).
@@ -108,41 +110,12 @@ struct unary_ops_table : x3::symbols<Op> {
   unary_ops_table() { add("-", Op::neg)("+", Op::plus); }
 } const unary_sign;
 
-// Instruction keywords parsed by the generic `instruction` rule.
-struct instruction_table : x3::symbols<Kw> {
-  instruction_table() {
-    add("here", Kw::here)("move", Kw::move)("moves", Kw::moves)("appro", Kw::appro)
-       ("appros", Kw::appros)("depart", Kw::depart)("departs", Kw::departs)
-       ("break", Kw::break_)("speed", Kw::speed)("goto", Kw::goto_)("return", Kw::return_)
-       ("stop", Kw::stop)("end", Kw::end)("else", Kw::else_)("while", Kw::while_)
-       ("do", Kw::do_)("until", Kw::until)("exit", Kw::exit)("next", Kw::next)
-       ("pause", Kw::pause)("halt", Kw::halt)(".end", Kw::dot_end)("elseif", Kw::elseif)
-       ("elif", Kw::elseif)("case", Kw::case_)("value", Kw::value)("any", Kw::any)
-       ("tool", Kw::tool)("base", Kw::base)("ready", Kw::ready)("draw", Kw::draw)
-       ("righty", Kw::righty)("lefty", Kw::lefty)("above", Kw::above)("below", Kw::below)
-       ("flip", Kw::flip)("noflip", Kw::noflip)("single", Kw::single)("multiple", Kw::multiple)
-       (".locations", Kw::dot_locations)(".reals", Kw::dot_reals)(".strings", Kw::dot_strings)
-       ("signal", Kw::signal)("align", Kw::align)("drive", Kw::drive)("wait", Kw::wait)
-       ("wait.event", Kw::wait_event)("prompt", Kw::prompt)("open", Kw::open)("close", Kw::close)
-       ("relax", Kw::relax)("openi", Kw::openi)("closei", Kw::closei)("relaxi", Kw::relaxi)
-       ("movet", Kw::movet)("movest", Kw::movest)("duration", Kw::duration)
-       ("enable", Kw::enable)("disable", Kw::disable);
-  }
-} const instruction_words;
-
-struct trailing_table : x3::symbols<Kw> {
-  trailing_table() {
-    add("always", Kw::always)("monitor", Kw::monitor)("do", Kw::do_)("then", Kw::then)("of", Kw::of);
-  }
-} const trailing_words;
-
-struct unit_table : x3::symbols<Kw> {
-  unit_table() { add("mmps", Kw::mmps)("ips", Kw::ips); }
-} const unit_words;
-
-struct declaration_table : x3::symbols<Kw> {
-  declaration_table() { add("auto", Kw::auto_)("local", Kw::local)("global", Kw::global); }
-} const declaration_words;
+// Instruction keywords parsed by the generic `instruction` rule, and the words around them.
+const x3::symbols<Kw> instruction_words = keyword_table([](const Word& w) { return w.instruction; });
+const x3::symbols<Kw> trailing_words = keyword_table([](const Word& w) { return (w.flags & word_flag::trailing) != 0; });
+const x3::symbols<Kw> unit_words = keyword_table([](const Word& w) { return (w.flags & word_flag::unit) != 0; });
+const x3::symbols<Kw> declaration_words = keyword_table([](const Word& w) { return (w.flags & word_flag::declaration) != 0; });
+const x3::symbols<Kw> binding_words = keyword_table([](const Word& w) { return (w.flags & word_flag::binding) != 0; });
 
 struct type_word_table : x3::symbols<x3::unused_type> {
   type_word_table() { add("real")("double")("loc"); }
@@ -158,10 +131,6 @@ struct unsupported_table : x3::symbols<x3::unused_type> {
       add(w);
   }
 } const unsupported_words;
-
-struct binding_table : x3::symbols<Kw> {
-  binding_table() { add("set", Kw::set)("decompose", Kw::decompose)("parameter", Kw::parameter); }
-} const binding_words;
 
 // Function words that need no parentheses.
 struct bare_function_table : x3::symbols<std::string> {

@@ -12,14 +12,14 @@ namespace asimov::interpreter {
 double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "HAND.TIME") return s.hand_time_s;
   if (name == "COLLISION.CLEARANCE") return sim.clearance_mm();
-  raise(ErrorKind::illegal_value, fmt::format("unknown parameter {}", name));
+  raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
 }
 
 void set_parameter(const std::string& name, double value, Settings& s, motion::Simulator& sim) {
   const bool known = name == "HAND.TIME" || name == "COLLISION.CLEARANCE";
-  if (!known) raise(ErrorKind::illegal_value, fmt::format("unknown parameter {}", name));
+  if (!known) raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
   if (!(value >= 0) || !std::isfinite(value))
-    raise(ErrorKind::illegal_value, fmt::format("{} = {}", name, format_number(value)));
+    raise(Message::illegal_value, fmt::format("{} = {}", name, format_number(value)));
   if (name == "HAND.TIME") s.hand_time_s = value;
   else sim.set_clearance(value);
 }
@@ -27,14 +27,14 @@ void set_parameter(const std::string& name, double value, Settings& s, motion::S
 bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "CP") return s.cp;
   if (name == "COLLISION") return sim.collision_enabled();
-  raise(ErrorKind::illegal_value, fmt::format("unknown switch {}", name));
+  raise(Message::illegal_value, fmt::format("unknown switch {}", name));
 }
 
 bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim) {
   if (name == "CP") s.cp = on;
   else if (name == "COLLISION") sim.set_collision_enabled(on);
   else if (name == "SCALE.ACCEL") return false;
-  else raise(ErrorKind::illegal_value, fmt::format("unknown switch {}", name));
+  else raise(Message::illegal_value, fmt::format("unknown switch {}", name));
   return true;
 }
 

@@ -108,21 +108,18 @@ std::string store_text(const Memory& memory, const std::vector<std::string>& pro
   return out;
 }
 
-bool write_file_atomic(const std::string& path, const std::string& text, std::string& why) {
+Result<void> write_file_atomic(const std::string& path, const std::string& text) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
   const std::string temp = path + ".tmp-" + std::to_string(::getpid());
-  auto fail = [&](const char* what) {
-    why = fmt::format("{}: {} ({})", path, what, std::strerror(errno));
+  auto fail = [&](const char* what) -> Result<void> {
+    Error e{fmt::format("{}: {} ({})", path, what, std::strerror(errno)), {}, path, 0};
     ::unlink(temp.c_str());
-    return false;
+    return e;
   };
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    why = fmt::format("{}: cannot create ({})", path, std::strerror(errno));
-    return false;
-  }
+  if (fd < 0) return Error{fmt::format("{}: cannot create ({})", path, std::strerror(errno)), {}, path, 0};
   std::size_t done = 0;
   while (done < text.size()) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
@@ -143,7 +140,7 @@ bool write_file_atomic(const std::string& path, const std::string& text, std::st
     ::fsync(dir);  // the rename itself reaches the disk
     ::close(dir);
   }
-  return true;
+  return {};
 }
 
 }  // namespace asimov::interpreter

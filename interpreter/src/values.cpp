@@ -21,19 +21,19 @@ const char* kind_name(Kind kind) {
 
 double to_real(const Value& v, const char* what) {
   if (const double* d = std::get_if<double>(&v)) return *d;
-  raise(ErrorKind::illegal_value, fmt::format("{}, not a {}", what, kind_name(kind_of(v))));
+  raise(Message::illegal_value, fmt::format("{}, not a {}", what, kind_name(kind_of(v))));
 }
 
 const std::string& to_string_value(const Value& v) {
   if (const std::string* s = std::get_if<std::string>(&v)) return *s;
-  raise(ErrorKind::illegal_value, fmt::format("string expected, not a {}", kind_name(kind_of(v))));
+  raise(Message::illegal_value, fmt::format("string expected, not a {}", kind_name(kind_of(v))));
 }
 
-void raise_not_finite() { raise(ErrorKind::illegal_value, "result is not a finite number"); }
+void raise_not_finite() { raise(Message::illegal_value, "result is not a finite number"); }
 
 int to_index(double x) {
   const double r = std::round(x);  // halves away from zero
-  if (!(r >= -2e9 && r <= 2e9)) raise(ErrorKind::illegal_value, fmt::format("{} is not an integer", x));
+  if (!(r >= -2e9 && r <= 2e9)) raise(Message::illegal_value, fmt::format("{} is not an integer", x));
   return static_cast<int>(r);
 }
 

@@ -31,7 +31,7 @@ void ContinuousChecker::note(std::size_t pair, const collision::DistanceResult& 
   if (r.status == collision::DistanceStatus::beyond || !(r.distance < report_mm_)) return;
   PairApproach& a = approach_[pair];
   if (a.distance >= 0 && a.distance <= r.distance) return;
-  a = {r.distance, t, r.point_a, r.point_b, tag_};
+  a = {r.distance, t, r.point_a, r.point_b, step_};
 }
 
 void ContinuousChecker::measure(std::size_t pair, Point& p, double upper) {
@@ -70,8 +70,8 @@ bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, 
 
 ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVector& q_a, double t_b,
                                             const robots::JointVector& q_b, const ContinuousPath& path,
-                                            int tag) {
-  tag_ = tag;
+                                            int step) {
+  step_ = step;
   posed_t_ = t_b;
   const auto pairs = engine_.enabled_pairs();
   const std::size_t n = pairs.size();

@@ -50,7 +50,7 @@ struct PairApproach {
   double distance = -1;  // [mm]; < 0: never within report_mm
   double time_s = 0;
   collision::Vec3 point_a = collision::Vec3::Zero(), point_b = collision::Vec3::Zero();
-  int tag = 0;
+  int step = 0;          // program step of the motion (Simulator::start_*)
 };
 
 // Motion bounds of the executed paths. Joint moves are straight in joint space, so a pair's
@@ -78,7 +78,7 @@ class ContinuousChecker {
   // contact in (t_a, t_b], if any; every pair is then free on [t_a, t_free]. Leaves the engine
   // posed at q_b.
   ContinuousContact verify(double t_a, const robots::JointVector& q_a, double t_b, const robots::JointVector& q_b,
-                           const ContinuousPath& path, int tag);
+                           const ContinuousPath& path, int step);
 
   std::uint64_t probes() const { return probes_; }            // poses posed and measured between checked poses
   std::uint64_t distance_queries() const { return queries_; } // Engine::distance calls
@@ -100,7 +100,7 @@ class ContinuousChecker {
   double clearance_;
   double tol_;
   double report_mm_;
-  int tag_ = 0;
+  int step_ = 0;
   double posed_t_ = -1;         // time the engine's bodies are posed at (probes)
   double cache_t_ = -1;         // time of the cached distances (the last checked pose)
   std::vector<double> cache_d_; // per pair: lower bound at cache_t_

@@ -163,7 +163,7 @@ struct Simulator::Impl {
     Profile profile;
     SpeedSettings speed;
     double t0 = 0;
-    int tag = 0;
+    int step = 0;
   } pending;
 
   explicit Impl(Cell c) : cell(std::move(c)) {
@@ -263,7 +263,7 @@ struct Simulator::Impl {
         g.placed = collision::place(g.container, g.pose);
       }
     const auto pairs = engine->enabled_pairs();
-    const double c = cell.collision.clearance_mm, st = step();
+    const double c = cell.collision.clearance_mm, st = step_mm();
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       const GapBody &a = gap_bodies[pairs[i].a], &b = gap_bodies[pairs[i].b];
       const double margin = collision::relative_margin(a.container, a.pose, b.container, b.pose);
@@ -378,13 +378,13 @@ struct Simulator::Impl {
   // checked and free (then the contact time is bisected). The arm stays at the last free pose,
   // the clock at the contact time.
   template <class PathAt>
-  MotionResult halt(CollisionReport report, double t_prev, bool was_free, PathAt&& at, int tag) {
+  MotionResult halt(CollisionReport report, double t_prev, bool was_free, PathAt&& at, int step) {
     const ScopeTimer timer{timing.collision_s};
     report.time_free_s = t_prev;
     last_free = was_free && bisect_contact(t_prev, joints, at, report);
     time = report.time_s;
     if (replay_grid > 0) replay_halt(report.time_free_s);
-    return collision_result(std::move(report), tag);
+    return collision_result(std::move(report), step);
   }
 
   // One checked pose at time t: counts it, traces it, checks it.
@@ -408,7 +408,7 @@ struct Simulator::Impl {
       checked = checked || replay.back().checked;  // same instant (a zero-length motion)
       replay.pop_back();
     }
-    replay.push_back({t, q, pending.tag, checked});
+    replay.push_back({t, q, pending.step, checked});
   }
   // The grid instants strictly between two checked poses, joints from `path(t)`.
   template <class PathAt>
@@ -448,10 +448,10 @@ struct Simulator::Impl {
     return line_joints(p, *(next - 1), *next, tm, replay.empty() ? (next - 1)->joints : replay.back().joints).joints;
   }
 
-  MotionResult collision_result(CollisionReport report, int tag) {
+  MotionResult collision_result(CollisionReport report, int step) {
     MotionResult r;
     r.status = MotionStatus::collision;
-    report.tag = tag;
+    report.step = step;
     ++accuracy.contacts;
     accuracy.contact_bracket_s = std::max(accuracy.contact_bracket_s, report.time_s - report.time_free_s);
     r.collision = std::move(report);
@@ -466,7 +466,7 @@ struct Simulator::Impl {
   MotionResult interrupt_halt(const Pending& p, double t_halt, double fraction) {
     time = t_halt;
     rest = Rest{p.to, p.straight, dest, p.speed, t_halt - p.t0};
-    halted = InterruptReport{t_halt, fraction, joints, p.tag};
+    halted = InterruptReport{t_halt, fraction, joints, p.step};
     MotionResult r;
     r.status = MotionStatus::interrupted;
     r.interrupt = *halted;
@@ -474,11 +474,11 @@ struct Simulator::Impl {
   }
 
   // Step rule (docs/collision-method.md §6.3): pairs may move max(c, step_mm) relative to each other.
-  double step() const { return std::max({cell.collision.clearance_mm, cell.collision.step_mm, kMinStepMm}); }
+  double step_mm() const { return std::max({cell.collision.clearance_mm, cell.collision.step_mm, kMinStepMm}); }
 
   double speed_factor(const SpeedSettings& s) const { return s.monitor / 100 * s.program / 100; }
 
-  MotionResult plan_joint(const JointVector& target, const SpeedSettings& speed, int tag) {
+  MotionResult plan_joint(const JointVector& target, const SpeedSettings& speed, int step) {
     const auto& robot = cell.robot;
     const double f = speed_factor(speed);
     std::array<ProfileAxis, robots::kMaxJoints> axes{};
@@ -489,12 +489,12 @@ struct Simulator::Impl {
     pending.active = true;
     pending.from = joints;
     pending.to = target;
-    pending.intervals = joint_move_intervals(reach, joints, target, step(), moving_pairs);
+    pending.intervals = joint_move_intervals(reach, joints, target, step_mm(), moving_pairs);
     pending.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(robot.joint_count())), speed.duration_s);
     pending.speed = speed;
     pending.t0 = time;
     halted.reset();  // a new motion drops the rest of an interrupted one
-    pending.tag = tag;
+    pending.step = step;
     dest = here_at(target);
     motion_started();
     return {};
@@ -531,7 +531,7 @@ const RunTiming& Simulator::timing() const { return impl_->timing; }
 void Simulator::add_parse_time(double seconds) { impl_->timing.parse_s += seconds; }
 void Simulator::add_preprocess_time(double seconds) { impl_->timing.preprocess_s += seconds; }
 
-MotionResult Simulator::start_joint_move(const robots::JointVector& target, SpeedSettings speed, int tag) {
+MotionResult Simulator::start_joint_move(const robots::JointVector& target, SpeedSettings speed, int step) {
   if (impl_->pending.active)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
   const ScopeTimer timer{impl_->timing.motion_s};
@@ -540,10 +540,10 @@ MotionResult Simulator::start_joint_move(const robots::JointVector& target, Spee
   if (target.size() != robot.joint_count()) return error("*Illegal value*", "wrong number of joints");
   if (const int j = robots::first_limit_violation(robot, target); j >= 0)
     return error("*Joint limit exceeded*", fmt_limit(robot, j, target[j]));
-  return impl_->plan_joint(target, speed, tag);
+  return impl_->plan_joint(target, speed, step);
 }
 
-MotionResult Simulator::start_move(const Location& target, bool straight, SpeedSettings speed, int tag) {
+MotionResult Simulator::start_move(const Location& target, bool straight, SpeedSettings speed, int step) {
   if (impl_->pending.active)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
   Impl& s = *impl_;
@@ -561,7 +561,7 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
     s.accuracy.ik_residual.merge(pose_error(robots::flange_pose(robot, ik.joints), flange));
     ++s.accuracy.ik_solves;
     s.request.righty = s.request.above = s.request.noflip = -1;  // consumed by this motion
-    MotionResult r = s.plan_joint(ik.joints, speed, tag);
+    MotionResult r = s.plan_joint(ik.joints, speed, step);
     s.dest = target;
     return r;
   }
@@ -571,7 +571,7 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   req.tool = s.tool;
   req.start = s.joints;
   req.config = current;
-  req.step_mm = s.step();
+  req.step_mm = s.step_mm();
   req.pairs = s.moving_pairs;
   LinePlan plan;
   const LineStatus planned = plan_line(robot, s.reach, req, plan);
@@ -632,7 +632,7 @@ MotionResult Simulator::start_move(const Location& target, bool straight, SpeedS
   s.pending.speed = speed;
   s.pending.t0 = s.time;
   s.halted.reset();  // a new motion drops the rest of an interrupted one
-  s.pending.tag = tag;
+  s.pending.step = step;
   s.dest = target;
   s.motion_started();
   return {};
@@ -649,13 +649,13 @@ MotionResult Simulator::resume_motion(std::optional<double> monitor_speed) {
   Impl& s = *impl_;
   if (!s.halted) return error("*No motion to resume*");
   const Impl::Rest rest = s.rest;
-  const int tag = s.halted->tag;
+  const int step = s.halted->step;
   SpeedSettings speed = rest.speed;
   if (monitor_speed) speed.monitor = *monitor_speed;
   if (speed.duration_s > 0) speed.duration_s = std::max(0.0, speed.duration_s - rest.elapsed_s);
   // The joints where it stopped lie on the planned path, so a new joint move to the same joint
   // target (or a line from here to the same location) is the rest of the same path.
-  MotionResult r = rest.straight ? start_move(rest.target, true, speed, tag) : start_joint_move(rest.to, speed, tag);
+  MotionResult r = rest.straight ? start_move(rest.target, true, speed, step) : start_joint_move(rest.to, speed, step);
   if (r.status == MotionStatus::ok) s.dest = rest.target;
   return r;
 }
@@ -713,7 +713,7 @@ MotionResult Simulator::finish_motion() {
   CollisionReport report;
   if (!s.start_checked) {  // the start pose of the first motion
     s.start_checked = true;
-    if (s.visit(s.joints, s.time, report)) return s.collision_result(std::move(report), p.tag);
+    if (s.visit(s.joints, s.time, report)) return s.collision_result(std::move(report), p.step);
   }
   const bool gap = s.gap_stepping();
   if (gap) robots::link_frames(s.cell.robot, s.joints, s.frames);  // gaps at the start pose
@@ -752,7 +752,7 @@ MotionResult Simulator::finish_motion() {
           }
           return lp.joints;
         };
-        return s.halt(std::move(report), t_prev, was_free, at, p.tag);
+        return s.halt(std::move(report), t_prev, was_free, at, p.step);
       }
       s.joints = b.joints;
       t_prev = t;
@@ -784,7 +784,7 @@ MotionResult Simulator::finish_motion() {
       const double t = p.t0 + p.profile.time_at(sigma);
       const bool was_free = s.last_free;
       if (s.replay_grid > 0) s.replay_between(t_prev, t, [&at, &q](double tm) { return at(tm, q); });
-      if (s.visit(q, t, report)) return s.halt(std::move(report), t_prev, was_free, at, p.tag);
+      if (s.visit(q, t, report)) return s.halt(std::move(report), t_prev, was_free, at, p.step);
       s.joints = q;
       t_prev = t;
     }

@@ -250,11 +250,11 @@ TEST_CASE("replay recording: off by default, and on it leaves the run unchanged"
   }
   CHECK(k == on.trace().size());
   CHECK(wide == 1);
-  CHECK(rep.back().tag == 3);
+  CHECK(rep.back().step == 3);
   CHECK(rep.back().time_s == on.time_s());
   CHECK(rep.size() > on.trace().size());
 
-  // The straight line (tag 2) is replayed on the line: its tool points, checked or on the grid,
+  // The straight line (step 2) is replayed on the line: its tool points, checked or on the grid,
   // lie on the segment from where the joint move ended to where the line ended.
   const auto tool_at = [&on](const robots::JointVector& q) {
     return Eigen::Vector3d((on.base() * robots::flange_pose(on.robot(), q) * on.tool()).translation());
@@ -262,8 +262,8 @@ TEST_CASE("replay recording: off by default, and on it leaves the run unchanged"
   std::optional<Eigen::Vector3d> from, to;
   std::vector<Eigen::Vector3d> line;
   for (const auto& s : rep) {
-    if (s.tag == 1) from = tool_at(s.joints);
-    if (s.tag == 2) line.push_back(tool_at(s.joints)), to = line.back();
+    if (s.step == 1) from = tool_at(s.joints);
+    if (s.step == 2) line.push_back(tool_at(s.joints)), to = line.back();
   }
   REQUIRE(from);
   REQUIRE(line.size() > 10);

@@ -205,7 +205,7 @@ TEST_CASE("an interrupt stops the run between steps; PROCEED runs the next step"
   REQUIRE(f.load(".PROGRAM main()\n  TYPE 1\n  TYPE 2\n.END\n").empty());
   interrupt = true;
   auto r = f.interp.run("main");
-  REQUIRE(r.status == RunStatus::error);
+  REQUIRE(r.status == RunStatus::interrupted);
   CHECK(r.error.message == "*Program interrupted*");
   CHECK(r.error.step == 1);
   CHECK(f.out.str().empty());

@@ -77,7 +77,7 @@ TEST_CASE("Ctrl-C inside a motion halts the arm there and PROCEED finishes the m
     stop.attach(f.sim, f.interp);
     REQUIRE(f.load(kProgram).empty());
     auto r = f.interp.run("main");
-    REQUIRE(r.status == RunStatus::error);
+    REQUIRE(r.status == RunStatus::interrupted);
     CHECK(r.error.message == "*Program interrupted*");
     // Reported at the motion instruction, as a contact is; the TYPE after it had run.
     CHECK(r.error.program == "main");
@@ -85,7 +85,7 @@ TEST_CASE("Ctrl-C inside a motion halts the arm there and PROCEED finishes the m
     CHECK(r.error.line == 2);
     CHECK(f.out.str() == "after\n");
     REQUIRE(r.interrupt.has_value());
-    CHECK(r.interrupt->tag == 1);
+    CHECK(r.interrupt->step == 1);
     CHECK(r.interrupt->path_fraction > 0);
     CHECK(r.interrupt->path_fraction < 1);
     CHECK(r.interrupt->time_s == f.sim.time_s());
@@ -156,7 +156,7 @@ TEST_CASE("Ctrl-C between steps stops a started motion at its start and PROCEED 
   REQUIRE(r.error.message == "*Program interrupted*");
   CHECK(r.step == 3);  // the step not yet run
   REQUIRE(r.interrupt.has_value());
-  CHECK(r.interrupt->tag == 1);
+  CHECK(r.interrupt->step == 1);
   CHECK(r.interrupt->path_fraction == 0);  // simulated time had not advanced: still at the start
   CHECK(sim.time_s() == 0);
   CHECK((sim.joints() - kReady).norm() == 0);

@@ -130,11 +130,26 @@ TEST_CASE("completion offers commands, instructions, programs and variables", "[
   using V = std::vector<std::string>;
   CHECK(f.monitor.completions("WH", "WH") == V{"WHERE"});
   CHECK(f.monitor.completions("st", "st") == V{"status", "store", "storel"});
-  CHECK(f.monitor.completions("DO MO", "MO") == V{"MOVE", "MOVES", "MOVET", "MOVEST"});
+  CHECK(f.monitor.completions("DO MO", "MO") == V{"MOVE", "MOVES", "MOVEST", "MOVET"});
   CHECK(f.monitor.completions("EXECUTE p", "p") == V{"pick", "place", "pos.count"});
   CHECK(f.monitor.completions("LISTP p", "p") == V{"pick", "place"});
   CHECK(f.monitor.completions("LISTR po", "po") == V{"pos.count"});
   CHECK(f.monitor.completions("WHERE x", "x").empty());
+  // The DO words come from instructions.def: WAIT, WAIT.EVENT and PROMPT too, no control flow.
+  CHECK(f.monitor.completions("DO WA", "WA") == V{"WAIT", "WAIT.EVENT"});
+  CHECK(f.monitor.completions("DO PR", "PR") == V{"PROMPT"});
+  CHECK(f.monitor.completions("DO RE", "RE") == V{"READY", "RELAX", "RELAXI"});  // no RETURN
+  CHECK(f.monitor.completions("DO ST", "ST").empty());                           // no STOP
+}
+
+TEST_CASE("DO refuses the control-flow and declaration words of the instruction table", "[monitor]") {
+  MonitorFixture f;
+  for (const char* w : {"IF x THEN", "FOR i = 1 TO 2", "GOTO 10", "RETURN", "STOP", "PAUSE", "HALT", "AUTO x",
+                        "GLOBAL y", ".END", "ELIF x", "CASE x OF", "WHILE 1 DO"}) {
+    INFO(w);
+    CHECK(f.run(std::string("DO ") + w).find("control flow and declarations are not allowed in DO") != std::string::npos);
+  }
+  CHECK(f.run("DO WAIT") == "");
 }
 
 TEST_CASE("format_real is the shortest text that reads back bit-equal", "[monitor][storage]") {
@@ -185,14 +200,15 @@ TEST_CASE("write_file_atomic replaces whole files and leaves nothing on failure"
   const fs::path dir = fs::temp_directory_path() / ("asimov-storage-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string path = (dir / "f.v2").string();
-  std::string why;
-  REQUIRE(interpreter::write_file_atomic(path, "old\n", why));
-  REQUIRE(interpreter::write_file_atomic(path, "new\n", why));
+  REQUIRE(interpreter::write_file_atomic(path, "old\n").ok());
+  REQUIRE(interpreter::write_file_atomic(path, "new\n").ok());
   CHECK(slurp(path) == "new\n");
   fs::create_directories(dir / "taken.v2");  // rename onto a folder fails
-  CHECK_FALSE(interpreter::write_file_atomic((dir / "taken.v2").string(), "x\n", why));
-  CHECK(why.find("rename failed") != std::string::npos);
-  CHECK_FALSE(interpreter::write_file_atomic((dir / "missing" / "f.v2").string(), "x\n", why));
+  const auto taken = interpreter::write_file_atomic((dir / "taken.v2").string(), "x\n");
+  REQUIRE_FALSE(taken.ok());
+  CHECK(taken.error().message.find("rename failed") != std::string::npos);
+  CHECK(taken.error().file == (dir / "taken.v2").string());
+  CHECK_FALSE(interpreter::write_file_atomic((dir / "missing" / "f.v2").string(), "x\n").ok());
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) {
     ++files;

@@ -181,7 +181,7 @@ TEST_CASE("a collision ends the run and names the motion's step", "[motion][coll
   CHECK(r.error.step == 3);  // MOVES, although the contact is found at the program's end
   CHECK(r.error.line == 4);
   CHECK(r.step == 3);
-  CHECK(r.collision.tag == 3);
+  CHECK(r.collision.step == 3);
   CHECK((r.collision.body_a == "box" || r.collision.body_b == "box"));
   CHECK(out.str() == "typed before the motion runs\n");
 
@@ -256,4 +256,25 @@ TEST_CASE("ALIGN turns tool Z onto the nearest world axis, DRIVE moves one joint
   InterpreterFixture g;
   const auto s = g.run(".PROGRAM main()\n  DRIVE 7, 10, 50\n.END\n");
   CHECK(s.error.message == "*Illegal value*");
+}
+
+TEST_CASE("RunResult::motions: each motion instruction started, with its step, program and line", "[motion]") {
+  InterpreterFixture f;
+  // Both programs have a motion at step 1; a loop starts the same MOVE twice.
+  const auto r = f.run(".PROGRAM main()\n  MOVE #PPOINT(0, -90, 90, 0, 0, 0)\n  CALL sub()\n"
+                       "  FOR i = 1 TO 2\n    MOVE #PPOINT(10, -80, 100, 0, 20, 30)\n  END\n.END\n"
+                       ".PROGRAM sub()\n  READY\n.END\n");
+  INFO(f.load_report << asimov::interpreter::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  REQUIRE(r.motions.size() == 3);
+  CHECK(r.motions[0].step == 1);
+  CHECK(r.motions[0].program == "main");
+  CHECK(r.motions[0].line == 2);
+  CHECK(r.motions[0].text == "MOVE #PPOINT(0, -90, 90, 0, 0, 0)");
+  CHECK(r.motions[1].step == 1);
+  CHECK(r.motions[1].program == "sub");
+  CHECK(r.motions[1].line == 9);
+  CHECK(r.motions[1].text == "READY");
+  CHECK(r.motions[2].step == 4);
+  CHECK(r.motions[2].line == 5);
 }

@@ -150,3 +150,24 @@ TEST_CASE("names are lower case and 15 characters", "[parser]") {
   CHECK(normalize_name("$Name") == "$name");
   CHECK(normalize_name("#a234567890123456789") == "#a23456789012345");
 }
+
+TEST_CASE("the reserved words of instructions.def never parse as variables; other keywords may", "[parser]") {
+  // The reserved words of dialect §1 (the list parser.cpp had before the table).
+  for (const char* w : {"and", "or", "xor", "not", "mod", "band", "bor", "bxor", "to", "step", "then", "else",
+                        "end", "do", "until", "while", "for", "if", "goto", "call", "return", "stop", "set",
+                        "decompose", "here", "move", "moves", "appro", "appros", "depart", "departs", "break",
+                        "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
+                        "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
+                        "auto", "local", "global", "elseif", "elif", "ready", "draw", "righty", "lefty", "above",
+                        "below", "flip", "noflip", "single", "multiple", "signal", "timer", "align", "drive",
+                        "wait", "prompt", "open", "close", "relax", "openi", "closei", "relaxi", "movet",
+                        "movest", "duration", "enable", "disable", "parameter", "switch"}) {
+    INFO(w);
+    CHECK(!errors_of(std::string("x = ") + w + "[1] + 1").empty());
+  }
+  // Keywords that are not reserved stay usable as names.
+  for (const char* line : {"x = mmps + ips", "x = wait.event", "mmps = 1", "x = attach + read"}) {
+    INFO(line);
+    CHECK(errors_of(line).empty());
+  }
+}

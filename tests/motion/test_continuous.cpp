@@ -113,7 +113,7 @@ TEST_CASE("continuous: a blade passing 0.001 mm beside the plate is proven free"
   const PairApproach& a = checker.approaches().at(0);
   REQUIRE(a.distance >= 0);
   CHECK(a.distance == Approx(0.001).margin(1e-9));
-  CHECK(a.tag == 7);
+  CHECK(a.step == 7);
   CHECK((a.point_a - a.point_b).norm() == Approx(0.001).margin(1e-9));
 }
 

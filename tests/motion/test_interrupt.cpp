@@ -84,7 +84,7 @@ TEST_CASE("interrupt: a joint move halts at a checked pose between start and tar
     CHECK(sim.time_s() < total_s);
     CHECK((sim.joints() - start).norm() > 1);
     CHECK((sim.joints() - target).norm() > 1);
-    CHECK(r.interrupt.tag == 4);
+    CHECK(r.interrupt.step == 4);
     CHECK(r.interrupt.time_s == sim.time_s());
     CHECK((r.interrupt.joints - sim.joints()).norm() == 0);
     CHECK(r.interrupt.path_fraction > 0);

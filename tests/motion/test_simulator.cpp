@@ -98,7 +98,7 @@ TEST_CASE("simulator: a move into a box halts at the first contact", "[simulator
   const MotionResult r = sim.finish_motion();
   REQUIRE(r.status == MotionStatus::collision);
   const CollisionReport& c = r.collision;
-  CHECK(c.tag == 42);
+  CHECK(c.step == 42);
   CHECK((c.body_a == "block" || c.body_b == "block"));
   INFO("bodies " << c.body_a << " / " << c.body_b << ", point " << c.point.transpose());
   for (const auto& name : {c.body_a, c.body_b}) {
@@ -134,7 +134,7 @@ TEST_CASE("simulator: a straight line into a box halts too", "[simulator][collis
   REQUIRE(planned.status == MotionStatus::ok);
   const MotionResult r = sim.finish_motion();
   REQUIRE(r.status == MotionStatus::collision);
-  CHECK(r.collision.tag == 9);
+  CHECK(r.collision.step == 9);
   CHECK((r.collision.body_a == "plate" || r.collision.body_b == "plate"));
   for (const auto& name : {r.collision.body_a, r.collision.body_b}) {
     const auto [mesh, pose] = test::body_in_world(cell, name, r.collision.joints);

@@ -178,7 +178,7 @@ TEST_CASE("simulator: a URDF arm moves (numeric IK, straight lines, READY = zero
   const MotionResult r2 = sim.finish_motion();
   REQUIRE(r2.status == MotionStatus::collision);
   CHECK(r2.collision.body_b == "block");
-  CHECK(r2.collision.tag == 3);
+  CHECK(r2.collision.step == 3);
   // Out of reach.
   CHECK(sim.start_move(trans(3000, 0, 0, 0, 0, 0), false, {}, 4).error.message == "*Location out of reach*");
   CHECK(sim.inrange(trans(3000, 0, 0, 0, 0, 0)) == 1);
@@ -205,17 +205,17 @@ TEST_CASE("cells: the generic6 demo sequence completes without contact", "[targe
   const Location down = trans(0, 0, 0, 0, 180, 0);
   const Location points[] = {trans(650, -250, 500, 0, 0, 0) * down, trans(800, 0, 500, 0, 0, 0) * down,
                              trans(550, 150, 520, 0, 0, 0) * down};
-  int tag = 0;
+  int step = 0;
   for (const auto& p : points) {
-    const MotionResult s = sim.start_move(p, false, {}, ++tag);
-    INFO("point " << tag << ": " << s.error.message << " " << s.error.detail);
+    const MotionResult s = sim.start_move(p, false, {}, ++step);
+    INFO("point " << step << ": " << s.error.message << " " << s.error.detail);
     REQUIRE(s.status == MotionStatus::ok);
     const MotionResult f = sim.finish_motion();
     INFO(f.collision.body_a << " / " << f.collision.body_b);
     REQUIRE(f.status == MotionStatus::ok);
     check_loc(sim.here(), p, 1e-6);
   }
-  REQUIRE(sim.start_joint_move(JointVector::Zero(6), {}, ++tag).status == MotionStatus::ok);
+  REQUIRE(sim.start_joint_move(JointVector::Zero(6), {}, ++step).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
   WARN("generic6 demo: " << sim.poses_checked() << " poses checked, " << sim.time_s() << " s simulated");
 }

@@ -37,28 +37,38 @@ std::string format_pause(const RunResult& r);
 // "motion halted at t = ... s, ... % of its path" and a "joints ..." line (newline-terminated)
 // when Ctrl-C stopped the arm inside a motion; empty otherwise.
 std::string format_interrupt(const RunResult& r);
-// True for the *Program interrupted* stop of Ctrl-C (Limits::interrupt).
-bool is_interrupt(const Diagnostic& d);
 
-// paused: PAUSE (PROCEED continues with the next step); halted: HALT (cannot be resumed).
-enum class RunStatus { completed, error, collision, paused, halted };
+// A motion instruction that a run started: the step that the simulator's collision, interrupt
+// and replay reports carry, and where it is (the replay page names its frames with it).
+struct MotionStep {
+  int step = 0;             // file line - .PROGRAM line
+  std::string program;
+  int line = 0;             // file line
+  std::string text;         // the source line, without leading blanks
+};
+
+// How a run ended. error: a VAL error stopped it; interrupted: Ctrl-C (Limits::interrupt)
+// stopped it between two steps or inside a motion (*Program interrupted*); paused: PAUSE
+// (PROCEED continues with the next step); halted: HALT (cannot be resumed).
+enum class RunStatus { completed, error, interrupted, collision, paused, halted };
 
 struct RunResult {
   RunStatus status = RunStatus::completed;
   std::string program;            // the program executing when the run ended
   int line = 0;                   // its file line (0 when completed normally)
   int step = 0;
-  Diagnostic error;               // status == error (also filled for collision: "*Collision*")
+  Diagnostic error;               // status error or interrupted (also filled for collision: "*Collision*")
   motion::CollisionReport collision;  // status == collision
-  // Ctrl-C halted a motion (status error, "*Program interrupted*"): where the arm stopped.
+  // Ctrl-C halted a motion (status interrupted): where the arm stopped.
   // PROCEED and RETRY first carry out the rest of that motion.
   std::optional<motion::InterruptReport> interrupt;
   std::vector<Diagnostic> warnings;   // V+ constructs ignored with a warning (dialect §7), once each
+  std::vector<MotionStep> motions;    // the motion instructions started, once each, in first-run order
 };
 
 struct Limits {
   std::uint64_t max_statements = 100'000'000;  // executed statements per run
-  int max_call_depth = 1000;
+  int max_call_depth = 1000;                   // nested CALLs before *Too many nested calls*
   // Set (Ctrl-C): the run stops before the next step, and a motion being carried out stops at
   // its next checked pose (the simulator reads the flag while a run goes on).
   const std::atomic<bool>* interrupt = nullptr;

@@ -2,6 +2,7 @@
 // sections, numbers in shortest round-trip form, written atomically (temporary file in the
 // same folder, fsync, rename), so a reader never sees half a file.
 #pragma once
+#include "asimov/core/result.hpp"
 #include "asimov/interpreter/values.hpp"
 #include <string>
 #include <vector>
@@ -33,8 +34,8 @@ std::vector<std::string> program_lines(const Program& program);
 std::string store_text(const Memory& memory, const std::vector<std::string>& programs, bool locations_only);
 
 // Writes `text` to `path` through `path.tmp-PID` in the same folder: write, fsync, rename,
-// fsync of the folder. On failure the temporary is removed, `path` is untouched, and `why`
-// says what failed.
-bool write_file_atomic(const std::string& path, const std::string& text, std::string& why);
+// fsync of the folder. On failure the temporary is removed, `path` is untouched, and the
+// error says what failed ("PATH: rename failed (Is a directory)").
+Result<void> write_file_atomic(const std::string& path, const std::string& text);
 
 }  // namespace asimov::interpreter

@@ -43,7 +43,7 @@ struct CollisionReport {
   robots::JointVector joints;                       // display [deg] at t_hit
   std::uint32_t face_a = 0, face_b = 0;             // triangle indices in body_a's / body_b's mesh
                                                     //   (0 for a containment contact)
-  int tag = 0;                                      // step tag of the motion instruction
+  int step = 0;                                     // program step of the motion instruction
 };
 
 // Where an interrupted motion stopped: at its last checked pose (collision-free when checking
@@ -52,7 +52,7 @@ struct InterruptReport {
   double time_s = 0;         // time of the halting pose [s] (simulated clock)
   double path_fraction = 0;  // path parameter there: 0 = start, 1 = target
   robots::JointVector joints;  // display [deg]
-  int tag = 0;               // step tag of the motion instruction
+  int step = 0;              // program step of the motion instruction
 };
 
 struct TraceSample {
@@ -66,7 +66,7 @@ struct TraceSample {
 struct ReplaySample {
   double time_s = 0;
   robots::JointVector joints;   // display [deg]
-  int tag = 0;                  // step tag of the motion it belongs to
+  int step = 0;                 // program step of the motion it belongs to
   bool checked = false;         // a checked pose (also in trace())
 };
 
@@ -135,10 +135,11 @@ class Simulator {
   double time_s() const;                        // simulated clock
   std::uint64_t poses_checked() const;
 
-  // Motions. `tag` identifies the instruction (the interpreter passes its step) and comes
-  // back in collision reports. Targets are validated before anything moves.
-  MotionResult start_joint_move(const robots::JointVector& target_display, SpeedSettings speed, int tag);
-  MotionResult start_move(const Location& target, bool straight, SpeedSettings speed, int tag);
+  // Motions. `step` is the program step of the instruction (the interpreter's; the simulator
+  // only carries it) and comes back in collision, interrupt and replay reports. Targets are
+  // validated before anything moves.
+  MotionResult start_joint_move(const robots::JointVector& target_display, SpeedSettings speed, int step);
+  MotionResult start_move(const Location& target, bool straight, SpeedSettings speed, int step);
   MotionResult finish_motion();  // carries out the pending motion, if any
 
   // Interruption. `flag` (null: none) is read (relaxed) before each checked pose of
@@ -148,7 +149,7 @@ class Simulator {
   // The interrupted motion whose rest is kept: where it stopped. Any new motion drops it.
   const std::optional<InterruptReport>& halted_motion() const;
   // Starts the rest of the halted motion from the current pose, accelerating from rest, with
-  // the same speeds and tag (DURATION: what was left of it): a joint move to the same joint
+  // the same speeds and step (DURATION: what was left of it): a joint move to the same joint
   // target, a straight line to the same location. Without a halted motion: *No motion to resume*.
   // `monitor_speed`: the monitor speed now in effect (default: the one the motion had).
   MotionResult resume_motion(std::optional<double> monitor_speed = {});
