@@ -168,9 +168,10 @@ class Reader : public Fields {
   // A built-in arm by name (robots/builtin.hpp) or a URDF file, relative to the cell file's folder.
   // `packages`: folders (relative to the cell file) searched for package://NAME before
   // ROS_PACKAGE_PATH; a package is the folder whose package.xml names it.
-  robots::Robot robot(const YAML::Node& node, const YAML::Node& packages) const {
+  // `xacro_args`: {NAME: value} for $(arg NAME) of a .xacro description.
+  robots::Robot robot(const YAML::Node& node, const YAML::Node& packages, const YAML::Node& xacro_args) const {
     if (!node) return robots::puma560();
-    const std::string usage = fmt::format("a built-in arm ({}), a .urdf file or a package:// URI", robots::builtin_robot_names());
+    const std::string usage = fmt::format("a built-in arm ({}), a .urdf or .xacro file or a package:// URI", robots::builtin_robot_names());
     if (!node.IsScalar()) fail(node, "robot must be " + usage);
     const auto name = node.Scalar();
     if (auto builtin = robots::builtin_robot(name)) return std::move(*builtin);
@@ -193,10 +194,17 @@ class Reader : public Fields {
     }
     robots::UrdfOptions options;
     options.packages = robots::PackagePath::with_environment(std::move(roots));
+    if (xacro_args) {
+      if (!xacro_args.IsMap()) fail(xacro_args, "xacro_args must be a map {name: value}");
+      for (const auto& kv : xacro_args) {
+        if (!kv.second.IsScalar()) fail(kv.second, "xacro_args values are scalars");
+        options.xacro_args[kv.first.Scalar()] = kv.second.Scalar();
+      }
+    }
     std::string error;
     const auto path = robots::resolve_uri(name, base_dir_, options.packages, error);
     if (!error.empty()) fail(node, "robot: " + error);
-    if (path.extension() != ".urdf") fail(node, fmt::format("unknown robot '{}' ({})", name, usage));
+    if (path.extension() != ".urdf" && path.extension() != ".xacro") fail(node, fmt::format("unknown robot '{}' ({})", name, usage));
     try {
       return robots::load_urdf(path.string(), options);
     } catch (const robots::UrdfError& e) {
@@ -222,11 +230,11 @@ class Reader : public Fields {
 
   motion::Cell cell(const YAML::Node& root) const {
     if (!root.IsMap()) fail(root, "a cell file is a YAML map (see docs/cell-format.md)");
-    expect_keys(root, {"robot", "packages", "base", "tool", "tool_shape", "objects", "collision", "start", "parts",
+    expect_keys(root, {"robot", "packages", "xacro_args", "base", "tool", "tool_shape", "objects", "collision", "start", "parts",
                        "gripper", "devices", "logic"},
                 "the cell");
     motion::Cell cell;
-    cell.robot = robot(root["robot"], root["packages"]);
+    cell.robot = robot(root["robot"], root["packages"], root["xacro_args"]);
     cell.warnings = cell.robot.warnings;  // URDF mesh notes, already prefixed with urdf:line
     cell.base = pose(root["base"], "base");
     within_extent(root["base"], {}, cell.base, "base");

@@ -2,6 +2,7 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "mesh_files.hpp"
+#include "xacro.hpp"
 
 #include "asimov/collision/mesh_io.hpp"
 #include "asimov/collision/text_file.hpp"
@@ -347,12 +348,15 @@ Robot load_urdf_text(const std::string& xml, const std::string& source_name, con
 
 Robot load_urdf(const std::string& path, const UrdfOptions& options) {
   std::string xml;
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (std::filesystem::path(path).extension() == ".xacro")
+    return load_urdf_text(expand_xacro(path, options.packages, options.xacro_args), path + " (expanded)",
+                          dir.empty() ? "." : dir.string(), options);
   try {
     xml = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
   } catch (const collision::FileReadError& e) {
     throw UrdfError(path, 0, e.what());
   }
-  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
   return load_urdf_text(xml, path, dir.empty() ? "." : dir.string(), options);
 }
 

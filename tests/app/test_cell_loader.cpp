@@ -140,7 +140,7 @@ TEST_CASE("robot: a missing or non-URDF robot is a cell error at the robot key")
   CHECK(e.line == 2);
   CHECK(std::string(e.what()).find("arm.urdf") != std::string::npos);
   e = error_of("robot: [1, 2]\n");
-  CHECK(std::string(e.what()).find("built-in arm (puma560, viper_s650, cobra_s600), a .urdf file or a package:// URI") != std::string::npos);
+  CHECK(std::string(e.what()).find("built-in arm (puma560, viper_s650, cobra_s600), a .urdf or .xacro file or a package:// URI") != std::string::npos);
 }
 
 namespace {

@@ -9,6 +9,7 @@
 #pragma once
 #include "asimov/robots/package_path.hpp"
 #include "asimov/robots/robot.hpp"
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -29,6 +30,7 @@ class UrdfError : public std::runtime_error {
 // How a description's files are found: package://NAME/... through `packages` (package_path.hpp).
 struct UrdfOptions {
   PackagePath packages;
+  std::map<std::string, std::string> xacro_args;  // $(arg NAME) values of a .xacro description
 };
 
 // Loads `path`. Mesh file names: package://NAME/... (options.packages), file://..., or relative
@@ -36,6 +38,8 @@ struct UrdfOptions {
 // assimp reads with the units and up axis a COLLADA file declares (mesh_files.hpp). Joint values of the result are display values: degrees, mm.
 // Velocity limits come from <limit velocity>; accelerations are 4x the velocity per second
 // (docs/kinematics.md §3 ratio); READY is the zero pose clamped into the limits.
+// A path ending in .xacro is expanded first, in process (docs/robots.md: what xacro covers);
+// errors in the expanded URDF name the .xacro file and the line of the expanded text.
 Robot load_urdf(const std::string& path, const UrdfOptions& options = {});
 
 // Same from text; `source_name` names it in errors, `base_dir` resolves relative mesh files.

@@ -1,0 +1,207 @@
+// The in-process xacro expander (robots/src/xacro.hpp, docs/robots.md "xacro"): a ROS-Industrial
+// style package (macro file with a prefix parameter, top file including it through $(find))
+// expands to the hand-written URDF's arm; expressions, macros, blocks, conditionals, args; the
+// hostile cases (cycles, depth, size) and unsupported constructs fail with file:line messages.
+#include "asimov/robots/urdf_loader.hpp"
+#include "robots/src/xacro.hpp"
+
+#include "support/joints.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <unistd.h>
+
+using namespace asimov::robots;
+namespace fs = std::filesystem;
+
+namespace {
+const fs::path kWorkspace = fs::path(ASIMOV_SOURCE_DIR) / "programs/cells/ros_ws/src";
+const fs::path kPackage = kWorkspace / "demo_support_pkg";
+
+fs::path scratch() {
+  const fs::path d = fs::temp_directory_path() / ("asimov-xacro-" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+fs::path write(const std::string& name, const std::string& text) {
+  const fs::path p = scratch() / name;
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+  return p;
+}
+
+const char* kNs = "<robot xmlns:xacro=\"http://wiki.ros.org/xacro\" name=\"t\">\n";
+
+std::string expand(const std::string& body, const std::map<std::string, std::string>& args = {}) {
+  return expand_xacro(write("t.xacro", std::string(kNs) + body + "</robot>\n").string(), PackagePath{}, args);
+}
+
+std::string error_of(const std::string& body, const std::string& name = "t.xacro") {
+  try {
+    expand_xacro(write(name, std::string(kNs) + body + "</robot>\n").string(), PackagePath{}, {});
+  } catch (const UrdfError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+void has(const std::string& what, const std::string& part) {
+  INFO(what);
+  CHECK(what.find(part) != std::string::npos);
+}
+
+// A two-link arm whose joint values come from the text given.
+std::string joint(const std::string& origin_z, const std::string& lower, const std::string& upper) {
+  return "<link name=\"a\"/><link name=\"b\"/><joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child "
+         "link=\"b\"/><origin xyz=\"0 0 " + origin_z + "\"/><axis xyz=\"0 0 1\"/><limit lower=\"" + lower +
+         "\" upper=\"" + upper + "\" velocity=\"1\"/></joint>\n";
+}
+}  // namespace
+
+TEST_CASE("xacro: the ROS-style package expands to the hand-written URDF's arm", "[urdf][xacro]") {
+  UrdfOptions o;
+  o.packages.add_root(kWorkspace);
+  const Robot urdf = load_urdf((kPackage / "urdf/demo6.urdf").string(), o);
+  const Robot xacro = load_urdf((kPackage / "urdf/demo6.xacro").string(), o);
+  REQUIRE(xacro.joint_count() == urdf.joint_count());
+  for (int i = 0; i < urdf.joint_count(); ++i) {
+    CHECK(xacro.chain[i].name == urdf.chain[i].name);
+    CHECK(xacro.lower[i] == Approx(urdf.lower[i]).epsilon(1e-12));
+    CHECK(xacro.upper[i] == Approx(urdf.upper[i]).epsilon(1e-12));
+    CHECK(xacro.max_velocity[i] == Approx(urdf.max_velocity[i]).epsilon(1e-12));
+    CHECK((xacro.chain[i].origin.matrix() - urdf.chain[i].origin.matrix()).norm() < 1e-12);
+    CHECK((xacro.chain[i].axis - urdf.chain[i].axis).norm() < 1e-15);
+  }
+  CHECK((xacro.flange_offset.matrix() - urdf.flange_offset.matrix()).norm() < 1e-12);
+  for (const auto& q : {asimov::test::jv({0, 0, 0, 0, 0, 0}), asimov::test::jv({10, 20, -30, 40, 50, 60}),
+                        asimov::test::jv({-170, 140, -210, 185, -120, 350})})
+    CHECK((flange_pose(xacro, q).matrix() - flange_pose(urdf, q).matrix()).norm() < 1e-9);
+  // Same bodies (names, links, vertices) including the COLLADA meshes found by package://.
+  REQUIRE(xacro.bodies.size() == urdf.bodies.size());
+  for (std::size_t i = 0; i < urdf.bodies.size(); ++i) {
+    CHECK(xacro.bodies[i].name == urdf.bodies[i].name);
+    CHECK(xacro.bodies[i].link == urdf.bodies[i].link);
+    REQUIRE(xacro.bodies[i].mesh.vertices.size() == urdf.bodies[i].mesh.vertices.size());
+    for (std::size_t v = 0; v < urdf.bodies[i].mesh.vertices.size(); ++v)
+      CHECK((xacro.bodies[i].mesh.vertices[v] - urdf.bodies[i].mesh.vertices[v]).norm() < 1e-9);
+  }
+  // $(arg prefix) from the caller renames every link and joint.
+  o.xacro_args["prefix"] = "r1_";
+  const Robot prefixed = load_urdf((kPackage / "urdf/demo6.xacro").string(), o);
+  CHECK(prefixed.chain[0].name == "r1_joint_1");
+  CHECK(prefixed.chain[5].name == "r1_joint_6");
+}
+
+TEST_CASE("xacro: expressions", "[urdf][xacro]") {
+  const std::string x = expand(
+      "<xacro:property name=\"a\" value=\"2\"/><xacro:property name=\"b\" value=\"${a * 3 + 1}\"/>"
+      "<xacro:property name=\"s\" value=\"arm\"/>"
+      "<e v1=\"${b}\" v2=\"${(a + 1) ** 2 - 10 / 4}\" v3=\"${-2**2}\" v4=\"${radians(180) == pi}\""
+      " v5=\"${a &lt; b and not a &gt; 3}\" v7=\"${s}_${a}\" v8=\"${s + '_x'}\""
+      " v9=\"${sqrt(16) + abs(-1.5) + cos(0) + sin(0) + tan(0)}\" v10=\"$${literal}\" v11=\"${a % 3 == 2 or 0}\""
+      " v12=\"${math.pi / 2}\" v13=\"${a != 2}\"/>\n");
+  CHECK(x.find("v1=\"7\"") != std::string::npos);
+  CHECK(x.find("v2=\"6.5\"") != std::string::npos);
+  CHECK(x.find("v3=\"-4\"") != std::string::npos);  // ** binds tighter than unary minus
+  CHECK(x.find("v4=\"True\"") != std::string::npos);
+  CHECK(x.find("v5=\"True\"") != std::string::npos);
+  CHECK(x.find("v7=\"arm_2\"") != std::string::npos);
+  CHECK(x.find("v8=\"arm_x\"") != std::string::npos);
+  CHECK(x.find("v9=\"6.5\"") != std::string::npos);
+  CHECK(x.find("v10=\"${literal}\"") != std::string::npos);
+  CHECK(x.find("v11=\"True\"") != std::string::npos);
+  CHECK(x.find("v12=\"1.5707963267948966\"") != std::string::npos);
+  CHECK(x.find("v13=\"False\"") != std::string::npos);
+}
+
+TEST_CASE("xacro: macros, defaults, blocks, conditionals, args", "[urdf][xacro]") {
+  const std::string x = expand(
+      "<xacro:arg name=\"side\" default=\"left\"/>"
+      "<xacro:property name=\"blk\"><b n=\"1\"/><b n=\"2\"/></xacro:property>"
+      "<xacro:macro name=\"m\" params=\"p k:=5 *first **rest\">"
+      "<m p=\"${p}\" k=\"${k * 2}\"><xacro:insert_block name=\"first\"/><r><xacro:insert_block name=\"rest\"/></r>"
+      "<xacro:if value=\"${k == 5}\"><default/></xacro:if><xacro:unless value=\"${k == 5}\"><given/></xacro:unless>"
+      "</m></xacro:macro>"
+      "<xacro:m p=\"$(arg side)\"><one/><rest><two/><three/></rest></xacro:m>"
+      "<xacro:m p=\"x\" k=\"1\"><one/><w/></xacro:m>"
+      "<xacro:insert_block name=\"blk\"/>"
+      "<xacro:macro name=\"inner\" params=\"v\"><i v=\"${v}\"/></xacro:macro>"
+      "<xacro:macro name=\"outer\" params=\"v\"><xacro:inner v=\"${v + 1}\"/></xacro:macro><xacro:outer v=\"1\"/>\n");
+  CHECK(x.find("<m p=\"left\" k=\"10\"><one/><r><two/><three/></r><default/></m>") != std::string::npos);
+  CHECK(x.find("<m p=\"x\" k=\"2\"><one/><r/><given/></m>") != std::string::npos);
+  CHECK(x.find("<b n=\"1\"/>") != std::string::npos);
+  CHECK(x.find("<b n=\"2\"/>") != std::string::npos);
+  CHECK(x.find("<i v=\"2\"/>") != std::string::npos);
+  CHECK(x.find("xacro") == std::string::npos);
+  // A value from the caller replaces the xacro:arg default.
+  CHECK(expand("<xacro:arg name=\"side\" default=\"left\"/><s v=\"$(arg side)\"/>", {{"side", "right"}})
+            .find("<s v=\"right\"/>") != std::string::npos);
+}
+
+TEST_CASE("xacro: a robot through relative includes loads with the computed values", "[urdf][xacro]") {
+  write("inc/part.xacro", std::string(kNs) + "<xacro:property name=\"z\" value=\"${0.1 * 3}\"/></robot>\n");
+  const fs::path top = write("rel.xacro", std::string(kNs) + "<xacro:include filename=\"inc/part.xacro\"/>" +
+                                              joint("${z}", "${radians(-90)}", "${pi / 2}") + "</robot>\n");
+  const Robot r = load_urdf(top.string());
+  REQUIRE(r.joint_count() == 1);
+  CHECK(r.lower[0] == Approx(-90).epsilon(1e-12));
+  CHECK(r.upper[0] == Approx(90).epsilon(1e-12));
+  CHECK(r.chain[0].origin.translation().z() == Approx(300).epsilon(1e-12));
+}
+
+TEST_CASE("xacro: errors name file, line and construct", "[urdf][xacro]") {
+  has(error_of("\n<e v=\"${nope}\"/>"), "t.xacro:3: xacro: unknown property 'nope'");
+  has(error_of("<e v=\"${1 / 0}\"/>"), "division by zero");
+  has(error_of("<e v=\"${(1 + 2}\"/>"), "missing ')'");
+  has(error_of("<e v=\"${1 +}\"/>"), "incomplete expression");
+  has(error_of("<e v=\"${'a' * 2}\"/>"), "'a' is not a number");
+  has(error_of("<e v=\"${sqrt(-1)}\"/>"), "sqrt() gives no finite number");
+  has(error_of("<e v=\"${10 ** 400}\"/>"), "no finite number");
+  has(error_of("<e v=\"${xacro.load_yaml('j.yaml')}\"/>"), "load_yaml is not supported");
+  has(error_of("<e v=\"${1 if True else 2}\"/>"), "unexpected 'if True else 2'");
+  has(error_of("<e v=\"$(env HOME)\"/>"), "unsupported substitution $(env HOME)");
+  has(error_of("<e v=\"$(arg missing)\"/>"), "$(arg missing): no value");
+  has(error_of("<e v=\"$(find no_such_pkg)\"/>"), "no package 'no_such_pkg'");
+  has(error_of("<e v=\"${1\"/>"), "unterminated ${");
+  has(error_of("\n\n<xacro:element xacro:name=\"x\"/>"), "t.xacro:4: <xacro:element>: unsupported xacro construct");
+  has(error_of("<xacro:nomacro/>"), "unknown macro");
+  has(error_of("<xacro:macro name=\"m\" params=\"a\"/><xacro:m/>"), "missing the parameter 'a'");
+  has(error_of("<xacro:macro name=\"m\" params=\"a\"/><xacro:m a=\"1\" b=\"2\"/>"), "no parameter 'b'");
+  has(error_of("<xacro:macro name=\"m\" params=\"*o\"/><xacro:m/>"), "missing the block parameter '*o'");
+  has(error_of("<xacro:macro name=\"m\" params=\"a:=^\"/>"), "^ (outer scope) defaults are not supported");
+  has(error_of("<xacro:insert_block name=\"none\"/>"), "no such block");
+  has(error_of("<xacro:if value=\"maybe\"/>"), "a boolean or a number is expected");
+  has(error_of("<xacro:arg name=\"q\"/>"), "no default and no value");
+  has(error_of("<xacro:include filename=\"missing.xacro\"/>"), "<xacro:include>");
+  has(error_of("<e>"), "XML error");
+}
+
+TEST_CASE("xacro: hostile input: cycles, recursion, include depth, size", "[urdf][xacro]") {
+  // A file including itself, and two including each other.
+  has(error_of("<xacro:include filename=\"self.xacro\"/>", "self.xacro"), "include cycle");
+  write("b.xacro", std::string(kNs) + "<xacro:include filename=\"a.xacro\"/></robot>\n");
+  has(error_of("<xacro:include filename=\"b.xacro\"/>", "a.xacro"), "include cycle");
+  // A chain of 70 distinct files.
+  for (int i = 0; i < 70; ++i)
+    write("deep/d" + std::to_string(i) + ".xacro",
+          std::string(kNs) + "<xacro:include filename=\"d" + std::to_string(i + 1) + ".xacro\"/></robot>\n");
+  write("deep/d70.xacro", std::string(kNs) + "</robot>\n");
+  try {
+    expand_xacro((scratch() / "deep/d0.xacro").string(), PackagePath{}, {});
+    FAIL("no error");
+  } catch (const UrdfError& e) {
+    has(e.what(), "includes nested more than 64 deep");
+  }
+  // A macro calling itself.
+  has(error_of("<xacro:macro name=\"r\" params=\"\"><xacro:r/></xacro:macro><xacro:r/>"), "macros nested more than 64 deep");
+  // Exponential growth: each level doubles (2^40 elements): stopped at the size bound, quickly.
+  std::string body = "<xacro:macro name=\"m0\" params=\"\"><leaf long=\"" + std::string(10000, 'x') + "\"/></xacro:macro>";
+  for (int i = 1; i <= 40; ++i)
+    body += "<xacro:macro name=\"m" + std::to_string(i) + "\" params=\"\"><xacro:m" + std::to_string(i - 1) +
+            "/><xacro:m" + std::to_string(i - 1) + "/></xacro:macro>";
+  has(error_of(body + "<xacro:m40/>"), "the expansion exceeds 64 MiB");
+}
