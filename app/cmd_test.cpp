@@ -175,9 +175,8 @@ int merge_junit_command(const TestOptions& opt, std::ostream& out, std::ostream&
   const std::string props = fmt::format("    <properties>\n      <property name=\"schema_version\" value=\"{}\"/>\n"
                                         "      <property name=\"merged_files\" value=\"{}\"/>\n    </properties>\n",
                                         kSchemaVersion, opt.paths.size());
-  std::string why;
-  if (!write_file_atomically(opt.merge_junit, junit_wrap(tests, failures, time_s, props, body), why)) {
-    err << "*Cannot write file*  " << why << '\n';
+  if (const auto written = write_file_atomically(opt.merge_junit, junit_wrap(tests, failures, time_s, props, body)); !written) {
+    err << "*Cannot write file*  " << written.error().message << '\n';
     return kExitUsage;
   }
   out << fmt::format("{}: {} cases from {} files, {} failed\n", opt.merge_junit, tests, opt.paths.size(), failures);
@@ -240,9 +239,8 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
     // A shard may hold no case (more shards than cases): nothing to do is a success for CI.
     out << fmt::format("0 cases in shard {}/{} (of {})\n", opt.shard, opt.shards, filtered);
     if (!opt.junit.empty() && !opt.list) {
-      std::string why;
-      if (!write_file_atomically(opt.junit, junit_document({}, {}, 0, 0.0, opt), why)) {
-        err << "*Cannot write file*  " << why << '\n';
+      if (const auto written = write_file_atomically(opt.junit, junit_document({}, {}, 0, 0.0, opt)); !written) {
+        err << "*Cannot write file*  " << written.error().message << '\n';
         return kExitUsage;
       }
     }

@@ -63,7 +63,6 @@ nlohmann::json step_lines(const std::vector<interpreter::MotionStep>& motions, c
   return out;
 }
 
-namespace {
 
 // "</script" inside an inlined script would end it early.
 std::string script_safe(std::string s) {

@@ -31,7 +31,6 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
 
 // The source line of each motion step tag, where the tag names one motion instruction of one
 // program of `file` unambiguously: {"TAG": {"program", "line", "text"}} (others are left out).
-nlohmann::json step_lines(const std::string& file, const std::vector<int>& tags);
 
 // The HTML page: `data` in a JSON script element, three.js through an import map of data: URLs.
 std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data);

@@ -1,10 +1,10 @@
 # Install rules and the exported package (docs/install.md): `cmake --install build --prefix P`
 # puts the libraries, their public headers, the asimov executable, the replay assets, the sample
 # programs and the docs under P; `find_package(asimov 0.1 REQUIRED)` with CMAKE_PREFIX_PATH=P
-# then gives asimov::collision, asimov::robots, asimov::motion, asimov::interpreter, asimov::cell.
+# then gives asimov::core (Result, Error), asimov::collision, asimov::robots, asimov::motion, asimov::interpreter, asimov::cell.
 include(CMakePackageConfigHelpers)
 
-set(ASIMOV_LAYERS collision robots motion interpreter cell)
+set(ASIMOV_LAYERS core collision robots motion interpreter cell)
 set(ASIMOV_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/asimov)
 
 foreach(layer ${ASIMOV_LAYERS})

@@ -575,7 +575,7 @@ PYBIND11_MODULE(_asimov, m) {
   py::class_<PyEngine>(m, "Engine", "The four-step collision engine: add bodies, pose them, query contact.")
       .def(py::init([](double clearance) {
              auto e = std::make_unique<PyEngine>();
-             e->engine().set_clearance(clearance);
+             e->engine().set_default_clearance(clearance);
              return e;
            }),
            py::arg("clearance") = 0.0)
@@ -599,7 +599,7 @@ PYBIND11_MODULE(_asimov, m) {
              e.name(b);
              e.engine().set_pair_enabled(a, b, on);
            }, py::arg("a"), py::arg("b"), py::arg("enabled"))
-      .def("set_clearance", [](PyEngine& e, double c) { e.engine().set_clearance(c); }, py::arg("clearance_mm"))
+      .def("set_clearance", [](PyEngine& e, double c) { e.engine().set_default_clearance(c); }, py::arg("clearance_mm"))
       .def("check", &PyEngine::check, "The first contact at the current poses (dict), or None.")
       .def("collides", [](PyEngine& e) { return !e.check().is_none(); })
       .def("check_poses", &PyEngine::check_poses, py::arg("bodies"), py::arg("poses"),

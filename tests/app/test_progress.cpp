@@ -1,5 +1,5 @@
 // `asimov run` progress on a terminal (app/cmd_run.cpp RunProgress): simulated time, program
-// line and poses checked on stderr, redrawn in place and erased at the end; nothing when stderr
+// step of the motion and poses checked on stderr, redrawn in place and erased at the end; nothing when stderr
 // is not a terminal.
 #include "support/run_cli.hpp"
 
@@ -29,7 +29,7 @@ TEST_CASE("asimov run: progress on a terminal only") {
   const auto at = tty.find("poses checked");
   REQUIRE(at != std::string::npos);
   CHECK(tty.find("  t = ") != std::string::npos);
-  CHECK(tty.find(", line ") != std::string::npos);  // program (pick_place or its subroutine), line
+  CHECK(tty.find("  step ") != std::string::npos);  // the program step of the motion being carried out
   CHECK(tty.find("\r\033[K", at) != std::string::npos);  // erased before the final message
   CHECK(tty.find("Program completed: pick_place") > at);
 }
