@@ -52,8 +52,11 @@ TEST_CASE("shard assignment: K/N parsing, a stable hash of the name, every case 
   for (const char* bad : {"0/3", "4/3", "3", "/3", "1/", "a/b", "1/0", "-1/3", "1/3/3", "1 /3", "1/1000000", ""})
     CHECK_FALSE(asimov::app::parse_shard(bad, k, n));
   // FNV-1a: the value for a name never changes (CI runners on other machines agree).
-  CHECK(asimov::app::shard_of("programs/demo/crash", 1) == 0);
-  CHECK(asimov::app::shard_of("programs/demo/crash", 3) == asimov::app::shard_of("programs/demo/crash", 3));
+  // Pinned values (FNV-1a 64 of the name is 0x1057c95e697cc706; of "a" 0xaf63dc4c8601ec8c).
+  CHECK(asimov::app::shard_of("programs/demo/crash", 3) == 1);
+  CHECK(asimov::app::shard_of("programs/demo/crash", 1000) == 942);
+  CHECK(asimov::app::shard_of("a", 1000) == 996);
+  CHECK(asimov::app::shard_of("", 7) == 2);
   std::vector<int> seen(7, 0);
   for (int i = 0; i < 700; ++i) ++seen[static_cast<std::size_t>(asimov::app::shard_of("case" + std::to_string(i), 7))];
   for (int count : seen) CHECK((count > 50 && count < 150));  // spread, not all in one
