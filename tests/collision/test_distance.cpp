@@ -6,6 +6,8 @@
 #include "collision/src/face_distance.hpp"
 #include "scenes.hpp"
 
+#include "support/geometry.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -13,14 +15,10 @@
 
 using namespace asimov::collision;
 
+using asimov::test::box_between;
+
 namespace {
 
-Polyhedron box_between(const Vec3& lo, const Vec3& hi) {
-  Polyhedron b = make_box(hi - lo);
-  for (auto& v : b.vertices)
-    v = Vec3(v.x() < 0 ? lo.x() : hi.x(), v.y() < 0 ? lo.y() : hi.y(), v.z() < 0 ? lo.z() : hi.z());
-  return b;
-}
 
 TriangleVerts world_face(const Polyhedron& m, const Pose& p, std::uint32_t f) {
   const Triangle& t = m.triangles[f];

@@ -3,21 +3,18 @@
 // representable coordinates (no rotation rounding), so "touching" is exact.
 #include "asimov/collision/engine.hpp"
 
+#include "support/geometry.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
 using namespace asimov::collision;
 
+using asimov::test::box_between;
+
 namespace {
 
-// An axis-aligned box from its corner coordinates (outward triangles).
-Polyhedron box_between(const Vec3& lo, const Vec3& hi) {
-  Polyhedron b = make_box(hi - lo);
-  for (auto& v : b.vertices)
-    v = Vec3(v.x() < 0 ? lo.x() : hi.x(), v.y() < 0 ? lo.y() : hi.y(), v.z() < 0 ? lo.z() : hi.z());
-  return b;
-}
 
 // A roof prism, ridge along x at height `ridge` over the base z = 0, |x|, |y| <= 5.
 Polyhedron roof_x(double ridge) {

@@ -8,6 +8,14 @@ namespace asimov::test {
 
 using collision::Vec3;
 
+// An axis-aligned box from its corner coordinates (outward triangles).
+inline collision::Polyhedron box_between(const Vec3& lo, const Vec3& hi) {
+  collision::Polyhedron b = collision::make_box(hi - lo);
+  for (auto& v : b.vertices)
+    v = Vec3(v.x() < 0 ? lo.x() : hi.x(), v.y() < 0 ? lo.y() : hi.y(), v.z() < 0 ? lo.z() : hi.z());
+  return b;
+}
+
 // Distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
 inline double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
