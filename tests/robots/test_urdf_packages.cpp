@@ -6,6 +6,8 @@
 
 #include "support/joints.hpp"
 
+#include "support/run_cli.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
@@ -20,11 +22,7 @@ namespace {
 const fs::path kWorkspace = fs::path(ASIMOV_SOURCE_DIR) / "programs/cells/ros_ws/src";
 const fs::path kPackage = kWorkspace / "demo_support_pkg";
 
-fs::path scratch() {
-  const fs::path d = fs::temp_directory_path() / ("asimov-urdf-pkg-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch() { return asimov::test::scratch_dir("urdf-packages"); }
 
 void write(const fs::path& p, const std::string& text) {
   fs::create_directories(p.parent_path());

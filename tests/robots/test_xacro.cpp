@@ -7,6 +7,8 @@
 
 #include "support/joints.hpp"
 
+#include "support/run_cli.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -21,11 +23,7 @@ namespace {
 const fs::path kWorkspace = fs::path(ASIMOV_SOURCE_DIR) / "programs/cells/ros_ws/src";
 const fs::path kPackage = kWorkspace / "demo_support_pkg";
 
-fs::path scratch() {
-  const fs::path d = fs::temp_directory_path() / ("asimov-xacro-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch() { return asimov::test::scratch_dir("xacro"); }
 
 fs::path write(const std::string& name, const std::string& text) {
   const fs::path p = scratch() / name;

@@ -29,6 +29,13 @@ inline std::filesystem::path scratch_dir() {
   return dir;
 }
 
+// A named folder inside scratch_dir(), created on first use.
+inline std::filesystem::path scratch_dir(const std::string& name) {
+  auto dir = scratch_dir() / name;
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 // `args` is appended to the executable path as is (quote paths with spaces yourself).
 inline CliResult run_cli(const std::string& args, const std::string& stdin_text = "") {
   static int counter = 0;
