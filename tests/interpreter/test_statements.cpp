@@ -204,14 +204,19 @@ TEST_CASE("SPEED ... MMPS, V+ functions and statements stop the program", "[stat
   CHECK_FALSE(f.load(program("MOVE a MMPS")).empty());  // units only after SPEED
 }
 
-TEST_CASE("the new keywords are reserved", "[statements]") {
+TEST_CASE("instruction keywords are variables in `name =` lines and expressions", "[statements]") {
+  CHECK(outcome("wait = 1\nprompt = 2\nopen = 3\nclosei = 4\nmovet = 5\nduration = 6\nenable = 7\nparameter = 8\n"
+                "TYPE wait + prompt + open + closei + movet + duration + enable + parameter") == "36\n");
+  CHECK(outcome("LOCAL stop, mode\nstop = 4 BAND 4\nIF stop THEN\n  TYPE \"stop \", stop\nEND\nSTOP\nTYPE \"not here\"")
+        == "stop 4\n");
+  CHECK(outcome("wait.x = 1\nopen_count = 2\nTYPE wait.x + open_count") == "3\n");
   InterpreterFixture f;
-  for (const char* word : {"wait", "prompt", "open", "closei", "movet", "duration", "enable", "parameter"}) {
+  for (const char* word : {"here", "pi", "tool", "then"}) {  // never names
     const auto d = f.load(program(std::string(word) + " = 1"));
     REQUIRE_FALSE(d.empty());
     CHECK(d[0].message == "*Syntax error*");
+    CHECK(d[0].detail == "\"" + std::string(word) + "\" is a keyword, not a variable");
   }
-  CHECK(outcome("wait.x = 1\nopen_count = 2\nTYPE wait.x + open_count") == "3\n");
 }
 
 TEST_CASE("DISABLE COLLISION lets a colliding motion through; the clearance widens contact", "[statements][collision]") {
