@@ -48,6 +48,9 @@ enum class Code : unsigned char {
 // The motion instructions' path (instructions.def): a straight line of the tool or a joint move.
 bool straight_path(Code code);
 
+// The I/O instructions of dialect §7a (Instr::io).
+enum class IoOp : unsigned char { attach, detach, fopenr, fopenw, fopena, fopend, fclose, fempty, fdelete, read, write };
+
 struct Instr {
   Code code = Code::jump;
   int line = 0;                    // file line
@@ -63,6 +66,8 @@ struct Instr {
   int program = -1;                // CALL: program slot
   std::vector<bool> by_ref;        // CALL: argument i passed by reference
   ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE; hand: OPEN...
+  IoOp io = IoOp::read;            // io: which; args = the unit arguments (temp of them), then
+                                   //   the items (formats: WRITE's, one per item)
 };
 
 // Instructions that compile to one Instr holding their arguments (the ASIMOV_MOTION and

@@ -107,6 +107,11 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     ~InterruptWiring() { sim.set_interrupt(nullptr); }
   } wiring{sim_};
   sim_.set_interrupt(limits_.interrupt);
+  files_.set_root(limits_.files_root);
+  struct FileClosing {  // what was written is committed however the run ends
+    FileUnits& files;
+    ~FileClosing() { files.close_all(); }
+  } closing{files_};
   memory_.globals.resize(memory_.symbols.globals.size());
   globals_.resize(memory_.globals.size());  // no global is added while a run goes on
   for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
@@ -376,6 +381,7 @@ void Evaluator::statement(const Instr& in) {
     case Code::unsupported:
       if (!in.always) raise(Message::not_supported, in.target.text);
       return warn_once(in.target.text, in);
+    case Code::io: return io(in);
     case Code::prompt: return prompt(in);
     case Code::duration: {
       const double t = to_real(eval(in.args[0]), "DURATION");
@@ -731,6 +737,122 @@ void Evaluator::settings(const Instr& in) {
     if (!set_switch(n.text, in.code == Code::enable, memory_.settings, sim_))
       warn_once((in.code == Code::enable ? "ENABLE " : "DISABLE ") + n.text, in);
 }
+
+// --- files (dialect §7a) --------------------------------------------------------------------
+
+int Evaluator::unit_number(const Instr& in) {
+  const int lun = to_index(to_real(eval(in.args[0]), "logical unit"));
+  if (lun < 0 || lun > FileUnits::kLastUnit) raise(Message::illegal_value, fmt::format("logical unit {}", lun));
+  return lun;
+}
+
+// ATTACH / DETACH / FOPENR ... / READ / WRITE on a disk unit. As on V+, what the program is
+// expected to handle (end of file, a missing file) only sets IOSTAT; a path leaving the folder,
+// a unit used wrongly and a device that is not simulated stop the program.
+void Evaluator::io(const Instr& in) {
+  const std::size_t first_item = static_cast<std::size_t>(in.temp);
+  auto text_item = [&]() -> std::string {
+    return first_item < in.args.size() ? to_string_value(eval(in.args[first_item])) : std::string();
+  };
+  std::string error;
+  auto check = [&] {
+    if (!error.empty()) raise(Message::illegal_value, fmt::format("{}: {}", in.target.text, error));
+  };
+  if (in.io == IoOp::attach) {
+    std::string device;
+    for (char c : text_item()) device += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (!device.empty() && device != "DISK" && device != "NFS") {
+      bool network = false;
+      for (std::string_view d : kNetworkDevices) network = network || device.rfind(d, 0) == 0;
+      raise(Message::not_supported, fmt::format("ATTACH \"{}\"{}", device, network ? "; " + std::string(kNetworkHint) : ""));
+    }
+    const double mode = in.args.size() > 1 && first_item > 1 && in.args[1].kind != NodeKind::absent
+        ? to_real(eval(in.args[1]), "ATTACH mode") : 0;
+    int lun = 0;
+    if (static_cast<int>(mode) & 4) {  // allocate the next free unit, returned in the variable
+      if (in.args[0].kind != NodeKind::variable) raise(Message::illegal_value, "ATTACH mode 4 needs a variable for the unit");
+      lun = files_.free_unit();
+      if (lun < 0) raise(Message::illegal_value, "ATTACH: no logical unit left");
+      store(in.args[0], static_cast<double>(lun));
+    } else {
+      lun = unit_number(in);
+    }
+    if (!files_.attach(lun)) raise(Message::illegal_value, fmt::format("ATTACH: logical unit {} is attached already", lun));
+    files_.set_iostat(lun, kIoOk);
+    return;
+  }
+  const int lun = unit_number(in);
+  switch (in.io) {
+    case IoOp::detach:
+      if (!files_.detach(lun, error) && error.empty()) error = fmt::format("logical unit {} is not attached", lun);
+      return check();
+    case IoOp::fopenr: case IoOp::fopenw: case IoOp::fopena: case IoOp::fopend: {
+      const FileUnits::Open mode = in.io == IoOp::fopenr ? FileUnits::Open::read
+                                 : in.io == IoOp::fopenw ? FileUnits::Open::write
+                                 : in.io == IoOp::fopena ? FileUnits::Open::append : FileUnits::Open::directory;
+      files_.open(lun, mode, text_item(), error);
+      return check();
+    }
+    case IoOp::fclose: files_.close(lun, error); return check();
+    case IoOp::fempty: files_.empty(lun, text_item(), error); return check();
+    case IoOp::fdelete: {
+      const auto target = resolve_inside(files_.root(), text_item(), error);
+      check();
+      if (!files_.attached(lun)) raise(Message::illegal_value, fmt::format("FDELETE: logical unit {} is not attached", lun));
+      std::error_code ec;
+      files_.set_iostat(lun, std::filesystem::remove(*target, ec) ? kIoOk : kIoFileNotFound);
+      return;
+    }
+    case IoOp::read: {
+      if (in.args.size() > 1 && first_item > 1 && in.args[1].kind != NodeKind::absent
+          && to_real(eval(in.args[1]), "record number") != 0)
+        raise(Message::not_supported, "READ of a numbered record");
+      const auto record = files_.read_record(lun, error);
+      check();
+      if (!record) return;  // end of file: IOSTAT says so, the variables are unchanged
+      const std::size_t count = in.args.size() - first_item;
+      if (count == 1 && in.args[first_item].text[0] == '$') {  // the whole record
+        if (record->size() > kMaxStringLength) raise(Message::illegal_value, "READ: record longer than 128 characters");
+        return store(in.args[first_item], *record);
+      }
+      // Several variables (or a real): the record's fields, separated by blanks, tabs or commas.
+      std::vector<std::string> fields;
+      std::string field;
+      for (char c : *record + ' ') {
+        if (c == ' ' || c == '\t' || c == ',') {
+          if (!field.empty()) fields.push_back(field);
+          field.clear();
+        } else {
+          field += c;
+        }
+      }
+      for (std::size_t k = 0; k < count; ++k) {
+        const Node& target = in.args[first_item + k];
+        if (k >= fields.size())
+          raise(Message::illegal_value, fmt::format("READ: the record has {} fields for {} variables", fields.size(), count));
+        if (target.text[0] == '$') {
+          store(target, fields[k]);
+          continue;
+        }
+        const auto v = parse_reply_number(fields[k]);
+        if (!v) raise(Message::illegal_value, fmt::format("READ: \"{}\" is not a number", fields[k]));
+        store(target, *v);
+      }
+      return;
+    }
+    case IoOp::write: {
+      bool record_end = true;
+      std::vector<Value> values;
+      for (std::size_t k = first_item; k < in.args.size(); ++k) values.push_back(eval(in.args[k]));
+      std::string text = format_items(in.formats, values, record_end);
+      if (record_end) text += "\r\n";  // V+ records end with CR LF; /S leaves the record open
+      files_.write(lun, text, error);
+      return check();
+    }
+    case IoOp::attach: break;
+  }
+}
+
 
 // A V+ construct that the simulation ignores (dialect §7): one warning per execution.
 void Evaluator::warn_once(const std::string& keyword, const Instr& in) {

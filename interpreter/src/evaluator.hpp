@@ -3,6 +3,7 @@
 #pragma once
 #include "checker.hpp"
 #include "code.hpp"
+#include "files.hpp"
 #include "errors.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include "settings.hpp"
@@ -154,6 +155,8 @@ class Evaluator {
   void prompt(const Instr& in);
   void settings(const Instr& in);
   void warn_once(const std::string& keyword, const Instr& in);
+  void io(const Instr& in);  // dialect §7a
+  int unit_number(const Instr& in);
 
   motion::Location as_transformation(const Value& v);
   Value eval(const Node& n);
@@ -226,6 +229,7 @@ class Evaluator {
   motion::CollisionReport contact_;           // what ended the run (status collision)
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
   FastCtx ctx_;                               // globals_ and the running frame's slots
+  FileUnits files_;                           // logical units; all closed at the end of a run
   std::unique_ptr<motion::CellRuntime> cell_;  // parts and devices (cell_runtime())
   std::set<int> waited_;                      // signals SIG() read during the current WAIT
 };

@@ -173,6 +173,18 @@ Value Evaluator::function(const Node& n) {
       return 0.0;
     return run_program_ == name ? 2.0 : 1.0;
   }
+  if (n.func == Func::iostat || n.func == Func::getc) {  // dialect §7a
+    const int lun = to_index(to_real(eval(n.kids[0]), "logical unit"));
+    const double mode = n.kids.size() > 1 && n.kids[1].kind != NodeKind::absent ? to_real(eval(n.kids[1]), "mode") : 0;
+    if (n.func == Func::iostat) {
+      if (mode != 0) raise(Message::not_supported, fmt::format("IOSTAT(lun, {})", format_number(mode)));
+      return static_cast<double>(files_.iostat(lun));
+    }
+    std::string error;
+    const int c = files_.get_byte(lun, error);
+    if (!error.empty()) raise(Message::illegal_value, "GETC: " + error);
+    return static_cast<double>(c);
+  }
   if (n.func == Func::timer) {  // TIMER(0) and negative: the simulated clock [assumption]
     const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
     if (k <= 0) return clock();

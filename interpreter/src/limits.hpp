@@ -9,6 +9,7 @@ constexpr std::size_t kMaxStringLength = 128;  // characters in a string value
 constexpr int kMaxArrayIndex = 65535;          // highest array index
 constexpr unsigned kMaxLabel = 65535;          // highest statement label
 constexpr int kMaxSubscripts = 3;              // a[i,j,k]
+constexpr std::size_t kMaxIoItems = 1000;      // items of one READ or WRITE
 constexpr std::size_t kMaxLoadErrors = 20;     // syntax errors reported per LOAD
 // Expressions are parsed, checked, compiled and evaluated by recursion; a statement past these
 // limits is refused at load with *Expression too complex* (docs/limits.md): far above what a

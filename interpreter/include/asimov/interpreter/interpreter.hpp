@@ -73,7 +73,10 @@ struct Limits {
   // its next checked pose (the simulator reads the flag while a run goes on).
   const std::atomic<bool>* interrupt = nullptr;
   double tick_s = 0.016;          // WAIT: the clock advances by ticks [s]
-  double max_wait_s = 3600;       // WAIT: simulated seconds before *Wait limit exceeded*
+  double max_wait_s = 3600;
+  // Files (dialect §7a): every path FOPENR ... names is resolved inside this folder (the
+  // program file's folder, or `asimov run --files DIR`), never outside it.
+  std::string files_root = ".";       // WAIT: simulated seconds before *Wait limit exceeded*
 };
 
 class Interpreter {
