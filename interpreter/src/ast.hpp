@@ -160,6 +160,17 @@ struct IoStmt {
   std::vector<TypeItem> items;                        // device or path, READ's variables, WRITE's items
 };
 
+// EXECUTE [ /C ] [ task ] program [ "(" arguments ")" ] { "," [ expression ] }   (dialect §7b)
+struct ExecuteHead {
+  Expr task;                                          // Nil: task 0
+  std::string program;
+};
+struct ExecuteStmt {
+  ExecuteHead head;
+  std::vector<boost::optional<Expr>> args;
+  std::vector<Expr> rest;                             // cycles, step, priority (ignored)
+};
+
 // TIMER expression "=" expression
 struct TimerStmt {
   Expr number;
@@ -173,7 +184,8 @@ struct ProgramHeader {
 };
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
-                               ProgramHeader, Declaration, TimerStmt, Unsupported, IoStmt> {
+                               ProgramHeader, Declaration, TimerStmt, Unsupported, IoStmt,
+                               ExecuteStmt> {
   using base_type::base_type;
   using base_type::operator=;
 };

@@ -344,6 +344,7 @@ class Checker {
       void operator()(const ast::Declaration& d) const { c.declaration(d); }
       void operator()(const ast::Unsupported& u) const { c.unsupported(u); }
       void operator()(const ast::IoStmt& io) const { c.io_statement(io); }
+      void operator()(const ast::ExecuteStmt& e) const { c.execute_statement(e); }
       void operator()(const ast::TimerStmt& t) const {
         Instr& in = c.emit(Code::timer);
         in.args.push_back(c.expression(t.number));
@@ -366,18 +367,19 @@ class Checker {
         || (k == "SELECT" && rest == "ROBOT=1");
   }
 
-  // Dialect §7a. Robot ATTACH () / DETACH () warn; FOPEN and FCMND (network) stop with a hint.
+  // Dialect §7a. Robot ATTACH () / DETACH () (§7b); FOPEN and FCMND (network) stop with a hint.
   void io_statement(const ast::IoStmt& io) {
     std::string k;
     for (char c : io.keyword) k += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     std::vector<ast::Expr> unit = io.unit;
     if (unit.size() == 1 && ast::is_omitted(unit[0])) unit.clear();
     if ((k == "ATTACH" || k == "DETACH") && unit.empty() && io.items.empty()) {  // the robot
-      Instr& in = emit(Code::unsupported);
+      Instr& in = emit(Code::robot);
       in.target.text = k;
-      in.always = true;
+      in.always = k == "ATTACH";
       return;
     }
+    if (k == "ABORT" || k == "KILL" || k == "CYCLE.END" || k == "RELEASE") return task_statement(k, unit, io.items);
     if (k == "FOPEN" || k == "FCMND") {
       Instr& in = emit(Code::unsupported);
       in.target.text = k + "; " + std::string(kNetworkHint);
@@ -436,6 +438,40 @@ class Checker {
       in.formats.push_back(ast::Format{0, 0, 0});
       in.args.push_back(std::move(value));
     }
+  }
+
+  // ABORT n, KILL n, CYCLE.END n, RELEASE [n] (dialect §7b): the task number as the one item.
+  void task_statement(const std::string& k, const std::vector<ast::Expr>& unit, const std::vector<ast::TypeItem>& items) {
+    const IoOp op = k == "ABORT" ? IoOp::abort : k == "KILL" ? IoOp::kill : k == "CYCLE.END" ? IoOp::cycle_end : IoOp::release;
+    std::vector<const ast::Expr*> args;
+    for (const ast::Expr& e : unit) args.push_back(&e);
+    for (const ast::TypeItem& item : items) {
+      const auto* e = boost::get<ast::Expr>(&item);
+      if (!e) {
+        error(fmt::format("{} takes no format", k));
+        return;
+      }
+      args.push_back(e);
+    }
+    if ((op != IoOp::release && args.empty()) || args.size() > (op == IoOp::cycle_end ? 2u : 1u)) {
+      error(fmt::format("{} expects a task number", k));
+      return;
+    }
+    Instr& in = emit(Code::task);
+    in.io = op;
+    in.target.text = k;
+    for (const ast::Expr* e : args) in.args.push_back(expression(*e));
+  }
+
+  // EXECUTE [task] prog(args): the program slot as for CALL; arguments go by value.
+  void execute_statement(const ast::ExecuteStmt& e) {
+    Instr& in = emit(Code::execute);
+    in.program = symbols_.program(normalize_name(e.head.program));
+    in.target.text = normalize_name(e.head.program);
+    in.args.push_back(ast::is_omitted(e.head.task) ? Node{} : expression(e.head.task));
+    std::size_t count = e.args.size();
+    if (count == 1 && !e.args[0]) count = 0;
+    for (std::size_t i = 0; i < count; ++i) in.args.push_back(e.args[i] ? expression(*e.args[i]) : Node{});
   }
 
   void binding(const ast::Binding& b) {

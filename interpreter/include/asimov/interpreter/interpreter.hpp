@@ -47,6 +47,13 @@ struct MotionStep {
   std::string text;         // the source line, without leading blanks
 };
 
+// A task of a run that EXECUTEd others (dialect §7b), as the monitor's STATUS lists it.
+struct TaskReport {
+  int number = 0;
+  std::string program;            // the program it was started with
+  std::string state;              // "completed", "aborted", or where it was when the run ended
+};
+
 // How a run ended. error: a VAL error stopped it; interrupted: Ctrl-C (Limits::interrupt)
 // stopped it between two steps or inside a motion (*Program interrupted*); paused: PAUSE
 // (PROCEED continues with the next step); halted: HALT (cannot be resumed).
@@ -64,6 +71,7 @@ struct RunResult {
   std::optional<motion::InterruptReport> interrupt;
   std::vector<Diagnostic> warnings;   // V+ constructs ignored with a warning (dialect §7), once each
   std::vector<MotionStep> motions;    // the motion instructions started, once each, in first-run order
+  std::vector<TaskReport> tasks;      // every task when the run EXECUTEd others (dialect §7b); else empty
 };
 
 struct Limits {
