@@ -222,7 +222,6 @@ class Evaluator {
   motion::CollisionReport contact_;           // what ended the run (status collision)
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
   FastCtx ctx_;                               // globals_ and the running frame's slots
-  std::unique_ptr<motion::CellRuntime> cell_;  // parts and devices (cell_runtime())
   std::set<int> waited_;                      // signals SIG() read during the current WAIT
 };
 

@@ -13,14 +13,14 @@
 namespace asimov::interpreter {
 
 motion::CellRuntime* Evaluator::cell_runtime() {
-  if (!cell_ && !sim_.cell().workcell.empty()) cell_ = std::make_unique<motion::CellRuntime>(sim_.cell());
-  if (!cell_) return nullptr;
+  motion::CellRuntime* c = sim_.cell_runtime();
+  if (!c) return nullptr;
   try {
-    cell_->clock().advance_to(sim_.time_s());
+    c->clock().advance_to(sim_.time_s());
   } catch (const motion::DeviceError& e) {
     raise_text("*Device logic loop*", e.what());
   }
-  return cell_.get();
+  return c;
 }
 
 void Evaluator::set_signal(int k) {
@@ -70,14 +70,14 @@ void Evaluator::hand_changed(motion::HandState h, int line) {
 namespace asimov::interpreter {
 
 const motion::CellRuntime* Evaluator::cell_state() {
-  if (!cell_ && !sim_.cell().workcell.empty()) cell_ = std::make_unique<motion::CellRuntime>(sim_.cell());
-  if (!cell_) return nullptr;
+  motion::CellRuntime* c = sim_.cell_runtime();
+  if (!c) return nullptr;
   try {
-    cell_->clock().advance_to(sim_.time_s());
+    c->clock().advance_to(sim_.time_s());
   } catch (const motion::DeviceError&) {
     // the run already stopped on it (*Device logic loop*); the state is the one before
   }
-  return cell_.get();
+  return c;
 }
 
 }  // namespace asimov::interpreter

@@ -39,7 +39,8 @@ struct Simulator::Impl {
   std::optional<HandState> hand_request;
   TimingRecorder timing;  // first: the constructor's preprocessing is timed into it
   World world;
-  TraceRecorder trace{cell.robot, base, tool};
+  std::optional<CellRuntime> runtime;  // parts and devices; absent for a static cell
+  TraceRecorder trace{cell.robot, base, tool, &world};
   ReplayRecorder replay{cell.robot};
   AccuracyRecorder accuracy{cell.robot};
   CountRecorder counts;
@@ -62,6 +63,10 @@ struct Simulator::Impl {
     base = cell.base;
     tool = cell.tool;
     dest = here();
+    if (!cell.workcell.empty()) {
+      runtime.emplace(cell);
+      world.attach(*runtime);
+    }
     for (WalkObserver* o : std::initializer_list<WalkObserver*>{&timing, &counts, &trace, &replay, &accuracy, &hook})
       walker.add_observer(*o);
   }
@@ -138,7 +143,15 @@ MotionResult Simulator::finish_motion() {
   if (!s.pending) return {};
   const Trajectory tr = std::move(*s.pending);
   s.pending.reset();
-  MotionResult r = s.walker.walk(tr, s.state);
+  MotionResult r;
+  try {
+    r = s.walker.walk(tr, s.state);
+  } catch (const DeviceError& e) {  // the devices' clock advanced with the walk
+    r.status = MotionStatus::error;
+    r.error = {"*Device logic loop*", e.what()};
+  }
+  if (s.runtime && s.runtime->carried())  // the part in the gripper is where the flange took it
+    s.runtime->clock().move_carried(*s.runtime->carried(), s.runtime->carried_pose(s.cell.base * robots::flange_pose(s.cell.robot, s.state.joints)));
   if (r.status == MotionStatus::interrupted) {
     s.rest = Impl::Rest{tr.to, tr.kind == PathKind::line, s.dest, tr.speed, r.interrupt.time_s - tr.t0};
     s.halted = r.interrupt;
@@ -169,6 +182,9 @@ MotionResult Simulator::resume_motion(std::optional<double> monitor_speed) {
 }
 
 void Simulator::request_hand(HandState state) { impl_->hand_request = state; }
+std::optional<HandState> Simulator::hand_request() const { return impl_->hand_request; }
+CellRuntime* Simulator::cell_runtime() { return impl_->runtime ? &*impl_->runtime : nullptr; }
+const CellRuntime* Simulator::cell_runtime() const { return impl_->runtime ? &*impl_->runtime : nullptr; }
 
 MotionResult Simulator::hand_immediate(HandState state, double hand_time_s) {
   if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;

@@ -35,8 +35,8 @@ struct Walker::Walk {
   bool record(const collision::QueryResult& r, QueryCost cost, const JointVector& q, CollisionReport& report) {
     tell([&](WalkObserver& o) { o.on_query(r, cost); });
     if (!r.collided) return false;
-    report.body_a = engine->body_name(r.contact.body_a);
-    report.body_b = engine->body_name(r.contact.body_b);
+    report.body_a = w.world_.body_name(r.contact.body_a);
+    report.body_b = w.world_.body_name(r.contact.body_b);
     report.point = r.contact.point;
     report.face_a = r.contact.face_a;
     report.face_b = r.contact.face_b;
@@ -44,11 +44,11 @@ struct Walker::Walk {
     return true;
   }
 
-  // The engine at q, on `pairs` (nullopt: every enabled pair).
-  const collision::QueryResult& query(const JointVector& q,
+  // The world at q and time t, on `pairs` (nullopt: every pair tested now).
+  const collision::QueryResult& query(const JointVector& q, double t,
                                       std::optional<std::span<const collision::BodyPair>> pairs = std::nullopt) {
-    w.world_.pose(q);
-    engine->query({.clearance_mm = clearance, .pairs = pairs}, w.result_);
+    w.world_.pose(q, t);
+    w.world_.query({.clearance_mm = clearance, .pairs = pairs}, w.result_);
     return w.result_;
   }
 
@@ -56,11 +56,12 @@ struct Walker::Walk {
   bool visit(const JointVector& q, double t, CollisionReport& report) {
     bool contact = false;
     if (engine) {
-      w.world_.pose(q);
+      w.world_.pose(q, t);
       const std::uint64_t k0 = cpu_ticks();
-      engine->query({.clearance_mm = clearance}, w.result_);
+      w.world_.query({.clearance_mm = clearance}, w.result_);
       const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
       contact = record(w.result_, cost, q, report);
+      if (!contact) w.world_.free_pose_seen();
     }
     tell([&](WalkObserver& o) { o.on_checked_pose(t, q, contact); });
     if (!contact) {
@@ -73,10 +74,10 @@ struct Walker::Walk {
 
   // Allowance of every enabled pair at the current engine poses (the last checked pose).
   void update_gaps() {
-    engine->query({.clearance_mm = clearance, .contact = false, .gaps = true}, w.result_);
+    w.world_.query({.clearance_mm = clearance, .contact = false, .gaps = true}, w.result_);
     const double c = w.settings_.clearance_mm, step = step_mm(w.settings_);
-    for (std::size_t i = 0; i < w.gap_pairs_.size(); ++i)
-      w.gap_pairs_[i].allow_mm = gap_allowance(w.result_.gaps[i], c, step);
+    const std::span<GapPair> gaps = w.world_.gap_pairs();
+    for (std::size_t i = 0; i < gaps.size(); ++i) gaps[i].allow_mm = gap_allowance(w.result_.gaps[i], c, step);
   }
 
   // Contact time (docs/collision-method.md §6.4). `report` holds the contact at the checked
@@ -95,11 +96,12 @@ struct Walker::Walk {
     const double tol = w.settings_.toc_tolerance_s >= 0 ? w.settings_.toc_tolerance_s : 1e-6;
     std::vector<collision::BodyPair>& hit_pairs = w.hit_pairs_;
     for (int round = 0; round < kMaxBisectionRounds; ++round) {
-      w.world_.pose(report.joints);
+      w.world_.pose(report.joints, report.time_s);
       hit_pairs.clear();
       CollisionReport probe;
-      for (const collision::BodyPair& pair : engine->enabled_pairs()) {
-        engine->query({.clearance_mm = clearance, .pairs = std::span(&pair, 1)}, w.result_);
+      w.probe_pairs_.assign(w.world_.pairs().begin(), w.world_.pairs().end());
+      for (const collision::BodyPair& pair : w.probe_pairs_) {
+        w.world_.query({.clearance_mm = clearance, .pairs = std::span(&pair, 1)}, w.result_);
         if (record(w.result_, {QueryKind::probe}, report.joints, probe)) hit_pairs.push_back(pair);
       }
       if (hit_pairs.empty()) break;  // cannot happen (the full query found one)
@@ -108,7 +110,7 @@ struct Walker::Walk {
         const double t = t_free + (t_hit - t_free) / 2;
         if (!(t > t_free && t < t_hit)) break;  // the bracket is one ulp wide
         const JointVector q = at(t, q_free);
-        if (record(query(q, hit_pairs), {QueryKind::bisection_pose}, q, report)) {
+        if (record(query(q, t, hit_pairs), {QueryKind::bisection_pose}, q, report)) {
           t_hit = t;
         } else {
           t_free = t;
@@ -119,7 +121,7 @@ struct Walker::Walk {
       report.time_free_s = t_free;
       if (t_free == t_start) return true;  // q_start: checked against every pair already
       CollisionReport other;
-      if (!record(query(q_free), {QueryKind::bisection_pose}, q_free, other)) return true;
+      if (!record(query(q_free, t_free), {QueryKind::bisection_pose}, q_free, other)) return true;
       other.time_s = t_free;  // an earlier contact of another pair: bisect it from the start
       report = std::move(other);
       t_free = t_start;
@@ -178,7 +180,7 @@ struct Walker::Walk {
       double bound = samples[j].bound_mm;
       if (gap) {
         update_gaps();
-        j = gap_next_sample(w.world_.reach(), samples, i, w.gap_pairs_, w.sums_, bound);
+        j = gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.sums_, bound);
       }
       const LineSample &a = samples[i], &b = samples[j];
       const double t = tr.t0 + tr.profile.time_at(b.s);
@@ -210,11 +212,16 @@ struct Walker::Walk {
     const JointVector step = (tr.to - tr.from) / tr.intervals;
     double body_max = 0;
     for (const robots::BodyReach& r : w.world_.reach()) body_max = std::max(body_max, robots::max_displacement(r, step));
-    if (gap) {
-      w.pair_mm_.resize(w.gap_pairs_.size());
-      for (std::size_t k = 0; k < w.gap_pairs_.size(); ++k)
-        w.pair_mm_[k] = pair_displacement(w.world_.reach(), w.gap_pairs_[k], step);
-    }
+    // Per pair of the world: what one grid interval can change its distance by (again when
+    // the pairs change: parts appear, leave, are grasped or released).
+    std::uint64_t pairs_seen = ~std::uint64_t{0};
+    const auto pair_bounds = [&] {
+      if (w.world_.pairs_revision() == pairs_seen) return;
+      pairs_seen = w.world_.pairs_revision();
+      const std::span<const GapPair> gaps = w.world_.gap_pairs();
+      w.pair_mm_.resize(gaps.size());
+      for (std::size_t k = 0; k < gaps.size(); ++k) w.pair_mm_[k] = pair_displacement(w.world_.reach(), gaps[k], step);
+    };
     double t_prev = st.time_s;
     JointVector q(st.joints.size());
     CollisionReport report;
@@ -222,8 +229,9 @@ struct Walker::Walk {
       if (interrupt_requested()) return interrupt_halt(t_prev, static_cast<double>(i) / tr.intervals);
       int k = 1;
       if (gap) {
+        pair_bounds();
         update_gaps();
-        k = gap_intervals(w.pair_mm_, w.gap_pairs_, tr.intervals - i);
+        k = gap_intervals(w.pair_mm_, w.world_.gap_pairs(), tr.intervals - i);
       }
       const double sigma_from = static_cast<double>(i) / tr.intervals;
       i += k;
@@ -247,10 +255,7 @@ struct Walker::Walk {
     }
     // Gap stepping needs the engine: the gaps are its containers' (at the current pose).
     const bool gap = engine && w.settings_.stepping == Stepping::gap;
-    if (gap) {
-      w.gap_pairs_.assign(w.world_.gap_pairs().begin(), w.world_.gap_pairs().end());
-      w.world_.pose(st.joints);
-    }
+    if (engine) w.world_.pose(st.joints, st.time_s);  // parts grasped or released since: their pairs
     MotionResult r = tr.kind == PathKind::line ? line(gap) : joint(gap);
     if (r.status != MotionStatus::ok) return r;
     st.joints = tr.to;

@@ -5,6 +5,7 @@
 #include "asimov/motion/walk_observer.hpp"
 
 #include <chrono>
+#include <string>
 #include <vector>
 
 namespace asimov::motion {
@@ -13,7 +14,11 @@ struct TraceSample {
   double time_s = 0;
   robots::JointVector joints;   // display [deg]
   Location tool;                // world pose of the tool point (BASE . FK . TOOL)
+  std::string part;             // the carried part's name ("" when the gripper holds none)
+  Location part_pose = Location::Identity();  // its world pose
 };
+
+class World;
 
 // One pose of the replay recording (app/replay.*): the arm's joints at a simulated instant,
 // on the path the simulator carries out.
@@ -51,8 +56,8 @@ struct RunTiming {
 // Every checked pose with the tool's world pose, when `on`. BASE and TOOL are read at the
 // pose (the program's, as HERE).
 struct TraceRecorder final : WalkObserver {
-  TraceRecorder(const robots::Robot& robot, const Location& base, const Location& tool)
-      : robot(robot), base(base), tool(tool) {}
+  TraceRecorder(const robots::Robot& robot, const Location& base, const Location& tool, const World* world = nullptr)
+      : robot(robot), base(base), tool(tool), world(world) {}
   void on_checked_pose(double t, const robots::JointVector& q, bool contact) override;
   bool on = false;
   std::vector<TraceSample> samples;
@@ -60,6 +65,7 @@ struct TraceRecorder final : WalkObserver {
  private:
   const robots::Robot& robot;
   const Location &base, &tool;
+  const World* world;  // the carried part's pose comes from it (null: none)
 };
 
 // Replay frames, when grid_s > 0 (off: one branch per event). Every checked pose, the exact
