@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <cstring>
 #include <map>
 
 namespace asimov::interpreter {
@@ -120,6 +122,24 @@ class Checker {
     out_.errors.push_back(std::move(d));
   }
   void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
+  // The 1-based column of the first `name(` (case-insensitive, a whole word) of the current
+  // statement; the statement's column when it is not found.
+  int column_of(const std::string& name) const {
+    auto lower = [](std::string s) {
+      for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      return s;
+    };
+    const std::string hay = lower(src_.text[static_cast<std::size_t>(line_ - 1)]), needle = lower(name);
+    for (std::size_t at = hay.find(needle, static_cast<std::size_t>(column_ - 1)); at != std::string::npos;
+         at = hay.find(needle, at + 1)) {
+      std::size_t after = at + needle.size();
+      while (after < hay.size() && (hay[after] == ' ' || hay[after] == '\t')) ++after;
+      const char before = at == 0 ? ' ' : hay[at - 1];
+      const bool starts = !(std::isalnum(static_cast<unsigned char>(before)) || std::strchr("._$#", before));
+      if (starts && after < hay.size() && hay[after] == '(') return static_cast<int>(at) + 1;
+    }
+    return column_;
+  }
 
   // A block error that a syntax error in the same program may have caused (a block opener
   // or END the parser rejected) is not reported: the syntax error already is.
@@ -656,7 +676,9 @@ class Checker {
   std::vector<int> block_parent_;       // block id -> enclosing block id (0 = program level)
   std::map<unsigned, LabelInfo> labels_;
   std::vector<Goto> gotos_;
-  ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail) { error(std::move(detail)); }};
+  ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail, const std::string& near) {
+    error_at(line_, near.empty() ? column_ : column_of(near), std::move(detail));
+  }};
 };
 
 }  // namespace

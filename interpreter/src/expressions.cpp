@@ -130,7 +130,7 @@ Node ExpressionCompiler::function(const ast::Call& call) {
   const std::string name = normalize_name(call.name);
   const auto f = find_function(name);
   if (!f) {
-    error(fmt::format("unknown function {}", name));
+    error(fmt::format("unknown function {}", call.name), call.name);  // as written, caret under it
     return n;
   }
   n.func = *f;

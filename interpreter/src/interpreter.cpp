@@ -6,6 +6,8 @@
 #include "limits.hpp"
 #include "parser.hpp"
 
+#include <fmt/format.h>
+
 #include "asimov/collision/text_file.hpp"
 
 #include <algorithm>
@@ -70,7 +72,15 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   std::vector<Diagnostic> all = std::move(parsed.errors);
   all.insert(all.end(), checked.errors.begin(), checked.errors.end());
   std::stable_sort(all.begin(), all.end(), [](const Diagnostic& a, const Diagnostic& b) { return a.line < b.line; });
-  if (all.size() > kMaxLoadErrors) all.resize(kMaxLoadErrors);
+  if (all.size() > kMaxLoadErrors) {  // the cap is said, with what it left out
+    const std::size_t more = all.size() - kMaxLoadErrors;
+    all.resize(kMaxLoadErrors);
+    Diagnostic note;
+    note.message = "*Too many errors*";
+    note.detail = fmt::format("{} more not reported (at most {} per LOAD)", more, kMaxLoadErrors);
+    note.file = file_name;
+    all.push_back(std::move(note));
+  }
   if (!all.empty()) return all;  // nothing is loaded (the checker reports errors only)
   m.programs.resize(m.symbols.programs.size());
   m.globals.resize(m.symbols.globals.size());

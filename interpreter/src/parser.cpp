@@ -14,6 +14,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -300,6 +301,44 @@ std::string expected_text(const std::string& which) {
   return "expected " + w;
 }
 
+// A "#" where the parse stopped is most often a comment written in another language's way.
+std::string with_hint(std::string::const_iterator where, std::string::const_iterator last, std::string detail) {
+  if (where != last && *where == '#') detail += "; comments start with \";\" in V+";
+  return detail;
+}
+
+// What a control character is, for the message (a form feed, Ctrl-Z ...).
+std::string control_name(unsigned char c) {
+  char code[8];
+  std::snprintf(code, sizeof code, "0x%02X", c);
+  const char* name = c == 0 ? "NUL" : c == 7 ? "bell" : c == 8 ? "backspace" : c == 0x0B ? "vertical tab"
+                     : c == 0x0C ? "form feed" : c == 0x1B ? "escape" : c == 0x7F ? "delete" : nullptr;
+  const std::string what = name ? name : std::string("Ctrl-") + static_cast<char>('@' + c);
+  return "control character " + std::string(code) + " (" + what + ")";
+}
+
+// Lines end at LF, CR LF, CR CR LF (a CR LF file converted once more on the way) or a lone CR
+// (dialect §1); a last line without newline is a line.
+std::vector<std::string> split_lines(const std::string& source) {
+  std::vector<std::string> lines;
+  std::size_t start = 0, i = 0;
+  const std::size_t n = source.size();
+  while (i < n) {
+    const char c = source[i];
+    if (c != '\n' && c != '\r') {
+      ++i;
+      continue;
+    }
+    lines.push_back(source.substr(start, i - start));
+    if (c == '\r' && i + 1 < n && source[i + 1] == '\n') i += 2;
+    else if (c == '\r' && i + 2 < n && source[i + 1] == '\r' && source[i + 2] == '\n') i += 3;
+    else ++i;
+    start = i;
+  }
+  if (start < n) lines.push_back(source.substr(start));
+  return lines;
+}
+
 // A numeric literal at `where` that does not fit a double gets its own detail.
 std::string refine(std::string::const_iterator where, std::string::const_iterator last, std::string detail) {
   if (where == last || !(std::isdigit(static_cast<unsigned char>(*where)) || *where == '.')) return detail;
@@ -365,16 +404,7 @@ std::optional<TooComplex> too_complex(const std::string& text) {
 ParsedSource parse_source(const std::string& source, const std::string& file) {
   ParsedSource out;
   out.file = file;
-  std::size_t start = 0;
-  while (start <= source.size()) {
-    // Lines end with LF, CR LF or a lone CR (old Mac files were one line of "unexpected text").
-    std::size_t end = source.find_first_of("\r\n", start);
-    if (end == std::string::npos) end = source.size();
-    out.text.push_back(source.substr(start, end - start));
-    if (end == source.size()) break;
-    start = end + (source[end] == '\r' && end + 1 < source.size() && source[end + 1] == '\n' ? 2 : 1);
-  }
-  if (!out.text.empty() && out.text.back().empty()) out.text.pop_back();  // final newline
+  out.text = split_lines(source);
   out.lines.resize(out.text.size());
 
   bool in_data = false;  // inside .LOCATIONS / .REALS / .STRINGS
@@ -394,19 +424,22 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       out.errors.push_back(std::move(d));
       line = ast::Line{};
     };
-    // Bytes outside ASCII are allowed only in comments (dialect §1).
+    // Bytes outside ASCII and control characters (but TAB) are allowed only in comments
+    // (dialect §1).
     bool in_string = false;
     auto bad = text.end();
     for (auto it = text.begin(); it != text.end(); ++it) {
       if (*it == '"') in_string = !in_string;
       if (*it == ';' && !in_string) break;
-      if (static_cast<unsigned char>(*it) > 126) {
+      const auto c = static_cast<unsigned char>(*it);
+      if (c > 126 || (c < 32 && c != '\t')) {
         bad = it;
         break;
       }
     }
     if (bad != text.end()) {
-      fail(bad, "character outside ASCII");
+      const auto c = static_cast<unsigned char>(*bad);
+      fail(bad, c > 127 ? "character outside ASCII" : control_name(c));
       continue;
     }
     if (!in_data) {
@@ -455,7 +488,7 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
                    "\" is a keyword, not a variable";
         else if (*first == '=')
           detail = "\"=\" is not an operator; use \"==\" to compare";
-        fail(first, refine(first, last, detail));
+        fail(first, refine(first, last, with_hint(first, last, detail)));
       }
     } catch (const x3::expectation_failure<std::string::const_iterator>& e) {
       auto where = e.where();
@@ -463,7 +496,7 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       std::string detail = expected_text(e.which());
       if (where != last && *where == '=' && detail != "expected \"=\"")
         detail = "\"=\" is not an operator; use \"==\" to compare";
-      fail(where, refine(where, last, detail));
+      fail(where, refine(where, last, with_hint(where, last, detail)));
     }
   }
   return out;

@@ -171,3 +171,44 @@ TEST_CASE("the reserved words of instructions.def never parse as variables; othe
     CHECK(errors_of(line).empty());
   }
 }
+
+TEST_CASE("lines end at LF, CR LF, CR CR LF or CR; the last needs no newline", "[parser]") {
+  for (const std::string eol : {"\n", "\r\n", "\r\r\n", "\r"}) {
+    INFO(int(eol.size()));
+    const auto p = parse_source(".PROGRAM p()" + eol + eol + "  x = 1" + eol + ".END", "t.v2");
+    CHECK(p.errors.empty());
+    REQUIRE(p.text.size() == 4);
+    CHECK(p.text[1].empty());
+    CHECK(p.text[2] == "  x = 1");
+    CHECK(p.text[3] == ".END");
+  }
+  const auto mixed = parse_source(".PROGRAM p()\r\r\n\r\r\n  x = 1\r\n.END\n", "t.v2");
+  CHECK(mixed.errors.empty());
+  CHECK(mixed.text.size() == 4);
+  const auto error_line = parse_source(".PROGRAM p()\r\r\n  x = (\r\r\n.END\r\r\n", "t.v2");  // numbered as written
+  REQUIRE(error_line.errors.size() == 1);
+  CHECK(error_line.errors[0].line == 2);
+}
+
+TEST_CASE("a control character is named", "[parser]") {
+  auto e = errors_of("x = 1\f");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].detail == "control character 0x0C (form feed)");
+  CHECK(e[0].column == 6);
+  CHECK(errors_of("x = 1 \x1a")[0].detail == "control character 0x1A (Ctrl-Z)");
+  CHECK(errors_of(std::string("x = 1", 5) + std::string(1, '\0'))[0].detail == "control character 0x00 (NUL)");
+  CHECK(errors_of("$s = \"a\x7f\"")[0].detail == "control character 0x7F (delete)");
+  CHECK(errors_of("x = 1 ; \f in a comment").empty());
+  CHECK(errors_of("x = 1\t; a tab is a blank").empty());
+}
+
+TEST_CASE("a # where the parse stops gets the comment hint", "[parser]") {
+  auto e = errors_of("x = 1  # set x");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].detail == "unexpected text; comments start with \";\" in V+");
+  CHECK(e[0].column == 8);
+  e = errors_of("# a comment");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].detail == "expected a statement; comments start with \";\" in V+");
+  CHECK(errors_of("SET #p = #PPOINT(1,2,3,4,5,6)").empty());  // precision points unchanged
+}

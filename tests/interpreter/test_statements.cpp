@@ -84,7 +84,7 @@ TEST_CASE("WAIT advances the clock tick by tick; WAIT.EVENT , t waits t seconds"
   CHECK(outcome("TIMER 2 = 10\nWAIT\nTYPE TIMER(2)") == "10.016\n");
   CHECK(outcome("TIMER 3 = 0\nWAIT.EVENT , 1.5\nTYPE TIMER(3)") == "1.5\n");
   CHECK(outcome("SIGNAL 2001\nWAIT SIG(2001)\nTYPE \"at once\"") == "at once\n");
-  CHECK(outcome("WAIT SIG(1001)") == "ERROR *Wait limit exceeded* still false after 2 s");
+  CHECK(outcome("WAIT SIG(1001)") == "ERROR *Wait limit exceeded* still false after 2 s; no device in the cell drives signal 1001");
   CHECK(outcome("WAIT.EVENT 1, 2") == "ERROR *Not supported in simulation* WAIT.EVENT");
   CHECK(outcome("WAIT.EVENT , -1") == "ERROR *Illegal value* WAIT.EVENT -1");
   CHECK(outcome("WAIT \"x\"") == "ERROR *Illegal value* WAIT condition, not a string");
