@@ -393,22 +393,22 @@ void Evaluator::statement(const Instr& in) {
       return;
     }
     case Code::tool: {
-      if (in.args.empty()) sim_.set_tool(motion::Location::Identity());  // TOOL = TOOL NULL
-      else sim_.set_tool(as_transformation(eval(in.args[0])));
+      if (in.args.empty()) sim_.settings().tool = motion::Location::Identity();  // TOOL = TOOL NULL
+      else sim_.settings().tool = as_transformation(eval(in.args[0]));
       return;
     }
     case Code::base: {
       if (in.args.size() == 1 && in.args[0].kind != NodeKind::absent) {
         const Value v = eval(in.args[0]);
         if (kind_of(v) != Kind::real) {
-          sim_.set_base(as_transformation(v));
+          sim_.settings().base = as_transformation(v);
           return;
         }
       }
       double x[4] = {0, 0, 0, 0};  // BASE dx, dy, dz, rz (omitted: 0)
       for (std::size_t k = 0; k < in.args.size(); ++k)
         if (in.args[k].kind != NodeKind::absent) x[k] = to_real(eval(in.args[k]), "BASE");
-      sim_.set_base(motion::trans(x[0], x[1], x[2], x[3], 0, 0));
+      sim_.settings().base = motion::trans(x[0], x[1], x[2], x[3], 0, 0);
       return;
     }
     case Code::configure: {
@@ -422,7 +422,7 @@ void Evaluator::statement(const Instr& in) {
                          : w == ast::Kw::below ? "BELOW" : w == ast::Kw::flip ? "FLIP" : w == ast::Kw::noflip ? "NOFLIP" : nullptr;
       if (name && !robots::configuration_word_applies(sim_.robot(), word))
         warn_once(std::string(name) + " (no meaning for this arm: ignored)", in);
-      return request_configuration(in.word, sim_.request());
+      return request_configuration(in.word, sim_.settings().request);
     }
     case Code::speed: {
       const double s = to_real(eval(in.args[0]));
@@ -636,7 +636,7 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
     motion_sites_.emplace_back(m.program, m.line);
   // OPEN / CLOSE act as this motion starts: the grasp or release where the previous motion
   // ended, before this one is planned (a carried part widens its step bounds).
-  const std::optional<motion::HandState> hand_request = sim_.hand_request();
+  const std::optional<motion::HandState> hand_request = sim_.hand().pending;
   if (hand_request && sim_.cell_runtime()) {
     if (const RunStatus s = check_motion(sim_.finish_motion()); s != RunStatus::completed) return s;
     hand_changed(*hand_request, m.line);

@@ -11,7 +11,7 @@ namespace asimov::interpreter {
 
 double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "HAND.TIME") return s.hand_time_s;
-  if (name == "COLLISION.CLEARANCE") return sim.clearance_mm();
+  if (name == "COLLISION.CLEARANCE") return sim.cell().collision.clearance_mm;
   raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
 }
 
@@ -26,7 +26,7 @@ void set_parameter(const std::string& name, double value, Settings& s, motion::S
 
 bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "CP") return s.cp;
-  if (name == "COLLISION") return sim.collision_enabled();
+  if (name == "COLLISION") return sim.cell().collision.enabled;
   raise(Message::illegal_value, fmt::format("unknown switch {}", name));
 }
 

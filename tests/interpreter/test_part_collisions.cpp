@@ -105,7 +105,7 @@ TEST_CASE("the trace holds the carried part's pose; a grasp and a release leave 
   motion::Cell cell = plate_cell(true);
   cell.objects.pop_back();  // no post: the slide completes
   Run r(std::move(cell));
-  r.sim.set_trace(true);
+  r.sim.recorders().trace.on = true;
   const std::string program =
       ".PROGRAM main()\n"
       "  SET down = TRANS(0, 0, 0, 0, 180, 0)\n"
@@ -121,7 +121,7 @@ TEST_CASE("the trace holds the carried part's pose; a grasp and a release leave 
       ".END\n";
   REQUIRE(r.run(program).status == interpreter::RunStatus::completed);
   std::size_t carried = 0;
-  for (const auto& s : r.sim.trace()) {
+  for (const auto& s : r.sim.recorders().trace.samples) {
     if (s.part.empty()) continue;
     ++carried;
     CHECK(s.part == "plate");

@@ -143,7 +143,7 @@ TEST_CASE("the settings persist between runs", "[statements]") {
   InterpreterFixture f;
   f.run(program("DISABLE COLLISION\nPARAMETER HAND.TIME = 1"));
   REQUIRE(f.interp.run("main").status == RunStatus::completed);
-  CHECK_FALSE(f.sim.collision_enabled());
+  CHECK_FALSE(f.sim.cell().collision.enabled);
   f.load(".PROGRAM show()\nTYPE SWITCH(COLLISION), PARAMETER(HAND.TIME)\n.END\n");
   f.interp.run("show");
   CHECK(f.out.str() == "0 1\n");
@@ -153,18 +153,18 @@ TEST_CASE("OPEN, CLOSE, RELAX wait for the next motion; OPENI ... act at once", 
   using asimov::motion::HandState;
   InterpreterFixture f;
   auto r = f.run(program("CLOSE"));
-  CHECK(f.sim.hand() == HandState::open);
-  CHECK(f.sim.hand_pending());
+  CHECK(f.sim.hand().state == HandState::open);
+  CHECK(f.sim.hand().pending.has_value());
   r = f.run(program("CLOSE\nMOVE #PPOINT(10, -80, 100, 0, 20, 30)"));
-  CHECK(f.sim.hand() == HandState::closed);
+  CHECK(f.sim.hand().state == HandState::closed);
   r = f.run(program("TIMER 1 = 0\nRELAXI\nTYPE TIMER(1)"));
-  CHECK(f.sim.hand() == HandState::relaxed);
+  CHECK(f.sim.hand().state == HandState::relaxed);
   r = f.run(program("OPENI"));
-  CHECK(f.sim.hand() == HandState::open);
+  CHECK(f.sim.hand().state == HandState::open);
   r = f.run(program("CLOSEI"));
-  CHECK(f.sim.hand() == HandState::closed);
+  CHECK(f.sim.hand().state == HandState::closed);
   r = f.run(program("RELAX\nOPEN\nMOVE #PPOINT(0, -80, 100, 0, 20, 30)"));  // the later request wins
-  CHECK(f.sim.hand() == HandState::open);
+  CHECK(f.sim.hand().state == HandState::open);
   CHECK(f.out.str() == "0.05\n");
   CHECK_FALSE(f.load(program("OPEN 1")).empty());
 }
@@ -175,7 +175,7 @@ TEST_CASE("MOVET and MOVEST set the hand when the motion starts", "[statements]"
   auto r = f.run(program("MOVET #PPOINT(10, -80, 100, 0, 20, 30), 0\nBREAK\nHERE p\nMOVEST p, 1\nBREAK\nMOVET p, 0"));
   INFO(asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
-  CHECK(f.sim.hand() == HandState::closed);
+  CHECK(f.sim.hand().state == HandState::closed);
   CHECK_FALSE(f.load(program("MOVET p")).empty());
 }
 
@@ -204,14 +204,19 @@ TEST_CASE("SPEED ... MMPS, V+ functions and statements stop the program", "[stat
   CHECK_FALSE(f.load(program("MOVE a MMPS")).empty());  // units only after SPEED
 }
 
-TEST_CASE("the new keywords are reserved", "[statements]") {
+TEST_CASE("instruction keywords are variables in `name =` lines and expressions", "[statements]") {
+  CHECK(outcome("wait = 1\nprompt = 2\nopen = 3\nclosei = 4\nmovet = 5\nduration = 6\nenable = 7\nparameter = 8\n"
+                "TYPE wait + prompt + open + closei + movet + duration + enable + parameter") == "36\n");
+  CHECK(outcome("LOCAL stop, mode\nstop = 4 BAND 4\nIF stop THEN\n  TYPE \"stop \", stop\nEND\nSTOP\nTYPE \"not here\"")
+        == "stop 4\n");
+  CHECK(outcome("wait.x = 1\nopen_count = 2\nTYPE wait.x + open_count") == "3\n");
   InterpreterFixture f;
-  for (const char* word : {"wait", "prompt", "open", "closei", "movet", "duration", "enable", "parameter"}) {
+  for (const char* word : {"here", "pi", "tool", "then"}) {  // never names
     const auto d = f.load(program(std::string(word) + " = 1"));
     REQUIRE_FALSE(d.empty());
     CHECK(d[0].message == "*Syntax error*");
+    CHECK(d[0].detail == "\"" + std::string(word) + "\" is a keyword, not a variable");
   }
-  CHECK(outcome("wait.x = 1\nopen_count = 2\nTYPE wait.x + open_count") == "3\n");
 }
 
 TEST_CASE("DISABLE COLLISION lets a colliding motion through; the clearance widens contact", "[statements][collision]") {

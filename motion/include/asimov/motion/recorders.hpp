@@ -56,16 +56,16 @@ struct RunTiming {
 // Every checked pose with the tool's world pose, when `on`. BASE and TOOL are read at the
 // pose (the program's, as HERE).
 struct TraceRecorder final : WalkObserver {
-  TraceRecorder(const robots::Robot& robot, const Location& base, const Location& tool, const World* world = nullptr)
-      : robot(robot), base(base), tool(tool), world(world) {}
+  TraceRecorder(const robots::Robot& robot, const Location& base, const Location& tool)
+      : robot(robot), base(base), tool(tool) {}
   void on_checked_pose(double t, const robots::JointVector& q, bool contact) override;
   bool on = false;
   std::vector<TraceSample> samples;
+  const World* world = nullptr;  // the carried part's pose comes from it (null: none)
 
  private:
   const robots::Robot& robot;
   const Location &base, &tool;
-  const World* world;  // the carried part's pose comes from it (null: none)
 };
 
 // Replay frames, when grid_s > 0 (off: one branch per event). Every checked pose, the exact
@@ -125,6 +125,19 @@ struct TimingRecorder final : WalkObserver {
   Clock::time_point t0_;
   std::uint64_t k0_ = 0, query_ticks_ = 0, grid_ticks_ = 0;
   double other0_ = 0;
+};
+
+// The recorders a Simulator keeps, registered with its walker in this order (timing first: the
+// constructor's preprocessing is timed into it). Read them after (or during) a run; switch trace
+// and replay on by setting trace.on and replay.grid_s.
+struct Recorders {
+  Recorders(const robots::Robot& robot, const Location& base, const Location& tool)
+      : trace(robot, base, tool), replay(robot), accuracy(robot) {}
+  TimingRecorder timing;
+  CountRecorder counts;
+  TraceRecorder trace;
+  ReplayRecorder replay;
+  AccuracyRecorder accuracy;
 };
 
 // Adds the wall time of a scope to `acc`.
