@@ -18,6 +18,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <span>
+#include <optional>
 #include <vector>
 
 namespace asimov::motion {
@@ -32,7 +35,9 @@ struct ContinuousPath {
                        const robots::JointVector& q2)>
       motion;
   // Poses every moving engine body at joints q.
-  std::function<void(const robots::JointVector& q)> pose;
+  std::function<void(const robots::JointVector& q, double t)> pose;  // at time t (parts move with it)
+  // The pairs checked (pair indices refer to it); nullopt: Engine::enabled_pairs().
+  std::optional<std::span<const collision::BodyPair>> pairs;
 };
 
 struct ContinuousContact {
@@ -70,6 +75,11 @@ class ContinuousChecker {
   ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm);
 
   void set_clearance(double clearance_mm) { clearance_ = clearance_mm; }
+  void set_report_mm(double report_mm) { report_mm_ = report_mm; }
+  // Told of every distance measured: the pair (index into Engine::enabled_pairs()), the time,
+  // whether at a probe (a pose between checked poses) and the cpu_ticks() it took.
+  std::function<void(std::size_t pair, const collision::DistanceResult&, double t, bool probe, std::uint64_t ticks)>
+      on_measure;
   // Forget the cached distances (the bodies were posed elsewhere than the last checked pose).
   void reset() { cache_t_ = -1; }
 
@@ -92,7 +102,7 @@ class ContinuousChecker {
     bool hit = false;  // the pair is in contact (distance 0, or <= c with a clearance)
     bool exact = false;  // d is the distance (not a lower bound from the cut-off)
   };
-  void measure(std::size_t pair, Point& p, double upper);
+  void measure(std::size_t pair, Point& p, double upper, bool probe);
   bool solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path, ContinuousContact& out);
   void note(std::size_t pair, const collision::DistanceResult& r, double t);
 
@@ -102,10 +112,12 @@ class ContinuousChecker {
   double report_mm_;
   int step_ = 0;
   double posed_t_ = -1;         // time the engine's bodies are posed at (probes)
+  std::span<const collision::BodyPair> pairs_;  // of the current verify (ContinuousPath::pairs)
   double cache_t_ = -1;         // time of the cached distances (the last checked pose)
   std::vector<double> cache_d_; // per pair: lower bound at cache_t_
   std::vector<char> cache_exact_;
   std::vector<PairApproach> approach_;
+  std::optional<ContinuousContact> graze_;  // solve: the first unprovable window of the pair
   std::uint64_t probes_ = 0, queries_ = 0;
 };
 

@@ -7,6 +7,10 @@
 
 namespace asimov::motion {
 namespace {
+// A grasped or released part "touches" a body this close [mm]: the grip's rounding (flange^-1 .
+// pose) can lift a part lying on the table by 1e-13 mm, which is no clearance to speak of.
+constexpr double kTouchMm = 1e-6;
+
 collision::BodyPair ordered(collision::BodyId a, collision::BodyId b) { return {std::min(a, b), std::max(a, b)}; }
 }  // namespace
 
@@ -253,7 +257,7 @@ void World::excuse_touching(collision::BodyId id) {
       ++i;
       continue;
     }
-    engine_->query({.pairs = std::span(&p, 1)}, scratch_result_);
+    engine_->query({.clearance_mm = kTouchMm, .pairs = std::span(&p, 1)}, scratch_result_);
     if (!scratch_result_.collided) {
       ++i;
       continue;
@@ -269,7 +273,7 @@ void World::free_pose_seen() {
   if (excused_.empty()) return;
   const std::size_t before = excused_.size();
   std::erase_if(excused_, [this](const collision::BodyPair& p) {
-    engine_->query({.pairs = std::span(&p, 1)}, scratch_result_);
+    engine_->query({.clearance_mm = kTouchMm, .pairs = std::span(&p, 1)}, scratch_result_);
     return !scratch_result_.collided;
   });
   if (excused_.size() != before) rebuild_pairs();
