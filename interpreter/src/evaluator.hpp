@@ -57,6 +57,8 @@ class Evaluator {
   motion::CellRuntime* cell_runtime();
   // The same for reports, never raising (a logic loop leaves the state before it).
   const motion::CellRuntime* cell_state();
+  // DO SIGNAL at the monitor: memory and devices; the message of a logic loop, if any.
+  std::optional<std::string> monitor_signal(int k);
 
  private:
   struct Frame {

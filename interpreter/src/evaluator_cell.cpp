@@ -65,6 +65,20 @@ void Evaluator::hand_changed(motion::HandState h, int line) {
   if (const auto why = c->open(flange, line)) raise_text("*No support below the part*", *why);
 }
 
+std::optional<std::string> Evaluator::monitor_signal(int k) {
+  if (k > 0) memory_.signals.insert(k);
+  if (k < 0) memory_.signals.erase(-k);
+  motion::CellRuntime* c = sim_.cell_runtime();
+  if (!c || k == 0) return std::nullopt;
+  try {
+    c->clock().advance_to(sim_.time_s());
+    c->clock().set_signal(std::abs(k), k > 0, 0);
+  } catch (const motion::DeviceError& e) {
+    return std::string(e.what());
+  }
+  return std::nullopt;
+}
+
 }  // namespace asimov::interpreter
 
 namespace asimov::interpreter {
