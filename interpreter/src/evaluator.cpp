@@ -683,7 +683,13 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
   if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
     motion_sites_.emplace_back(m.program, m.line);
-  const bool hand_pending = sim_.hand().pending.has_value();  // OPEN / CLOSE act as this motion starts
+  // OPEN / CLOSE act as this motion starts: the grasp or release where the previous motion
+  // ended, before this one is planned (a carried part widens its step bounds).
+  const std::optional<motion::HandState> hand_request = sim_.hand().pending;
+  if (hand_request && sim_.cell_runtime()) {
+    if (const RunStatus s = check_motion(sim_.finish_motion()); s != RunStatus::completed) return s;
+    hand_changed(*hand_request, m.line);
+  }
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
   if (r.status == motion::MotionStatus::interrupted) return check_motion(r);  // the previous motion's halt
@@ -696,7 +702,6 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
     contact_ = r.collision;
     return RunStatus::collision;
   }
-  if (hand_pending && !sim_.hand().pending.has_value()) hand_changed(sim_.hand().state, m.line);
   return RunStatus::completed;
 }
 

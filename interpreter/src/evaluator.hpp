@@ -58,6 +58,8 @@ class Evaluator {
   motion::CellRuntime* cell_runtime();
   // The same for reports, never raising (a logic loop leaves the state before it).
   const motion::CellRuntime* cell_state();
+  // DO SIGNAL at the monitor: memory and devices; the message of a logic loop, if any.
+  std::optional<std::string> monitor_signal(int k);
 
  private:
   struct Frame {
@@ -268,7 +270,6 @@ class Evaluator {
   int robot_task_ = 0;                        // the task that moves the arm; -1: DETACHed
   std::uint64_t statements_ = 0;              // executed in this execution
   std::uint64_t budget_ = 0;                  // at this count the task yields, or the run stops
-  std::unique_ptr<motion::CellRuntime> cell_;  // parts and devices (cell_runtime())
   std::set<int> waited_;                      // signals SIG() read during the current WAIT
 };
 

@@ -147,6 +147,8 @@ bool Interpreter::has_program(const std::string& name) const {
       && m.programs[static_cast<std::size_t>(it->second)];
 }
 
+std::optional<std::string> Interpreter::set_signal(int k) { return impl_->eval().monitor_signal(k); }
+
 RunResult Interpreter::run(const std::string& name) {
   Memory& m = impl_->memory;
   const int slot = m.symbols.program(normalize_name(name));

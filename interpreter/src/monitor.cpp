@@ -416,10 +416,8 @@ CommandStatus Monitor::cmd_do(Args rest) {
       numbers.push_back(static_cast<int>(k));
     }
     if (!numbers.empty()) {
-      for (int k : numbers) {
-        if (k > 0) interp_.memory().signals.insert(k);
-        if (k < 0) interp_.memory().signals.erase(-k);
-      }
+      for (int k : numbers)  // memory and the cell's devices (a conveyor, a logic rule)
+        if (const auto loop = interp_.set_signal(k)) return fail("*Device logic loop*", *loop);
       return CommandStatus::ok;
     }
   }

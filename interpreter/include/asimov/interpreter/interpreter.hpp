@@ -137,6 +137,10 @@ class Interpreter {
   // The cell's parts and devices at the simulator's time (events, part poses); null for a cell
   // without parts or devices.
   const motion::CellRuntime* cell_state();
+  // The monitor's DO SIGNAL k (negative: off), inputs included: the signal memory and the
+  // cell's devices (outputs run conveyors, feeders and logic rules; an input a sensor or rule
+  // drives is theirs again at their next change). Returns the message of a logic loop.
+  std::optional<std::string> set_signal(int k);
   // Runs `name` for a monitor DO: a stop there is not resumable, and the execution stopped
   // before (if any) stays resumable.
   RunResult run_detached(const std::string& name);
