@@ -11,7 +11,7 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<std::string_view, 11> kMessageTexts = {
+constexpr std::array<std::string_view, 12> kMessageTexts = {
     "*Syntax error*",
     "*Undefined program or variable name*",
     "*Undefined value*",
@@ -23,6 +23,7 @@ constexpr std::array<std::string_view, 11> kMessageTexts = {
     "*Not supported in simulation*",
     "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps or in a motion
     "*Wait limit exceeded*",  // WAIT still false after Limits::max_wait_s simulated seconds
+    "*Out of memory*",        // the program's data past kMaxDataBytes (limits.hpp)
 };
 static_assert(kMessageTexts.size() == static_cast<std::size_t>(Message::count));
 
