@@ -158,7 +158,8 @@ struct Walker::Walk {
   }
   double motion_bound(std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) const {
     const GapPair& p = w.world_.gap_pairs()[pair];
-    const double belt = p.speed_mm_s * std::abs(t2 - t1);  // parts on a running conveyor
+    // Parts on a running conveyor (0 * inf would be NaN on a 1e308 s motion: no belt, no term).
+    const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
     if (tr.kind != PathKind::line) return joint_motion(w.world_.reach(), p, q1, q2) + belt;
     return line_motion(w.world_.reach(), p, tr.line.samples, tr.profile.sigma(t1 - tr.t0), q1,
                        tr.profile.sigma(t2 - tr.t0), q2) + belt;
