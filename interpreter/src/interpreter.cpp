@@ -125,7 +125,8 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   for (int slot : installed) {
     const auto& p = m.programs[static_cast<std::size_t>(slot)];
     for (const Instr& in : p->code) {
-      if (in.code != Code::call || m.programs[static_cast<std::size_t>(in.program)]) continue;
+      if ((in.code != Code::call && in.code != Code::execute) || m.programs[static_cast<std::size_t>(in.program)])
+        continue;
       Diagnostic d;
       d.message = "*Undefined program or variable name*";
       d.detail = m.symbols.programs[static_cast<std::size_t>(in.program)];

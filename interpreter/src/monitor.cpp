@@ -338,6 +338,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
                                                   : ExecState::error;
     state_step_ = r.step;
     state_program_ = r.program;
+    tasks_ = r.tasks;
     halted_ = r.interrupt;
   }
   switch (r.status) {
@@ -712,6 +713,10 @@ CommandStatus Monitor::cmd_status() {
        << "Collision checking: " << (sim_.cell().collision.enabled ? "on" : "off") << '\n'
        << "Clearance: " << format_number(sim_.cell().collision.clearance_mm) << " mm\n"
        << fmt::format("Simulated time: {:.3f} s\n", sim_.time_s()) << accuracy_line(sim_) << closest_line(sim_);
+  if (!tasks_.empty()) {  // dialect §7b
+    out_ << "Tasks:\n";
+    for (const TaskReport& t : tasks_) out_ << fmt::format("  {:>2}  {:<15}  {}\n", t.number, t.program, t.state);
+  }
   return CommandStatus::ok;
 }
 
@@ -731,6 +736,7 @@ CommandStatus Monitor::cmd_zero() {
   state_ = ExecState::idle;
   state_step_ = 0;
   state_program_.clear();
+  tasks_.clear();
   halted_.reset();
   return CommandStatus::ok;
 }
