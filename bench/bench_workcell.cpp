@@ -10,6 +10,7 @@
 // ratio = 1 / ratio (the issue asks >= 0.8). agreement: both complete with the same output
 // and the same final poses of the belt's four cubes.
 // Writes bench/results/workcell.json (or argv[1]) and prints a table.
+#include "cpu_time.hpp"
 #include "asimov/cell/cell_loader.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 
@@ -26,11 +27,6 @@
 using namespace asimov;
 
 namespace {
-double cpu_us() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e6 + static_cast<double>(t.tv_nsec) / 1e3;
-}
 constexpr int kRuns = 9;
 
 std::string read(const std::string& path) {

@@ -20,7 +20,6 @@
 #include <functional>
 #include <optional>
 #include <span>
-#include <optional>
 #include <vector>
 
 namespace asimov::motion {

@@ -138,7 +138,7 @@ MotionResult Simulator::finish_motion() {
     r = s.walker.walk(tr, s.state);
   } catch (const DeviceError& e) {  // the devices' clock advanced with the walk
     r.status = MotionStatus::error;
-    r.error = {"*Device logic loop*", e.what()};
+    r.error = {.message = "*Device logic loop*", .detail = e.what()};
   }
   if (s.runtime && s.runtime->carried())  // the part in the gripper is where the flange took it
     s.runtime->clock().move_carried(*s.runtime->carried(), s.runtime->carried_pose(s.cell.base * robots::flange_pose(s.cell.robot, s.state.joints)));
