@@ -100,6 +100,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   RunResult result;
   warnings_.clear();
   motion_sites_.clear();
+  motion_times_.clear();
+  motion_times_omitted_ = 0;
   halt_.reset();
   // The simulator reads the Ctrl-C flag while this run goes on, and only then.
   struct InterruptWiring {
@@ -107,6 +109,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     ~InterruptWiring() { sim.set_interrupt(nullptr); }
   } wiring{sim_};
   sim_.set_interrupt(limits_.interrupt);
+  sim_.set_continuous_path(memory_.settings.cp);  // ENABLE / DISABLE CP (docs/blending.md)
   memory_.globals.resize(memory_.symbols.globals.size());
   globals_.resize(memory_.globals.size());  // no global is added while a run goes on
   for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
@@ -168,6 +171,9 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
                        duration_always_, duration_next_, halt_.has_value(), memory_.programs};
   }
   result.interrupt = halt_;
+  result.motion_times = std::move(motion_times_);
+  result.motion_times_omitted = motion_times_omitted_;
+  motion_times_.clear();
   stack_.clear();
   result.warnings = std::move(warnings_);
   warnings_.clear();
@@ -551,20 +557,23 @@ RunStatus Evaluator::check_motion(const motion::MotionResult& r) {
 }
 
 RunStatus Evaluator::motion(const Instr& in) {
-  // A motion instruction waits for the previous motion to end.
-  if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
+  // Without continuous path a motion instruction waits for the previous motion to end; with it
+  // the simulator blends the two (docs/blending.md), and relative motions start from where the
+  // pending motion ends (planned_here / planned_joints: HERE and the joints once it has).
+  if (!sim_.continuous_path())
+    if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
   const bool straight = straight_path(in.code);
   std::optional<Value> target;
   switch (in.code) {
     case Code::ready: target = motion::ready_target(sim_.robot()); break;  // the robot's READY
-    case Code::align: target = motion::align_target(sim_.here()); break;
+    case Code::align: target = motion::align_target(sim_.planned_here()); break;
     case Code::drive: {  // DRIVE j, change, speed: one joint, relative, at speed % of its maximum
       const int j = to_index(to_real(eval(in.args[0]), "joint"));
       const double change = to_real(eval(in.args[1]), "DRIVE change");
       const double s = to_real(eval(in.args[2]), "DRIVE speed");
       if (!(s >= 1 && s <= 100)) raise(Message::illegal_value, fmt::format("DRIVE speed {}", format_number(s)));
       robots::JointVector target;
-      if (!motion::drive_target(sim_.joints(), j, change, target))
+      if (!motion::drive_target(sim_.planned_joints(), j, change, target))
         raise(Message::illegal_value, fmt::format("joint {}", j));
       MotionRequest m;
       m.joints = target;
@@ -577,7 +586,7 @@ RunStatus Evaluator::motion(const Instr& in) {
       double d[3] = {0, 0, 0};
       for (std::size_t k = 0; k < in.args.size() && k < 3; ++k)
         if (in.args[k].kind != NodeKind::absent) d[k] = to_real(eval(in.args[k]), "DRAW");
-      target = motion::draw_target(sim_.here(), d[0], d[1], d[2]);
+      target = motion::draw_target(sim_.planned_here(), d[0], d[1], d[2]);
       break;
     }
     case Code::move: case Code::moves: target = eval(in.args[0]); break;
@@ -592,9 +601,9 @@ RunStatus Evaluator::motion(const Instr& in) {
       target = motion::appro_target(as_pose(loc, sim_), d);
       break;
     }
-    case Code::depart: case Code::departs: {  // HERE is taken once the previous motion has ended
+    case Code::depart: case Code::departs: {  // from where the previous motion ends
       const double d = to_real(eval(in.args[0]), "DEPART distance");
-      target = motion::depart_target(sim_.here(), d);
+      target = motion::depart_target(sim_.planned_here(), d);
       break;
     }
     default: raise(Message::not_supported, "a motion without a target in Evaluator::motion");
@@ -637,18 +646,25 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   const bool hand_pending = sim_.hand_pending();  // OPEN / CLOSE act as this motion starts
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
-  if (r.status == motion::MotionStatus::interrupted) return check_motion(r);  // the previous motion's halt
+  // A halt or contact here is the previous motion's (carried out up to where this one starts).
+  if (r.status == motion::MotionStatus::interrupted || r.status == motion::MotionStatus::collision)
+    return check_motion(r);
   motion_program_ = m.program;
   motion_line_ = m.line;
   last_motion_ = m;
   if (r.status == motion::MotionStatus::error)  // reported at the statement that started it
     return stop(Fault{Message::motion, r.error.message, r.error.detail});
-  if (r.status == motion::MotionStatus::collision) {
-    contact_ = r.collision;
-    return RunStatus::collision;
-  }
+  if (const auto timing = sim_.pending_timing()) record_timing(*timing, m.program->name);
   if (hand_pending && !sim_.hand_pending()) hand_changed(sim_.hand(), m.line);
   return RunStatus::completed;
+}
+
+void Evaluator::record_timing(const motion::MotionTiming& t, const std::string& program) {
+  if (motion_times_.size() >= kMaxMotionTimes) {
+    ++motion_times_omitted_;
+    return;
+  }
+  motion_times_.push_back({t.step, program, t.start_s, t.duration_s, t.blended});
 }
 
 void Evaluator::type(const Instr& in) {

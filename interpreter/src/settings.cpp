@@ -31,7 +31,7 @@ bool switch_value(const std::string& name, const Settings& s, const motion::Simu
 }
 
 bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim) {
-  if (name == "CP") s.cp = on;
+  if (name == "CP") s.cp = on, sim.set_continuous_path(on);
   else if (name == "COLLISION") sim.set_collision_enabled(on);
   else if (name == "SCALE.ACCEL") return false;
   else raise(Message::illegal_value, fmt::format("unknown switch {}", name));
