@@ -91,7 +91,7 @@ json contact_run(const AnalyticScene& s, const Method& m, double step_mm, double
     if (r.status != motion::MotionStatus::collision)
       throw std::runtime_error(s.name + ": " + m.name + ": no collision reported");
     c = r.collision;
-    poses = sim.poses_checked(), bisection = sim.bisection_checks();
+    poses = sim.recorders().counts.poses, bisection = sim.recorders().counts.bisection;
   }
   const double err = c.time_s - s.t_star;
   // How far t* lies outside the reported bracket [time_free_s, time_s] (0 inside).

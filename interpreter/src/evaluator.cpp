@@ -109,7 +109,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     ~InterruptWiring() { sim.set_interrupt(nullptr); }
   } wiring{sim_};
   sim_.set_interrupt(limits_.interrupt);
-  sim_.set_continuous_path(memory_.settings.cp);  // ENABLE / DISABLE CP (docs/blending.md)
+  sim_.settings().continuous_path = memory_.settings.cp;  // ENABLE / DISABLE CP (docs/blending.md)
   memory_.globals.resize(memory_.symbols.globals.size());
   globals_.resize(memory_.globals.size());  // no global is added while a run goes on
   for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
@@ -399,22 +399,22 @@ void Evaluator::statement(const Instr& in) {
       return;
     }
     case Code::tool: {
-      if (in.args.empty()) sim_.set_tool(motion::Location::Identity());  // TOOL = TOOL NULL
-      else sim_.set_tool(as_transformation(eval(in.args[0])));
+      if (in.args.empty()) sim_.settings().tool = motion::Location::Identity();  // TOOL = TOOL NULL
+      else sim_.settings().tool = as_transformation(eval(in.args[0]));
       return;
     }
     case Code::base: {
       if (in.args.size() == 1 && in.args[0].kind != NodeKind::absent) {
         const Value v = eval(in.args[0]);
         if (kind_of(v) != Kind::real) {
-          sim_.set_base(as_transformation(v));
+          sim_.settings().base = as_transformation(v);
           return;
         }
       }
       double x[4] = {0, 0, 0, 0};  // BASE dx, dy, dz, rz (omitted: 0)
       for (std::size_t k = 0; k < in.args.size(); ++k)
         if (in.args[k].kind != NodeKind::absent) x[k] = to_real(eval(in.args[k]), "BASE");
-      sim_.set_base(motion::trans(x[0], x[1], x[2], x[3], 0, 0));
+      sim_.settings().base = motion::trans(x[0], x[1], x[2], x[3], 0, 0);
       return;
     }
     case Code::configure: {
@@ -428,7 +428,7 @@ void Evaluator::statement(const Instr& in) {
                          : w == ast::Kw::below ? "BELOW" : w == ast::Kw::flip ? "FLIP" : w == ast::Kw::noflip ? "NOFLIP" : nullptr;
       if (name && !robots::configuration_word_applies(sim_.robot(), word))
         warn_once(std::string(name) + " (no meaning for this arm: ignored)", in);
-      return request_configuration(in.word, sim_.request());
+      return request_configuration(in.word, sim_.settings().request);
     }
     case Code::speed: {
       const double s = to_real(eval(in.args[0]));
@@ -560,7 +560,7 @@ RunStatus Evaluator::motion(const Instr& in) {
   // Without continuous path a motion instruction waits for the previous motion to end; with it
   // the simulator blends the two (docs/blending.md), and relative motions start from where the
   // pending motion ends (planned_here / planned_joints: HERE and the joints once it has).
-  if (!sim_.continuous_path())
+  if (!sim_.settings().continuous_path)
     if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
   const bool straight = straight_path(in.code);
   std::optional<Value> target;
@@ -643,7 +643,7 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
   if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
     motion_sites_.emplace_back(m.program, m.line);
-  const bool hand_pending = sim_.hand_pending();  // OPEN / CLOSE act as this motion starts
+  const bool hand_pending = sim_.hand().pending.has_value();  // OPEN / CLOSE act as this motion starts
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
   // A halt or contact here is the previous motion's (carried out up to where this one starts).
@@ -655,7 +655,7 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   if (r.status == motion::MotionStatus::error)  // reported at the statement that started it
     return stop(Fault{Message::motion, r.error.message, r.error.detail});
   if (const auto timing = sim_.pending_timing()) record_timing(*timing, m.program->name);
-  if (hand_pending && !sim_.hand_pending()) hand_changed(sim_.hand(), m.line);
+  if (hand_pending && !sim_.hand().pending.has_value()) hand_changed(sim_.hand().state, m.line);
   return RunStatus::completed;
 }
 

@@ -73,7 +73,7 @@ std::optional<Func> find_function(std::string_view name) {
 
 motion::Location as_pose(const Value& v, const motion::Simulator& sim) {
   if (const auto* j = std::get_if<robots::JointVector>(&v))
-    return sim.base() * robots::flange_pose(sim.robot(), *j) * sim.tool();
+    return sim.settings().base * robots::flange_pose(sim.robot(), *j) * sim.settings().tool;
   return trans_only(v);
 }
 
@@ -138,8 +138,8 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::here: return finite_location(sim.here());
     case Func::dest: return finite_location(sim.dest());
     case Func::null: return motion::Location(motion::Location::Identity());
-    case Func::tool: return sim.tool();
-    case Func::base: return sim.base();
+    case Func::tool: return sim.settings().tool;
+    case Func::base: return sim.settings().base;
     case Func::trans: return motion::trans(x(0), x(1), x(2), x(3), x(4), x(5));
     case Func::ppoint: {
       const int n = sim.robot().joint_count();

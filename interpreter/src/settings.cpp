@@ -11,7 +11,7 @@ namespace asimov::interpreter {
 
 double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "HAND.TIME") return s.hand_time_s;
-  if (name == "COLLISION.CLEARANCE") return sim.clearance_mm();
+  if (name == "COLLISION.CLEARANCE") return sim.cell().collision.clearance_mm;
   raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
 }
 
@@ -26,12 +26,12 @@ void set_parameter(const std::string& name, double value, Settings& s, motion::S
 
 bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "CP") return s.cp;
-  if (name == "COLLISION") return sim.collision_enabled();
+  if (name == "COLLISION") return sim.cell().collision.enabled;
   raise(Message::illegal_value, fmt::format("unknown switch {}", name));
 }
 
 bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim) {
-  if (name == "CP") s.cp = on, sim.set_continuous_path(on);
+  if (name == "CP") s.cp = on, sim.settings().continuous_path = on;
   else if (name == "COLLISION") sim.set_collision_enabled(on);
   else if (name == "SCALE.ACCEL") return false;
   else raise(Message::illegal_value, fmt::format("unknown switch {}", name));

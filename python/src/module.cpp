@@ -206,7 +206,7 @@ class Session {
  public:
   Session(motion::Cell cell, bool trace)
       : sim_(std::move(cell)), interp_(sim_, out_), monitor_(interp_, sim_, out_) {
-    sim_.set_trace(trace);
+    sim_.recorders().trace.on = trace;
     interp_.set_input(no_input_, false);  // PROMPT has nobody to ask: *Illegal value*
   }
 
@@ -278,7 +278,7 @@ class Session {
   }
 
   py::dict trace() const {
-    const auto& samples = sim_.trace();
+    const auto& samples = sim_.recorders().trace.samples;
     const auto n = static_cast<py::ssize_t>(samples.size());
     const py::ssize_t j = sim_.robot().joint_count();
     py::array_t<double> t(n), joints({n, j}), tool({n, py::ssize_t{4}, py::ssize_t{4}}), xyzoat({n, py::ssize_t{6}});
@@ -311,7 +311,7 @@ class Session {
   std::vector<interpreter::Diagnostic> timed_load(F load) {
     const auto t0 = std::chrono::steady_clock::now();
     auto diags = load();
-    sim_.add_parse_time(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    sim_.recorders().timing.timing.parse_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return diags;
   }
   std::vector<std::string> check_loaded(const std::vector<interpreter::Diagnostic>& diags, const std::string& file) {
@@ -567,7 +567,7 @@ PYBIND11_MODULE(_asimov, m) {
       .def_property_readonly("joints", [](Session& s) { return joints_array(s.sim().joints()); })
       .def_property_readonly("here", [](Session& s) { return pose_array(s.sim().here()); })
       .def_property_readonly("time_s", [](Session& s) { return s.sim().time_s(); })
-      .def_property_readonly("poses_checked", [](Session& s) { return s.sim().poses_checked(); })
+      .def_property_readonly("poses_checked", [](Session& s) { return s.sim().recorders().counts.poses; })
       .def_property_readonly("robot", [](Session& s) { return s.sim().robot(); })
       .def_property_readonly("cell", [](Session& s) { return s.sim().cell(); })
       .def_property_readonly("quit", &Session::quit);

@@ -40,14 +40,14 @@ const robots::JointVector kReady = jv6(0, -90, 90, 0, 0, 0);
 const robots::JointVector kFar = jv6(60, -45, 150, 20, 40, 30);
 
 bool passed_through(const motion::Simulator& sim, const robots::JointVector& q) {
-  return std::any_of(sim.trace().begin(), sim.trace().end(), [&](const auto& s) { return (s.joints - q).norm() == 0; });
+  return std::any_of(sim.recorders().trace.samples.begin(), sim.recorders().trace.samples.end(), [&](const auto& s) { return (s.joints - q).norm() == 0; });
 }
 
 // Closest traced joints to q [deg]: after PROCEED the rest of the halted motion blends into the
 // next one (continuous path), so the arm rounds q instead of stopping there.
 double closest_to(const motion::Simulator& sim, const robots::JointVector& q) {
   double d = 1e300;
-  for (const auto& s : sim.trace()) d = std::min(d, (s.joints - q).norm());
+  for (const auto& s : sim.recorders().trace.samples) d = std::min(d, (s.joints - q).norm());
   return d;
 }
 
@@ -63,10 +63,10 @@ constexpr const char* kProgram = R"(.PROGRAM main()
 // it into the second, docs/blending.md, from near its end on: N = half of these is before).
 int first_motion_poses() {
   InterpreterFixture f;
-  f.sim.set_trace(true);
+  f.sim.recorders().trace.on = true;
   REQUIRE(f.load(".PROGRAM main()\n  MOVE #PPOINT(60, -45, 150, 20, 40, 30)\n.END\n").empty());
   REQUIRE(f.interp.run("main").status == RunStatus::completed);
-  const auto& tr = f.sim.trace();
+  const auto& tr = f.sim.recorders().trace.samples;
   const auto it = std::find_if(tr.begin(), tr.end(), [](const auto& s) { return (s.joints - kFar).norm() == 0; });
   REQUIRE(it != tr.end());
   return static_cast<int>(it - tr.begin()) + 1;
@@ -80,7 +80,7 @@ TEST_CASE("Ctrl-C inside a motion halts the arm there and PROCEED finishes the m
   for (const bool retry : {false, true}) {
     INFO((retry ? "RETRY" : "PROCEED"));
     InterpreterFixture f;
-    f.sim.set_trace(true);
+    f.sim.recorders().trace.on = true;
     FlagAfter stop;
     stop.n = poses / 2;
     stop.attach(f.sim, f.interp);
@@ -101,7 +101,7 @@ TEST_CASE("Ctrl-C inside a motion halts the arm there and PROCEED finishes the m
     CHECK((r.interrupt->joints - f.sim.joints()).norm() == 0);
     CHECK((f.sim.joints() - kReady).norm() > 1);
     CHECK((f.sim.joints() - kFar).norm() > 1);
-    CHECK(f.sim.poses_checked() == static_cast<std::uint64_t>(stop.n));
+    CHECK(f.sim.recorders().counts.poses == static_cast<std::uint64_t>(stop.n));
     CHECK(closest_to(f.sim, kFar) > 40);  // half way
     CHECK_FALSE(passed_through(f.sim, kFar));
     REQUIRE(f.interp.can_resume());
@@ -210,7 +210,7 @@ TEST_CASE("monitor: Ctrl-C in a motion reports where the arm stopped, then STATU
 TEST_CASE("monitor: PROCEED reaches the target after a DO moved the arm or was itself interrupted", "[monitor][interrupt]") {
   const int poses = first_motion_poses();
   MonitorFixture m;
-  m.sim.set_trace(true);
+  m.sim.recorders().trace.on = true;
   FlagAfter stop;
   stop.n = poses / 2;
   stop.attach(m.sim, m.interp);

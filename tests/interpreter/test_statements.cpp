@@ -143,7 +143,7 @@ TEST_CASE("the settings persist between runs", "[statements]") {
   InterpreterFixture f;
   f.run(program("DISABLE COLLISION\nPARAMETER HAND.TIME = 1"));
   REQUIRE(f.interp.run("main").status == RunStatus::completed);
-  CHECK_FALSE(f.sim.collision_enabled());
+  CHECK_FALSE(f.sim.cell().collision.enabled);
   f.load(".PROGRAM show()\nTYPE SWITCH(COLLISION), PARAMETER(HAND.TIME)\n.END\n");
   f.interp.run("show");
   CHECK(f.out.str() == "0 1\n");
@@ -153,18 +153,18 @@ TEST_CASE("OPEN, CLOSE, RELAX wait for the next motion; OPENI ... act at once", 
   using asimov::motion::HandState;
   InterpreterFixture f;
   auto r = f.run(program("CLOSE"));
-  CHECK(f.sim.hand() == HandState::open);
-  CHECK(f.sim.hand_pending());
+  CHECK(f.sim.hand().state == HandState::open);
+  CHECK(f.sim.hand().pending.has_value());
   r = f.run(program("CLOSE\nMOVE #PPOINT(10, -80, 100, 0, 20, 30)"));
-  CHECK(f.sim.hand() == HandState::closed);
+  CHECK(f.sim.hand().state == HandState::closed);
   r = f.run(program("TIMER 1 = 0\nRELAXI\nTYPE TIMER(1)"));
-  CHECK(f.sim.hand() == HandState::relaxed);
+  CHECK(f.sim.hand().state == HandState::relaxed);
   r = f.run(program("OPENI"));
-  CHECK(f.sim.hand() == HandState::open);
+  CHECK(f.sim.hand().state == HandState::open);
   r = f.run(program("CLOSEI"));
-  CHECK(f.sim.hand() == HandState::closed);
+  CHECK(f.sim.hand().state == HandState::closed);
   r = f.run(program("RELAX\nOPEN\nMOVE #PPOINT(0, -80, 100, 0, 20, 30)"));  // the later request wins
-  CHECK(f.sim.hand() == HandState::open);
+  CHECK(f.sim.hand().state == HandState::open);
   CHECK(f.out.str() == "0.05\n");
   CHECK_FALSE(f.load(program("OPEN 1")).empty());
 }
@@ -175,7 +175,7 @@ TEST_CASE("MOVET and MOVEST set the hand when the motion starts", "[statements]"
   auto r = f.run(program("MOVET #PPOINT(10, -80, 100, 0, 20, 30), 0\nBREAK\nHERE p\nMOVEST p, 1\nBREAK\nMOVET p, 0"));
   INFO(asimov::interpreter::format_diagnostic(r.error));
   REQUIRE(r.status == RunStatus::completed);
-  CHECK(f.sim.hand() == HandState::closed);
+  CHECK(f.sim.hand().state == HandState::closed);
   CHECK_FALSE(f.load(program("MOVET p")).empty());
 }
 

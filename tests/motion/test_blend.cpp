@@ -56,7 +56,7 @@ Cell gantry_cell(double step_mm) {
 
 // The corner (200, 0) -> (200, 200) from the origin, blended or stopped.
 MotionResult corner(Simulator& sim, bool blend) {
-  sim.set_continuous_path(blend);
+  sim.settings().continuous_path = blend;
   REQUIRE(sim.start_joint_move(point(kL, 0), {}, 1).status == MotionStatus::ok);
   const MotionResult second = sim.start_joint_move(point(kL, kL), {}, 2);
   if (second.status != MotionStatus::ok) return second;
@@ -66,7 +66,7 @@ MotionResult corner(Simulator& sim, bool blend) {
 // Closest traced tool point to `p` and when.
 std::pair<double, double> closest(const Simulator& sim, const Eigen::Vector3d& p) {
   double d = std::numeric_limits<double>::infinity(), at = -1;
-  for (const TraceSample& s : sim.trace())
+  for (const TraceSample& s : sim.recorders().trace.samples)
     if (const double e = (s.tool.translation() - p).norm(); e < d) d = e, at = s.time_s;
   return {d, at};
 }
@@ -77,7 +77,7 @@ TEST_CASE("blend: the rounded corner deviates from the sharp one by v^2 / (4a) s
   Cell cell = gantry_cell(0.05);
   cell.collision.enabled = false;
   Simulator sim(cell);
-  sim.set_trace(true);
+  sim.recorders().trace.on = true;
   REQUIRE(corner(sim, true).status == MotionStatus::ok);
   const double model = kV * kV / (4 * kA) * std::sin(std::numbers::pi / 4);  // 90 degree turn: 22.097 mm
   const auto [d, at] = closest(sim, Eigen::Vector3d(kL, 0, 0));
@@ -87,7 +87,7 @@ TEST_CASE("blend: the rounded corner deviates from the sharp one by v^2 / (4a) s
   CHECK(sim.time_s() == Approx(2 * kT - kY).epsilon(1e-12));
   CHECK((sim.joints() - point(kL, kL)).norm() < 1e-9);
   Simulator stopped(cell);
-  stopped.set_trace(true);
+  stopped.recorders().trace.on = true;
   REQUIRE(corner(stopped, false).status == MotionStatus::ok);
   CHECK(stopped.time_s() == Approx(2 * kT).epsilon(1e-12));
   CHECK(sim.time_s() < stopped.time_s());
@@ -102,8 +102,8 @@ TEST_CASE("blend: at the overlap's middle the displacements of both ramps add", 
   Cell cell = gantry_cell(0.5);
   cell.collision.enabled = false;
   Simulator sim(cell);
-  sim.set_replay(0.001);
-  sim.set_continuous_path(true);
+  sim.recorders().replay.grid_s = 0.001;
+  sim.settings().continuous_path = true;
   REQUIRE(sim.start_joint_move(point(kL, 0), {}, 1).status == MotionStatus::ok);
   REQUIRE(sim.start_joint_move(point(0, kL), {}, 2).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
@@ -111,7 +111,7 @@ TEST_CASE("blend: at the overlap's middle the displacements of both ramps add", 
   const double model = std::sqrt(a1 * a1 + a2 * a2 - 2 * a1 * a2 * std::cos(theta)) * kY * kY / 8;
   const double mid = kT - kY / 2;
   const ReplaySample* at = nullptr;
-  for (const ReplaySample& s : sim.replay())
+  for (const ReplaySample& s : sim.recorders().replay.samples)
     if (std::abs(s.time_s - mid) < 1e-9) at = &s;
   REQUIRE(at);
   CHECK(std::abs((at->joints - point(kL, 0)).norm() - model) < 0.01);
@@ -122,7 +122,7 @@ TEST_CASE("blend: three motions in a row overlap pairwise, never three at once",
   Cell cell = gantry_cell(0.5);
   cell.collision.enabled = false;
   Simulator sim(cell);
-  sim.set_continuous_path(true);
+  sim.settings().continuous_path = true;
   std::vector<MotionTiming> timings;
   for (const auto& [q, step] : {std::pair{point(kL, 0), 1}, {point(kL, kL), 2}, {point(0, kL), 3}}) {
     REQUIRE(sim.start_joint_move(q, {}, step).status == MotionStatus::ok);
@@ -143,7 +143,7 @@ TEST_CASE("blend: the overlap is the shorter of the two ramps", "[blend]") {
   Cell cell = gantry_cell(0.5);
   cell.collision.enabled = false;
   Simulator sim(cell);
-  sim.set_continuous_path(true);
+  sim.settings().continuous_path = true;
   REQUIRE(sim.start_joint_move(point(kL, 0), {}, 1).status == MotionStatus::ok);
   // SPEED 20: v = 100 mm/s, the ramp lasts v / a = 0.05 s, the motion 2.05 s.
   SpeedSettings slow;
@@ -161,13 +161,13 @@ TEST_CASE("blend: continuous path off, or a forced stop, keeps the motions apart
   Cell cell = gantry_cell(0.5);
   cell.collision.enabled = false;
   Simulator sim(cell);
-  sim.set_continuous_path(true);
+  sim.settings().continuous_path = true;
   REQUIRE(sim.start_joint_move(point(kL, 0), {}, 1).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);  // BREAK
   REQUIRE(sim.start_joint_move(point(kL, kL), {}, 2).status == MotionStatus::ok);
   CHECK_FALSE(sim.pending_timing()->blended);
   CHECK(sim.pending_timing()->start_s == Approx(kT));
-  sim.set_continuous_path(false);
+  sim.settings().continuous_path = false;
   REQUIRE(sim.start_joint_move(point(0, kL), {}, 3).status == MotionStatus::ok);
   CHECK_FALSE(sim.pending_timing()->blended);
   CHECK(sim.pending_timing()->start_s == Approx(2 * kT));
@@ -179,7 +179,7 @@ TEST_CASE("blend: a refused motion leaves the pending one to finish at rest", "[
   Cell cell = gantry_cell(0.5);
   cell.collision.enabled = false;
   Simulator sim(cell);
-  sim.set_continuous_path(true);
+  sim.settings().continuous_path = true;
   REQUIRE(sim.start_joint_move(point(kL, 0), {}, 1).status == MotionStatus::ok);
   const MotionResult r = sim.start_joint_move(point(5000, 0), {}, 2);  // beyond the 1 m limit
   CHECK(r.status == MotionStatus::error);
@@ -230,17 +230,17 @@ TEST_CASE("blend: the replay and the trace follow the rounded path in time order
   Cell cell = gantry_cell(1);
   cell.collision.enabled = false;
   Simulator sim(cell);
-  sim.set_trace(true);
-  sim.set_replay(0.01);
+  sim.recorders().trace.on = true;
+  sim.recorders().replay.grid_s = 0.01;
   REQUIRE(corner(sim, true).status == MotionStatus::ok);
   double t = -1;
-  for (const TraceSample& s : sim.trace()) {
+  for (const TraceSample& s : sim.recorders().trace.samples) {
     CHECK(s.time_s > t);
     t = s.time_s;
   }
   t = -1;
   bool inside_corner = false;
-  for (const ReplaySample& s : sim.replay()) {
+  for (const ReplaySample& s : sim.recorders().replay.samples) {
     CHECK(s.time_s > t);
     t = s.time_s;
     inside_corner = inside_corner || (s.joints[0] < kL - 10 && s.joints[1] > 10);  // cut the corner
@@ -252,12 +252,12 @@ TEST_CASE("blend: the checked poses of the overlap keep the step rule", "[blend]
   Cell cell = gantry_cell(0.5);
   cell.collision.enabled = false;
   Simulator sim(cell);
-  sim.set_trace(true);
+  sim.recorders().trace.on = true;
   REQUIRE(corner(sim, true).status == MotionStatus::ok);
   // The gantry's tool point moves as the joints: consecutive checked poses within 0.5 mm.
   double worst = 0;
-  for (std::size_t i = 1; i < sim.trace().size(); ++i)
-    worst = std::max(worst, (sim.trace()[i].joints - sim.trace()[i - 1].joints).cwiseAbs().sum());
+  for (std::size_t i = 1; i < sim.recorders().trace.samples.size(); ++i)
+    worst = std::max(worst, (sim.recorders().trace.samples[i].joints - sim.recorders().trace.samples[i - 1].joints).cwiseAbs().sum());
   CHECK(worst <= 0.5 + 1e-9);
   CHECK(worst > 0.2);  // and not needlessly dense
 }

@@ -89,8 +89,8 @@ TEST_CASE("planner + walker: the facade's walk, bit for bit, observers in data-f
   CHECK(r.collision.step == 7);
   CHECK(st.joints == sim.joints());
   CHECK(st.time_s == sim.time_s());
-  CHECK(log.poses == sim.poses_checked());
-  CHECK(log.bisection == sim.bisection_checks());
+  CHECK(log.poses == sim.recorders().counts.poses);
+  CHECK(log.bisection == sim.recorders().counts.bisection);
   CHECK(log.bisection > 0);
 
   // b, the start pose (queried, then told), then per stretch: s q p; the contact; e.

@@ -90,7 +90,7 @@ Outcome sweep(const Setting& s, double speed = 100, Stepping stepping = Stepping
   for (int k = 0; k < kPhases; ++k) {
     const Cell cell = thin_cell(s, std::max(s.step_mm, s.clearance_mm) * k / kPhases, stepping);
     Simulator sim(cell);
-    sim.set_trace(true);
+    sim.recorders().trace.on = true;
     SpeedSettings speed_settings;
     speed_settings.program = speed;
     REQUIRE(sim.start_joint_move(target, speed_settings, 1).status == MotionStatus::ok);
@@ -100,8 +100,8 @@ Outcome sweep(const Setting& s, double speed = 100, Stepping stepping = Stepping
       else ++out.other;
     }
     if (k == 0) {  // spacing measured on the first phase
-      out.poses = sim.poses_checked();
-      const auto& tr = sim.trace();
+      out.poses = sim.recorders().counts.poses;
+      const auto& tr = sim.recorders().trace.samples;
       std::vector<collision::Pose> fa, fb;
       for (std::size_t i = 1; i < tr.size(); ++i) {
         robots::link_frames(cell.robot, tr[i - 1].joints, fa);

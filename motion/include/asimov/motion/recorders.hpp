@@ -121,6 +121,19 @@ struct TimingRecorder final : WalkObserver {
   double other0_ = 0;
 };
 
+// The recorders a Simulator keeps, registered with its walker in this order (timing first: the
+// constructor's preprocessing is timed into it). Read them after (or during) a run; switch trace
+// and replay on by setting trace.on and replay.grid_s.
+struct Recorders {
+  Recorders(const robots::Robot& robot, const Location& base, const Location& tool)
+      : trace(robot, base, tool), replay(robot), accuracy(robot) {}
+  TimingRecorder timing;
+  CountRecorder counts;
+  TraceRecorder trace;
+  ReplayRecorder replay;
+  AccuracyRecorder accuracy;
+};
+
 // Adds the wall time of a scope to `acc`.
 struct ScopeTimer {
   double& acc;
