@@ -278,7 +278,7 @@ class Reader : public Fields {
     read_workcell(root, *this, cell, names);  // workcell.cpp
     if (const auto c = root["collision"]) {
       expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled", "toc_tolerance_s", "pairs",
-                      "pair_samples", "stepping"},
+                      "pair_samples", "stepping", "continuous", "report_within_mm", "on_clearance"},
                   "collision");
       auto& s = cell.collision;
       if (c["halvings"] && c["halvings"].IsScalar() && c["halvings"].Scalar() == "auto") {
@@ -312,6 +312,17 @@ class Reader : public Fields {
         const auto v = st.IsScalar() ? st.Scalar() : std::string();
         if (v != "fixed" && v != "gap") fail(st, "collision.stepping must be fixed or gap");
         s.stepping = v == "gap" ? motion::Stepping::gap : motion::Stepping::fixed;
+      }
+      if (c["continuous"]) s.continuous = boolean(c["continuous"], "collision.continuous");
+      if (c["report_within_mm"]) {
+        s.report_within_mm = number(c["report_within_mm"], "collision.report_within_mm");
+        if (!(s.report_within_mm >= 0) || s.report_within_mm > 1e9)
+          fail(c["report_within_mm"], "collision.report_within_mm must be 0..1e9");
+      }
+      if (const auto oc = c["on_clearance"]) {
+        const auto v = oc.IsScalar() ? oc.Scalar() : std::string();
+        if (v != "halt" && v != "warn") fail(oc, "collision.on_clearance must be halt or warn");
+        s.on_clearance = v == "warn" ? motion::OnClearance::warn : motion::OnClearance::halt;
       }
       if (c["pair_samples"]) {
         const double n = number(c["pair_samples"], "collision.pair_samples");

@@ -132,6 +132,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     locate(result.error, motion_program_, motion_line_);
   };
 
+  run_program_ = name;
   RunStatus status = RunStatus::completed;
   try {
     status = setup();
@@ -163,6 +164,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     result.error = Diagnostic{};
     if (status == RunStatus::halted) stack_.clear();  // HALT cannot be resumed
   }
+  if (result.status == RunStatus::error || result.status == RunStatus::interrupted || result.status == RunStatus::collision)
+    memory_.last_error = error_code(result.error.message);  // what ERROR() returns from now on
   if (result.status == RunStatus::completed) {
     result.program = name;
     result.line = result.step = 0;

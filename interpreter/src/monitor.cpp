@@ -337,6 +337,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
            : r.status == RunStatus::interrupted   ? ExecState::interrupted
                                                   : ExecState::error;
     state_step_ = r.step;
+    state_program_ = r.program;
     halted_ = r.interrupt;
   }
   switch (r.status) {
@@ -669,14 +670,17 @@ CommandStatus Monitor::cmd_status() {
                        shown3(x[3]), shown3(x[4]), shown3(x[5]));
   };
   std::string state = "idle";
+  // The step is named with its program when a CALLed program stopped (step 3 of inner).
+  const std::string step = state_program_.empty() || state_program_ == last_program_
+      ? fmt::format("step {}", state_step_) : fmt::format("step {} of {}", state_step_, state_program_);
   if (state_ == ExecState::completed) state = "completed";
-  if (state_ == ExecState::interrupted) state = fmt::format("interrupted at step {}", state_step_);
+  if (state_ == ExecState::interrupted) state = fmt::format("interrupted at {}", step);
   if (state_ == ExecState::interrupted && halted_)
     state += fmt::format(", motion of step {} halted at {:.1f} % of its path", halted_->step, 100 * halted_->path_fraction);
-  if (state_ == ExecState::paused) state = fmt::format("paused at step {}", state_step_);
-  if (state_ == ExecState::halted) state = fmt::format("halted at step {}", state_step_);
-  if (state_ == ExecState::error) state = fmt::format("stopped by error at step {}", state_step_);
-  if (state_ == ExecState::collision) state = fmt::format("stopped by collision at step {}", state_step_);
+  if (state_ == ExecState::paused) state = fmt::format("paused at {}", step);
+  if (state_ == ExecState::halted) state = fmt::format("halted at {}", step);
+  if (state_ == ExecState::error) state = fmt::format("stopped by error at {}", step);
+  if (state_ == ExecState::collision) state = fmt::format("stopped by collision at {}", step);
   const robots::Configuration c = sim_.configuration();
   const robots::ConfigurationRequest& r = sim_.settings().request;
   std::string pending;
@@ -718,6 +722,7 @@ CommandStatus Monitor::cmd_zero() {
   last_program_.clear();
   state_ = ExecState::idle;
   state_step_ = 0;
+  state_program_.clear();
   halted_.reset();
   return CommandStatus::ok;
 }

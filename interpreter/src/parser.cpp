@@ -61,7 +61,8 @@ using ast::Kw;
 using ast::Op;
 
 // Reserved words (the `reserved` rows of instructions.def): they never parse as variable
-// names (dialect §1).
+// names (dialect §1). Instruction keywords are not reserved: they are names wherever no
+// instruction can stand (expressions, declarations, `name =` lines).
 bool is_reserved(const std::string& word) {
   std::string lower = word;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -173,6 +174,7 @@ x3::rule<class args_class, std::vector<boost::optional<ast::Expr>>> const argume
 x3::rule<class label_class, unsigned, true> const label = "label";
 x3::rule<class instruction_class, ast::Instruction> const instruction = "instruction";
 x3::rule<class binding_class, ast::Binding> const binding = "assignment";
+x3::rule<class assignment_class, ast::Binding> const assignment = "assignment";
 x3::rule<class for_class, ast::ForStmt> const for_stmt = "FOR";
 x3::rule<class if_class, ast::IfStmt> const if_stmt = "IF";
 x3::rule<class call_stmt_class, ast::CallStmt> const call_stmt = "CALL";
@@ -239,9 +241,13 @@ const auto instruction_def = word_of(instruction_words) >> -(optional_expression
     >> -word_of(unit_words) >> -word_of(trailing_words) >> x3::omit[-x3::lit(':')];
 // optional_expression = [ expression ]    (omitted: a Nil operand)
 const auto optional_expression_def = expression | x3::attr(ast::Expr());
-// assignment = ( SET | DECOMPOSE | PARAMETER ) variable "=" expression | variable "=" expression
-const auto binding_def = (word_of(binding_words) > variable > '=' > expression)
-    | ((x3::attr(Kw::assign) >> variable >> '=') > expression);
+// binding = ( SET | DECOMPOSE | PARAMETER ) variable "=" expression | assignment
+// assignment = variable "=" expression
+const auto assignment_def = (x3::attr(Kw::assign) >> variable >> '=') > expression;
+const auto binding_def = (word_of(binding_words) > variable > '=' > expression) | assignment;
+// A line `name [subscript] =` (not `==`) is an assignment even when the name is an instruction
+// keyword: `stop = STATE(4) BAND 4` (V+).
+const auto assignment_ahead = &(variable >> '=' >> !x3::lit('='));
 // for = FOR variable "=" expression TO expression [ STEP expression ]
 const auto to_keyword_def = kw("to");
 const auto for_stmt_def = kw("for") > variable > '=' > expression > to_keyword > expression
@@ -272,10 +278,10 @@ const auto timer_stmt_def = kw("timer") > expression > '=' > expression;
 // unsupported = V+_KEYWORD { any }     (not followed by "=": `read = 1` is an assignment)
 const auto unsupported_def = x3::raw[word_of(unsupported_words)] >> !x3::lit('=')
     >> x3::raw[x3::lexeme[*x3::char_]];
-// statement = program_header | declaration | type | for | if | call | timer | instruction
-//           | unsupported | assignment
-const auto statement_def = program_header | declaration | type_stmt | for_stmt | if_stmt
-    | call_stmt | timer_stmt | instruction | unsupported | binding;
+// statement = assignment (when the line reads `name [subscript] =`) | program_header
+//           | declaration | type | for | if | call | timer | instruction | unsupported | binding
+const auto statement_def = (assignment_ahead >> assignment) | program_header | declaration | type_stmt
+    | for_stmt | if_stmt | call_stmt | timer_stmt | instruction | unsupported | binding;
 
 // data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
 const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
@@ -285,7 +291,7 @@ const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
 
 BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
-                    binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
+                    binding, assignment, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
                     program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported, encode)
 
 // skipper = blank | ";" { any }
@@ -315,6 +321,18 @@ std::string control_name(unsigned char c) {
                      : c == 0x0C ? "form feed" : c == 0x1B ? "escape" : c == 0x7F ? "delete" : nullptr;
   const std::string what = name ? name : std::string("Ctrl-") + static_cast<char>('@' + c);
   return "control character " + std::string(code) + " (" + what + ")";
+}
+
+// A reserved word followed by "=" (not "=="): `pi = 3`.
+bool keyword_assignment(const std::string& text, std::size_t at, std::string& word) {
+  std::size_t end = at;
+  while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '.' || text[end] == '_'))
+    ++end;
+  std::size_t eq = end;
+  while (eq < text.size() && (text[eq] == ' ' || text[eq] == '\t')) ++eq;
+  word = text.substr(at, end - at);
+  return end > at && eq < text.size() && text[eq] == '=' && (eq + 1 == text.size() || text[eq + 1] != '=')
+      && is_reserved(word);
 }
 
 // Lines end at LF, CR LF, CR CR LF (a CR LF file converted once more on the way) or a lone CR
@@ -488,6 +506,9 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
                    "\" is a keyword, not a variable";
         else if (*first == '=')
           detail = "\"=\" is not an operator; use \"==\" to compare";
+        std::string word;
+        if (!line.statement && keyword_assignment(text, static_cast<std::size_t>(first - text.begin()), word))
+          detail = "\"" + word + "\" is a keyword, not a variable";
         fail(first, refine(first, last, with_hint(first, last, detail)));
       }
     } catch (const x3::expectation_failure<std::string::const_iterator>& e) {

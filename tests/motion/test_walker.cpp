@@ -48,6 +48,9 @@ struct Log final : WalkObserver {
     bisection += c.kind == QueryKind::bisection_pose;
     events += 'q';
   }
+  void on_distance(const collision::BodyPair&, const collision::DistanceResult&, const DistanceCost& c) override {
+    bisection += c.probe;  // continuous checking's probes between checked poses
+  }
   void on_ik(const PoseError&, std::uint64_t) override { events += 'i'; }
   void on_contact(const CollisionReport&, const JointVector&, double) override { events += 'c'; }
   void on_walk_end() override { events += 'e'; }

@@ -45,7 +45,7 @@ struct RunTiming {
   double parse_s = 0;       // program files: load and check
   double preprocess_s = 0;  // cell load, engine preprocessing (incl. the checks that built a lazy grid)
   double motion_s = 0;      // planning, IK, sampling, FK
-  double collision_s = 0;   // engine queries at checked poses and contact-time bisection
+  double collision_s = 0;   // engine queries at checked poses, continuous checking, contact-time bisection
 };
 
 // Every checked pose with the tool's world pose, when `on`. BASE and TOOL are read at the
@@ -98,8 +98,13 @@ struct AccuracyRecorder final : WalkObserver {
 struct CountRecorder final : WalkObserver {
   void on_checked_pose(double, const robots::JointVector&, bool) override { ++poses; }
   void on_query(const collision::QueryResult& r, const QueryCost& cost) override;
+  void on_distance(const collision::BodyPair&, const collision::DistanceResult&, const DistanceCost& cost) override {
+    bisection += cost.probe;
+    ++distances;
+  }
   std::uint64_t poses = 0;
-  std::uint64_t bisection = 0;
+  std::uint64_t bisection = 0;  // contact-time bisection poses and continuous-checking probes
+  std::uint64_t distances = 0;  // distance queries of continuous checking
   collision::StepCounts counts;
 };
 
@@ -111,6 +116,9 @@ struct TimingRecorder final : WalkObserver {
   using Clock = std::chrono::steady_clock;
   void on_walk_begin(const Trajectory&) override;
   void on_query(const collision::QueryResult& r, const QueryCost& cost) override;
+  void on_distance(const collision::BodyPair&, const collision::DistanceResult&, const DistanceCost& cost) override {
+    query_ticks_ += cost.ticks;
+  }
   void on_contact(const CollisionReport&, const robots::JointVector&, double search_s) override;
   void on_walk_end() override;
   RunTiming timing;
