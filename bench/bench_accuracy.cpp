@@ -313,7 +313,7 @@ json ik_section() {
                                {"solve_us_median", median(us)}};
   }
   {  // Numeric LM on generic6.urdf: one descent of at most k iterations, tolerances 0.
-    const robots::Robot r = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+    const robots::Robot r = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf").value();
     constexpr int kPoses = 4000;
     std::mt19937 rng(424242);
     std::uniform_real_distribution<double> u(0, 1), near(-0.1, 0.1);

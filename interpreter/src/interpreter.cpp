@@ -127,16 +127,14 @@ std::vector<Diagnostic> Interpreter::load_file(const std::string& path) {
     d.detail = path;
     return {d};
   }
-  std::string text;
-  try {
-    text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);  // a folder, /dev/zero: refused
-  } catch (const collision::FileReadError& e) {
+  const Result<std::string> text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);  // a folder, /dev/zero: refused
+  if (!text) {
     Diagnostic d;
     d.message = "*Cannot read file*";
-    d.detail = path + ": " + e.what();
+    d.detail = path + ": " + text.error().message;
     return {d};
   }
-  return load_source(text, path);
+  return load_source(*text, path);
 }
 
 std::vector<std::string> Interpreter::program_names() const { return impl_->memory.load_order; }

@@ -5,12 +5,14 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
 #include <cmath>
 
 using namespace asimov;
+using asimov::test::must;
 using namespace asimov::motion;
 using robots::JointVector;
 
@@ -152,7 +154,7 @@ TEST_CASE("hand: OPEN/CLOSE/RELAX at the next motion start, OPENI waits HAND.TIM
 }
 
 TEST_CASE("simulator: a URDF arm moves (numeric IK, straight lines, READY = zero pose)", "[targets][urdf]") {
-  robots::Robot r = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+  robots::Robot r = must(robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf"));
   Cell cell = free_cell(r);
   cell.collision.enabled = true;
   CellObject block;
@@ -188,7 +190,7 @@ TEST_CASE("simulator: a URDF arm moves (numeric IK, straight lines, READY = zero
 TEST_CASE("cells: the generic6 demo sequence completes without contact", "[targets][urdf][cell]") {
   // Mirrors programs/cells/generic6_cell.yaml and programs/cells/generic6_demo.v2.
   Cell cell;
-  cell.robot = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+  cell.robot = must(robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf"));
   cell.start_joints = robots::ready_joints(cell.robot);
   cell.tool = trans(0, 0, 150, 0, 0, 0);
   cell.tool_shape = collision::transformed(collision::make_box({40, 60, 120}), trans(0, 0, 70, 0, 0, 0));
