@@ -152,6 +152,12 @@ struct Unsupported {
   std::string rest;                                   // the rest of the line, as written
 };
 
+// ACCEL [ "(" profile ")" ] [ acceleration ] [ "," [ deceleration ] ]
+struct AccelStmt {
+  Expr profile;              // a Nil operand when omitted
+  std::vector<Expr> values;  // acceleration, deceleration (an omitted one holds a Nil operand)
+};
+
 // TIMER expression "=" expression
 struct TimerStmt {
   Expr number;
@@ -165,7 +171,7 @@ struct ProgramHeader {
 };
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
-                               ProgramHeader, Declaration, TimerStmt, Unsupported> {
+                               ProgramHeader, Declaration, TimerStmt, AccelStmt, Unsupported> {
   using base_type::base_type;
   using base_type::operator=;
 };

@@ -373,6 +373,14 @@ void Evaluator::statement(const Instr& in) {
         set_signal(signal_number(n, true));
       }
       return;
+    case Code::accel: {  // ACCEL (profile) a, d: an omitted one is kept; out of [1, 100]: the nearer end
+      if (in.args[0].kind != NodeKind::absent) to_real(eval(in.args[0]), "ACCEL profile");  // profile 0 is used
+      double* ramp[2] = {&memory_.settings.accel, &memory_.settings.decel};
+      for (std::size_t k = 1; k < in.args.size(); ++k)
+        if (in.args[k].kind != NodeKind::absent)
+          *ramp[k - 1] = std::clamp(to_real(eval(in.args[k]), k == 1 ? "ACCEL acceleration" : "ACCEL deceleration"), 1.0, 100.0);
+      return;
+    }
     case Code::timer: {
       const int k = to_index(to_real(eval(in.args[0]), "timer number"));
       if (k < 1 || k > 16) raise(Message::illegal_value, fmt::format("timer {}", k));
@@ -647,8 +655,11 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
     motion_sites_.emplace_back(m.program, m.line);
   const bool hand_pending = sim_.hand().pending.has_value();  // OPEN / CLOSE act as this motion starts
-  const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
-                                          : sim_.start_move(m.pose, m.straight, m.speed, step);
+  motion::SpeedSettings speed = m.speed;
+  speed.accel = memory_.settings.accel;  // ACCEL in effect now
+  speed.decel = memory_.settings.decel;
+  const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, speed, step)
+                                          : sim_.start_move(m.pose, m.straight, speed, step);
   // A halt or contact here is the previous motion's (carried out up to where this one starts).
   if (r.status == motion::MotionStatus::interrupted || r.status == motion::MotionStatus::collision)
     return check_motion(r);

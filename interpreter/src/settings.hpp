@@ -12,6 +12,7 @@ namespace asimov::interpreter {
 struct Settings {
   double hand_time_s = motion::kDefaultHandTime;  // PARAMETER HAND.TIME [s]
   bool cp = true;                                 // ENABLE CP: motions blend (docs/blending.md)
+  double accel = 100, decel = 100;                // ACCEL acceleration, deceleration [%]
 };
 
 double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim);

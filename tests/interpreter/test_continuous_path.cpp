@@ -128,3 +128,48 @@ TEST_CASE("CP: a contact is reported at the motion whose path met it, not the on
   CHECK(out.str() == "between\n");
   CHECK(r.collision.joints[0] < 10);  // on the way to the box, before the blend
 }
+
+TEST_CASE("ACCEL: acceleration and deceleration percentages lengthen the motion; omitted values are kept",
+          "[interpreter][blend][accel]") {
+  auto duration = [](const std::string& accel) {
+    InterpreterFixture f;
+    const auto r = f.run(std::string(".PROGRAM main()\n") + accel + "\n  MOVE " + kA + "\n.END\n");
+    INFO(f.load_report << interpreter::format_diagnostic(r.error));
+    REQUIRE(r.status == RunStatus::completed);
+    REQUIRE(r.motion_times.size() == 1);
+    return r.motion_times[0].duration_s;
+  };
+  const double full = duration("");
+  CHECK(duration("  ACCEL (1) 100, 100") == Approx(full).epsilon(1e-12));  // Adept's drivers' line
+  CHECK(duration("  ACCEL 500, 200") == Approx(full).epsilon(1e-12));      // above 100: 100
+  const double half = duration("  ACCEL 50, 50");
+  CHECK(half > full);
+  const double accel_only = duration("  ACCEL 50");
+  CHECK(accel_only > full);
+  CHECK(accel_only < half);
+  CHECK(duration("  ACCEL , 50") == Approx(accel_only).epsilon(1e-9));  // the ramps are symmetric in time
+  CHECK(duration("  ACCEL 50\n  ACCEL , 50") == Approx(half).epsilon(1e-12));  // the first value kept
+  CHECK(duration("  ACCEL 0, 0") > half);  // below 1: 1 %
+}
+
+TEST_CASE("ACCEL: a lower deceleration lengthens the blend with the next motion", "[interpreter][blend][accel]") {
+  auto overlap = [](const std::string& accel) {
+    InterpreterFixture f;
+    const auto r = f.run(std::string(".PROGRAM main()\n") + accel + "\n  MOVE " + kA + "\n  MOVE " + kB + "\n.END\n");
+    REQUIRE(r.status == RunStatus::completed);
+    REQUIRE(r.motion_times.size() == 2);
+    CHECK(r.motion_times[1].blended);
+    return r.motion_times[0].start_s + r.motion_times[0].duration_s - r.motion_times[1].start_s;
+  };
+  // tau = min(deceleration of the first, acceleration of the second): both ramps longer at 50 %.
+  const double base = overlap("");
+  CHECK(base > 0);
+  CHECK(overlap("  ACCEL 50, 50") > base * 1.4);  // x 2 (trapezoid) or x sqrt 2 (triangle)
+}
+
+TEST_CASE("ACCEL: too many values is a load error", "[interpreter][accel]") {
+  InterpreterFixture f;
+  const auto d = f.load(".PROGRAM main()\n  ACCEL 1, 2, 3\n.END\n");
+  REQUIRE(!d.empty());
+  CHECK(interpreter::format_diagnostic(d[0]).find("ACCEL expects") != std::string::npos);
+}
