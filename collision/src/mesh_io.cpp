@@ -279,8 +279,10 @@ static LoadedMesh read_mesh_x(const std::string& path, const Vec3& scale) {
 int segments_for_tolerance(double radius, double tolerance, int min_segments) {
   if (!(radius > 0) || !(tolerance > 0) || tolerance >= radius) return std::max(min_segments, 3);
   // r (1 - cos(pi / n)) <= tol  <=>  n >= pi / acos(1 - tol / r)
+  // Clamped as a double: a tolerance below radius * 1e-16 makes acos 0 and n infinite, which
+  // converted to int is undefined (UBSan float-cast-overflow).
   const double n = std::ceil(std::numbers::pi / std::acos(1 - tolerance / radius));
-  return std::clamp(static_cast<int>(n), std::max(min_segments, 3), 4096);
+  return static_cast<int>(std::min(std::max(n, static_cast<double>(std::max(min_segments, 3))), 4096.0));
 }
 
 namespace {

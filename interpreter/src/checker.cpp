@@ -173,8 +173,18 @@ class Checker {
   }
 
   void data_line(const ast::DataLine& d) {
-    if (auto item = compile_data_line(d, data_kind_, joint_count_, symbols_)) out_.data.push_back(std::move(*item));
-    else error(item.error().message);
+    auto item = compile_data_line(d, data_kind_, joint_count_, symbols_);
+    if (!item) return error(item.error().message);
+    // The elements will be charged against the data limit when the load assigns them; past it
+    // the load fails here, once, instead of first holding them all (docs/limits.md).
+    if (item->subscripted && (out_.data_bytes += Elements::element_bytes(item->value)) > kMaxDataBytes) {
+      if (data_full_) return;
+      error(fmt::format("the data sections exceed {} MiB of program data", kMaxDataBytes >> 20));
+      out_.errors.back().message = "*Out of memory*";
+      data_full_ = true;
+      return;
+    }
+    out_.data.push_back(std::move(*item));
   }
 
   // --- programs ------------------------------------------------------------------------
@@ -702,6 +712,7 @@ class Checker {
   int joint_count_ = 6;
   Kw data_kind_ = Kw::none;             // the open data section, if any
   int data_start_ = 0;                  // and its line
+  bool data_full_ = false;              // the data sections passed kMaxDataBytes (reported once)
   bool in_program_ = false;
   bool executable_seen_ = false;       // declarations must come first
   Program prog_;

@@ -27,6 +27,7 @@ struct Symbols {
 struct CheckResult {
   std::vector<Program> programs;                      // in file order
   std::vector<DataItem> data;                         // data sections, in file order
+  std::size_t data_bytes = 0;                         // what their array elements will be charged
   std::vector<Diagnostic> errors;
 };
 

@@ -11,7 +11,7 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<std::string_view, 11> kMessageTexts = {
+constexpr std::array<std::string_view, 12> kMessageTexts = {
     "*Syntax error*",
     "*Undefined program or variable name*",
     "*Undefined value*",
@@ -23,6 +23,7 @@ constexpr std::array<std::string_view, 11> kMessageTexts = {
     "*Not supported in simulation*",
     "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps or in a motion
     "*Wait limit exceeded*",  // WAIT still false after Limits::max_wait_s simulated seconds
+    "*Out of memory*",        // the program's data past kMaxDataBytes (limits.hpp)
 };
 static_assert(kMessageTexts.size() == static_cast<std::size_t>(Message::count));
 
@@ -81,6 +82,26 @@ std::string format_pause(const RunResult& r) {
   if (r.status != RunStatus::paused && r.status != RunStatus::halted) return {};
   return fmt::format("Program {}: {}, step {}", r.status == RunStatus::paused ? "paused" : "halted", r.program,
                      r.step);
+}
+
+const MotionStep* motion_at_step(const std::vector<MotionStep>& motions, int step) {
+  const MotionStep* hit = nullptr;
+  for (const MotionStep& m : motions)
+    if (m.step == step) {
+      if (hit) return nullptr;
+      hit = &m;
+    }
+  return hit;
+}
+
+std::string format_closest(const motion::Simulator& sim, const std::vector<MotionStep>& motions) {
+  const std::vector<motion::ClearanceApproach> near = sim.recorders().clearance.nearest_first();
+  if (near.empty()) return {};
+  const motion::ClearanceApproach& a = near.front();
+  const MotionStep* m = motion_at_step(motions, a.step);
+  const std::string where = m ? fmt::format("{}, line {}", m->program, m->line) : fmt::format("step {}", a.step);
+  return fmt::format("Closest approach: {} / {} {:.3f} mm at t = {:.6f} s ({})\n", sim.body_name(a.pair.a),
+                     sim.body_name(a.pair.b), a.distance_mm, a.time_s, where);
 }
 
 std::string format_interrupt(const RunResult& r) {

@@ -358,7 +358,7 @@ void Evaluator::statement(const Instr& in) {
       const std::size_t last = in.target.kids.empty() ? 0 : in.target.kids.size() - 1;
       for (double p : parts) {
         if (idx[last] > kMaxArrayIndex) raise(Message::illegal_value, "index above 65535");
-        var.elements[idx] = p;
+        var.elements.set(idx, p);
         ++idx[last];
       }
       return;

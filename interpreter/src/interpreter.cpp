@@ -10,6 +10,8 @@
 
 #include "asimov/collision/text_file.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -82,18 +84,34 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
     all.push_back(std::move(note));
   }
   if (!all.empty()) return all;  // nothing is loaded (the checker reports errors only)
+  // The data of this load must fit beside what the process holds (docs/limits.md); this
+  // estimate leaves out the index tables, whose charge can still end the assignment below.
+  auto out_of_memory = [&](const std::string& detail) {
+    Diagnostic d;
+    d.message = std::string(message_text(Message::out_of_memory));
+    d.detail = detail;
+    d.file = file_name;
+    return std::vector<Diagnostic>{d};
+  };
+  if (data_bytes() + checked.data_bytes > kMaxDataBytes)
+    return out_of_memory(fmt::format("the data sections need {} MiB; {} MiB of program data are already in use",
+                                     (checked.data_bytes >> 20) + 1, data_bytes() >> 20));
   m.programs.resize(m.symbols.programs.size());
   m.globals.resize(m.symbols.globals.size());
-  for (DataItem& item : checked.data) {  // globals of the same name are replaced
-    Variable& v = m.globals[static_cast<std::size_t>(item.slot)];
-    if (item.subscripted) {
-      if (v.scalar) v = Variable{};
-      if (!v.elements.empty() && kind_of(v.elements.begin()->second) != kind_of(item.value)) v = Variable{};
-      v.elements[item.index] = std::move(item.value);
-    } else {
-      v = Variable{};
-      v.scalar = std::move(item.value);
+  try {
+    for (DataItem& item : checked.data) {  // globals of the same name are replaced
+      Variable& v = m.globals[static_cast<std::size_t>(item.slot)];
+      if (item.subscripted) {
+        if (v.scalar) v = Variable{};
+        if (!v.elements.empty() && kind_of(v.elements.begin()->second) != kind_of(item.value)) v = Variable{};
+        v.elements.set(item.index, std::move(item.value));
+      } else {
+        v = Variable{};
+        v.scalar = std::move(item.value);
+      }
     }
+  } catch (const Fault& f) {
+    return out_of_memory(f.detail);
   }
   std::vector<int> installed;  // program slots of this load
   for (Program& p : checked.programs) {

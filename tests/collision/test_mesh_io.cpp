@@ -168,6 +168,14 @@ TEST_CASE("validation: non-finite rejected, zero-area dropped, open meshes warne
   }
 }
 
+TEST_CASE("a tolerance too small for doubles gives the most segments, not an undefined cast", "[mesh_io]") {
+  // 1 - 1e-302 is 1: acos gives 0 and the segment count infinity (UBSan float-cast-overflow).
+  CHECK(segments_for_tolerance(100, 1e-300) == 4096);
+  CHECK(segments_for_tolerance(100, 1e-300, 5000) == 4096);
+  CHECK(segments_for_tolerance(100, 10, 5000) == 4096);
+  CHECK(segments_for_tolerance(1e8, 1e-6) == 4096);
+}
+
 TEST_CASE("primitives tessellated to a chordal tolerance", "[mesh_io]") {
   for (const double tol : {1.0, 0.1, 0.01}) {
     const double r = 50;

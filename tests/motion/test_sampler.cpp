@@ -85,7 +85,7 @@ TEST_CASE("pair rule: two moving bodies together move at most step_mm", "[sample
   const Arm arm;
   std::vector<BodyPair> pairs;
   for (int a = 1; a < 8; ++a)
-    for (int b = a + 2; b < 8; ++b) pairs.emplace_back(a, b);  // non-adjacent links and the tool
+    for (int b = a + 2; b < 8; ++b) pairs.push_back({std::uint32_t(a), std::uint32_t(b)});  // non-adjacent links and the tool
   const JointVector from = jv({-40, -120, 60, -90, -60, 100}), to = jv({60, -30, 200, 80, 70, -120});
   const double step = 2.0;
   const int n = joint_move_intervals(arm.reach, from, to, step, pairs);
