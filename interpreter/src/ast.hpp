@@ -158,6 +158,25 @@ struct AccelStmt {
   std::vector<Expr> values;  // acceleration, deceleration (an omitted one holds a Nil operand)
 };
 
+// V+ I/O (dialect §7a): KEYWORD [ "(" [expression] { "," [expression] } ")" ] [ items ]
+// ATTACH (lun, 4) "DISK", FOPENR (lun) "f.txt", READ (lun) $s, x, WRITE (lun) $s, /S, FCLOSE (lun)
+struct IoStmt {
+  std::string keyword;                                // as written
+  std::vector<Expr> unit;                             // lun, mode ... (an omitted one: Nil)
+  std::vector<TypeItem> items;                        // device or path, READ's variables, WRITE's items
+};
+
+// EXECUTE [ /C ] [ task ] program [ "(" arguments ")" ] { "," [ expression ] }   (dialect §7b)
+struct ExecuteHead {
+  Expr task;                                          // Nil: task 0
+  std::string program;
+};
+struct ExecuteStmt {
+  ExecuteHead head;
+  std::vector<boost::optional<Expr>> args;
+  std::vector<Expr> rest;                             // cycles, step, priority (ignored)
+};
+
 // TIMER expression "=" expression
 struct TimerStmt {
   Expr number;
@@ -171,7 +190,8 @@ struct ProgramHeader {
 };
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
-                               ProgramHeader, Declaration, TimerStmt, AccelStmt, Unsupported> {
+                               ProgramHeader, Declaration, TimerStmt, AccelStmt, Unsupported, IoStmt,
+                               ExecuteStmt> {
   using base_type::base_type;
   using base_type::operator=;
 };

@@ -39,6 +39,7 @@ struct Simulator::Impl {
   Hand hand;
   Recorders rec{cell.robot, settings.base, settings.tool};  // before world: it times the preprocessing
   World world;
+  std::optional<CellRuntime> runtime;  // parts and devices; absent for a static cell
   PoseHook hook;
   Walker walker{cell.robot, world, cell.collision};
   std::optional<Trajectory> pending;
@@ -59,6 +60,11 @@ struct Simulator::Impl {
     settings.tool = cell.tool;
     dest = here();
     rec.clearance.within_mm = std::max(cell.collision.report_within_mm, cell.collision.clearance_mm);
+    if (!cell.workcell.empty()) {
+      runtime.emplace(cell);
+      world.attach(*runtime);
+    }
+    rec.trace.world = &world;
     for (WalkObserver* o : std::initializer_list<WalkObserver*>{&rec.timing, &rec.counts, &rec.trace, &rec.replay,
                                                               &rec.accuracy, &rec.clearance, &hook})
       walker.add_observer(*o);
@@ -80,7 +86,15 @@ struct Simulator::Impl {
   MotionResult walk_pending(double until_s = std::numeric_limits<double>::infinity()) {
     const Trajectory tr = std::move(*pending);
     pending.reset();
-    MotionResult r = walker.walk(tr, state, until_s);
+    MotionResult r;
+    try {
+      r = walker.walk(tr, state, until_s);
+    } catch (const DeviceError& e) {  // the devices' clock advanced with the walk
+      r.status = MotionStatus::error;
+      r.error = {.message = "*Device logic loop*", .detail = e.what(), .file = {}, .line = 0};
+    }
+    if (runtime && runtime->carried())  // the part in the gripper is where the flange took it
+      runtime->clock().move_carried(*runtime->carried(), runtime->carried_pose(cell.base * robots::flange_pose(cell.robot, state.joints)));
     if (r.status == MotionStatus::interrupted) {
       rest = Rest{tr.to, tr.kind == PathKind::line, dest, tr.speed, r.interrupt.time_s - tr.t0};
       halted = r.interrupt;
@@ -205,6 +219,8 @@ MotionResult Simulator::resume_motion(std::optional<double> monitor_speed) {
 }
 
 void Simulator::request_hand(HandState state) { impl_->hand.pending = state; }
+CellRuntime* Simulator::cell_runtime() { return impl_->runtime ? &*impl_->runtime : nullptr; }
+const CellRuntime* Simulator::cell_runtime() const { return impl_->runtime ? &*impl_->runtime : nullptr; }
 
 MotionResult Simulator::hand_immediate(HandState state, double hand_time_s) {
   if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;

@@ -380,13 +380,13 @@ TEST_CASE("V+ constructs that load but are not simulated", "[evaluator][vplus]")
   INFO(f.load_report);
   REQUIRE(r.status == RunStatus::error);
   CHECK(r.error.message == "*Not supported in simulation*");
-  CHECK(r.error.detail == "ATTACH");
+  CHECK(r.error.detail.rfind("ATTACH \"SERIAL:1\"; network and serial I/O are not simulated", 0) == 0);
   CHECK(r.error.step == 6);
   CHECK(f.out.str() == "still running\n");
-  REQUIRE(r.warnings.size() == 2);  // ATTACH (), SELECT; ACCEL is simulated (docs/blending.md)
-  CHECK(r.warnings[0].detail == "ATTACH");
+  REQUIRE(r.warnings.size() == 1);  // SELECT; ACCEL (docs/blending.md) and the robot's ATTACH () (§7b) are simulated
+  CHECK(r.warnings[0].detail == "SELECT");
   CHECK(r.warnings[0].warning);
-  CHECK(r.warnings[0].step == 2);
+  CHECK(r.warnings[0].step == 3);
   InterpreterFixture g;
   r = g.run(".PROGRAM main()\n  read = 2\n  TYPE read\n.END\n");  // not followed by "=": a name
   CHECK(r.status == RunStatus::completed);

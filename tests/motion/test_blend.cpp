@@ -3,6 +3,7 @@
 // rounded by the closed form delta = v^2 / (4 a) * sin(theta / 2), the sequence is the sum of the
 // overlaps shorter, and the collision check, the trace and the replay walk the rounded path.
 #include "support/cell_bodies.hpp"
+#include "support/result.hpp"
 #include "asimov/collision/polyhedron.hpp"
 #include "asimov/motion/simulator.hpp"
 #include "asimov/robots/urdf_loader.hpp"
@@ -47,7 +48,7 @@ JointVector point(double x, double y) {
 
 Cell gantry_cell(double step_mm) {
   Cell cell;
-  cell.robot = robots::load_urdf_text(kGantry, "gantry.urdf");
+  cell.robot = test::must(robots::load_urdf_text(kGantry, "gantry.urdf"));
   cell.start_joints = JointVector::Zero(3);
   cell.collision.step_mm = step_mm;
   cell.tool_shape = collision::make_box({4, 4, 4});
