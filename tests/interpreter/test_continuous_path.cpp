@@ -7,6 +7,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 using namespace asimov;
 using interpreter::RunStatus;
 using test::InterpreterFixture;
@@ -172,4 +174,46 @@ TEST_CASE("ACCEL: too many values is a load error", "[interpreter][accel]") {
   const auto d = f.load(".PROGRAM main()\n  ACCEL 1, 2, 3\n.END\n");
   REQUIRE(!d.empty());
   CHECK(interpreter::format_diagnostic(d[0]).find("ACCEL expects") != std::string::npos);
+}
+
+TEST_CASE("CP with tasks: the robot task blends while a logic task runs, the same on every run",
+          "[interpreter][blend][tasks]") {
+  const std::string robot = std::string("  MOVE ") + kA + "\n  MOVE " + kB + "\n  MOVE " + kA + "\n  BREAK\n";
+  const std::string logic = std::string(".PROGRAM main()\n  done = 0\n  n = 0\n  seen = 0\n  EXECUTE 1 logic()\n") +
+                            robot + "  done = 1\n  CYCLE.END 1\n  TYPE n, \" \", seen, \" \", SIG(2010)\n.END\n"
+                            ".PROGRAM logic()\n  WHILE done == 0 DO\n    n = n + 1\n"
+                            "    IF STATE(2) == 1 THEN\n      seen = seen + 1\n      SIGNAL 2010\n    END\n"
+                            "    WAIT\n  END\n.END\n";
+  struct Outcome {
+    std::string out;
+    std::vector<interpreter::MotionTime> times;
+    double end_s;
+  };
+  auto run = [](const std::string& text) {
+    InterpreterFixture f;
+    const auto r = f.run(text);
+    INFO(f.load_report << interpreter::format_diagnostic(r.error));
+    REQUIRE(r.status == RunStatus::completed);
+    return Outcome{f.out.str(), r.motion_times, f.sim.time_s()};
+  };
+  const Outcome a = run(logic), b = run(logic);
+  const Outcome alone = run(".PROGRAM main()\n" + robot + ".END\n");
+  REQUIRE(a.times.size() == 3);
+  CHECK_FALSE(a.times[0].blended);
+  CHECK(a.times[1].blended);
+  CHECK(a.times[2].blended);
+  // The logic task changes nothing of the arm's path or timing, bit for bit.
+  REQUIRE(alone.times.size() == 3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    CHECK(a.times[i].start_s == alone.times[i].start_s);
+    CHECK(a.times[i].duration_s == alone.times[i].duration_s);
+    CHECK(a.times[i].start_s == b.times[i].start_s);
+  }
+  // The logic task ticked (16 ms) through the whole motion and saw the arm moving every time;
+  // at the first tick after the motion's end the robot task has set done.
+  CHECK(a.out == b.out);
+  CHECK(a.end_s == b.end_s);
+  const double motion_end = alone.end_s;
+  const int ticks = static_cast<int>(std::ceil(motion_end / 0.016));
+  CHECK(a.out == std::to_string(ticks) + " " + std::to_string(ticks) + " -1\n");
 }
