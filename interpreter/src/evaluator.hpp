@@ -155,6 +155,7 @@ class Evaluator {
   // message in fault_, set by stop()).
   RunResult protected_run(const std::string& name, const std::function<RunStatus()>& setup);
   RunStatus start_motion(const MotionRequest& m);
+  void record_timing(const motion::MotionTiming& t, const std::string& program);  // RunResult::motion_times
   RunStatus execute(const Instr& in);  // the statements that can end a run, else statement()
   void statement(const Instr& in);
   RunStatus loop();  // runs stack_ until it is empty, or until its task gives way
@@ -254,6 +255,8 @@ class Evaluator {
   bool interactive_ = false;                  // PROMPT asks again on bad input
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
   std::vector<std::pair<const Program*, int>> motion_sites_;  // this execution's motions (RunResult::motions)
+  std::vector<MotionTime> motion_times_;                      // RunResult::motion_times
+  std::uint64_t motion_times_omitted_ = 0;
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
   std::optional<motion::InterruptReport> halt_;  // this run's motion halted by Ctrl-C
