@@ -530,7 +530,7 @@ class Checker {
     if (n.kind == NodeKind::variable && n.text[0] == '#') return 'p';
     if (n.kind == NodeKind::binary && n.op == ast::Op::compound) return 't';
     if (n.kind == NodeKind::function) switch (n.func) {
-        case Func::ppoint: return 'p';
+        case Func::ppoint: case Func::pdest: return 'p';
         case Func::trans: case Func::here: case Func::dest: case Func::null: case Func::inverse:
         case Func::rx: case Func::ry: case Func::rz: case Func::shift: case Func::tool: case Func::base:
         case Func::frame: return 't';

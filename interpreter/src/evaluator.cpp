@@ -708,6 +708,7 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
     if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
     hand_changed(*hand_request, m.line);
   }
+  robots::JointVector earlier = sim_.planned_joints();  // where this motion starts from
   motion::SpeedSettings speed = m.speed;
   speed.accel = memory_.settings.accel;  // ACCEL in effect now
   speed.decel = memory_.settings.decel;
@@ -721,7 +722,11 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   last_motion_ = m;
   if (r.status == motion::MotionStatus::error)  // reported at the statement that started it
     return stop(Fault{Message::motion, r.error.message, r.error.detail});
-  if (const auto timing = sim_.pending_timing()) record_timing(*timing, m.program->name);
+  if (const auto timing = sim_.pending_timing()) {
+    record_timing(*timing, m.program->name);
+    earlier_destination_ = std::move(earlier);
+    earlier_until_ = timing->start_s;
+  }
   return RunStatus::completed;
 }
 

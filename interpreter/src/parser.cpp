@@ -154,7 +154,7 @@ struct io_table : x3::symbols<x3::unused_type> {
 // Function words that need no parentheses.
 struct bare_function_table : x3::symbols<std::string> {
   bare_function_table() {
-    for (const char* w : {"here", "dest", "pi", "true", "false", "null", "random", "tool", "base"})
+    for (const char* w : {"here", "dest", "#pdest", "pi", "true", "false", "null", "random", "tool", "base"})
       add(w, std::string(w));
   }
 } const bare_function_words;
@@ -239,7 +239,7 @@ const auto primary_def = number | string_literal | encode | call | variable
 // encode = "$ENCODE" "(" type_item { "," type_item } ")"
 const auto encode_def = (x3::attr(Kw::type) >> x3::lexeme[x3::no_case["$encode"] >> !name_char] >> '(')
     > (type_item % ',') > ')';
-// function = [ "#" | "$" ] name "(" arguments ")" | HERE | DEST | PI | TRUE | FALSE | NULL | ...
+// function = [ "#" | "$" ] name "(" arguments ")" | HERE | DEST | #PDEST | PI | TRUE | FALSE | NULL | ...
 const auto function_name_def = x3::raw[x3::lexeme[-x3::char_("#$") >> word]];
 const auto call_def = ((function_name >> '(') > arguments > ')')
     | (word_of(bare_function_words) >> x3::attr(std::vector<boost::optional<ast::Expr>>()));

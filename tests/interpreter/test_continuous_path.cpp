@@ -217,3 +217,80 @@ TEST_CASE("CP with tasks: the robot task blends while a logic task runs, the sam
   const int ticks = static_cast<int>(std::ceil(motion_end / 0.016));
   CHECK(a.out == std::to_string(ticks) + " " + std::to_string(ticks) + " -1\n");
 }
+
+TEST_CASE("#PDEST: the joints the pending motion ends at; at rest the arm's joints", "[interpreter][blend][pdest]") {
+  InterpreterFixture f;
+  const std::string text = std::string(".PROGRAM main()\n  SET #s = #PDEST\n  MOVE ") + kA +
+                           "\n  SET #a = #pdest\n  MOVE " + kB + "\n  SET #b = #PDEST\n  BREAK\n  SET #r = #PDEST\n"
+                           "  DECOMPOSE s[0] = #s\n  DECOMPOSE a[0] = #a\n  DECOMPOSE b[0] = #b\n  DECOMPOSE r[0] = #r\n"
+                           "  TYPE s[0], s[1], s[2], \"|\", a[0], a[1], a[2], a[4], \"|\", b[0], \"|\", r[0]\n"
+                           "  TYPE DISTANCE(#PDEST, HERE)\n.END\n";
+  CHECK(test::outcome_of(f, text) == "0 -90 90|30 -60 120 30|-30|-30\n0\n");
+  // check knows #PDEST: a precision point, no load error or warning.
+  InterpreterFixture g;
+  CHECK(g.load(".PROGRAM main()\n  SET #x = #PDEST\n  MOVE #PDEST\n.END\n").empty());
+  const auto d = g.load(".PROGRAM main()\n  SET x = #PDEST\n.END\n");  // as #PPOINT: a '#' variable only
+  REQUIRE(d.size() == 1);
+  CHECK(interpreter::format_diagnostic(d[0]).find("x cannot hold a precision point") != std::string::npos);
+  CHECK(test::outcome_of(g, ".PROGRAM main()\n  SET #x = #PDEST()\n  MOVE #x\n  TYPE \"ok\"\n.END\n") == "ok\n");
+}
+
+TEST_CASE("#PDEST in a second task: the motion in progress at the task's time", "[interpreter][blend][pdest][tasks]") {
+  // The probe samples J1 of #PDEST at every tick: 30 (A) while the first motion runs, -30 (B)
+  // once the second has started (blending: before the first has ended), and after it.
+  InterpreterFixture f;
+  const std::string text = std::string(".PROGRAM main()\n  done = 0\n  k = 0\n  EXECUTE 1 probe()\n  MOVE ") + kA +
+                           "\n  MOVE " + kB + "\n  BREAK\n  WAIT.EVENT , 0.05\n  done = 1\n  CYCLE.END 1\n"
+                           "  FOR i = 1 TO k\n    TYPE t[i], \" \", j[i]\n  END\n.END\n"
+                           ".PROGRAM probe()\n  WHILE done == 0 DO\n    DECOMPOSE q[0] = #PDEST\n    k = k + 1\n"
+                           "    t[k] = TIMER(0)\n    j[k] = q[0]\n    WAIT\n  END\n.END\n";
+  const auto r = f.run(text);
+  INFO(f.load_report << interpreter::format_diagnostic(r.error));
+  REQUIRE(r.status == RunStatus::completed);
+  REQUIRE(r.motion_times.size() == 2);
+  REQUIRE(r.motion_times[1].blended);
+  const double b_start = r.motion_times[1].start_s;
+  std::istringstream lines(f.out.str());
+  int before = 0, after = 0;
+  for (double t = 0, j1 = 0; lines >> t >> j1;) {
+    INFO("t = " << t);
+    if (t < b_start) {
+      CHECK(j1 == 30);
+      ++before;
+    } else {
+      CHECK(j1 == -30);
+      ++after;
+    }
+  }
+  CHECK(before > 10);
+  CHECK(after > 10);
+}
+
+TEST_CASE("CP: DURATION lengthens both motions and they still blend", "[interpreter][blend]") {
+  const auto plain = times_with("");
+  const auto slow = times_with("  DURATION 2 ALWAYS\n");  // the second motion only
+  REQUIRE(slow.size() == 2);
+  CHECK(slow[1].blended);
+  CHECK(slow[1].duration_s == Approx(2).epsilon(1e-9));
+  CHECK(slow[1].duration_s > plain[1].duration_s);
+  CHECK(slow[0].duration_s == plain[0].duration_s);
+  CHECK(slow[1].start_s < slow[0].start_s + slow[0].duration_s);
+}
+
+TEST_CASE("CP: the end of the program and an error leave the last motion ended at rest at its target",
+          "[interpreter][blend]") {
+  robots::JointVector b(6);
+  b << -30, -60, 120, 0, 30, 0;
+  for (const char* end : {"", "  x = 1 / 0\n", "  TYPE y\n"}) {
+    INFO(end);
+    InterpreterFixture f;
+    const auto r = f.run(std::string(".PROGRAM main()\n  MOVE ") + kA + "\n  MOVE " + kB + "\n" + end + ".END\n");
+    REQUIRE(f.loaded);
+    CHECK(r.status == (*end ? RunStatus::error : RunStatus::completed));
+    REQUIRE(r.motion_times.size() == 2);
+    CHECK(r.motion_times[1].blended);
+    CHECK_FALSE(f.sim.motion_pending());
+    CHECK(f.sim.time_s() == Approx(r.motion_times[1].start_s + r.motion_times[1].duration_s).epsilon(1e-12));
+    CHECK((f.sim.joints() - b).norm() < 1e-9);
+  }
+}
