@@ -331,7 +331,7 @@ TEST_CASE("every V+ statement and function of dialect §7 loads and stops or war
   for (const char* line : {"SELECT TASK = 2", "SET.EVENT 1", "CLEAR.EVENT 1",
                            "LOCK 1", "PRIORITY 5",
                            "REACT 1001, handler", "REACTI 1001, handler", "REACTE handler", "IGNORE 1001",
-                           "TEACH p", "CALLS $name"}) {
+                           "TEACH p", "CALLS $name", "CALIBRATE , status"}) {
     const std::string text = line;
     std::string keyword;
     for (char c : text.substr(0, text.find(' '))) keyword += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -374,4 +374,11 @@ TEST_CASE("binary records: $LNGB LNGB $INTB INTB $FLTB FLTB as the V+ reference 
   CHECK(outcome("TYPE ASC($CHR(0)), ASC($CHR(255)), LEN($CHR(0)+$CHR(0))") == "0 255 2\n");
   CHECK(outcome("$s = $CHR(256)") == "ERROR *Illegal value* $CHR(256)");
   CHECK(outcome("$s = $CHR(-1)") == "ERROR *Illegal value* $CHR(-1)");
+}
+
+TEST_CASE("PARAMETER(NOT.CALIBRATED): no robot is uncalibrated in simulation", "[statements][vplus]") {
+  // As ACE-generated start-up code reads it: IF PARAMETER(NOT.CALIBRATED) <> 0 THEN CALIBRATE ...
+  CHECK(outcome("TYPE PARAMETER(NOT.CALIBRATED)\nIF PARAMETER(NOT.CALIBRATED) <> 0 THEN\n  CALIBRATE , err\nEND\nTYPE \"ready\"")
+        == "0\nready\n");
+  CHECK(outcome("PARAMETER NOT.CALIBRATED = 1").rfind("ERROR *Not supported in simulation* PARAMETER NOT.CALIBRATED", 0) == 0);
 }
