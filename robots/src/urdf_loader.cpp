@@ -419,10 +419,11 @@ class Parser {
       const auto leader = hand_of.find(j.mimic);
       if (leader == hand_of.end())
         throw UrdfError(source_, j.line, "joint '" + j.name + "' mimics '" + j.mimic + "', " +
-                                             (on_chain.count(j.mimic)
-                                                  ? "an arm joint: a follower of an arm joint is not modelled (if '" + j.mimic +
-                                                        "' is a gripper finger, name the link the hand hangs on with tip:)"
-                                                  : "which is no finger of the hand (no such joint off the arm chain)"));
+                                             (!on_chain.count(j.mimic) ? "which is no finger of the hand (no such joint off the arm chain)"
+                                              : j.mimic == chain.back().name && chain.back().kind == Kind::prismatic
+                                                  ? "the arm's last axis: if '" + j.mimic +
+                                                        "' is a gripper finger, name the link the hand hangs on with tip:"
+                                                  : "an arm joint: a follower of an arm joint is not modelled"));
       const Joint& l = *hand_joints[static_cast<std::size_t>(leader->second)];
       HandJoint& h = r.hand[k];
       h.leader = leader->second;

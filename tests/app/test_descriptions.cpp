@@ -263,7 +263,7 @@ TEST_CASE("fingers: OPEN / CLOSE drive the prismatic fingers and their follower;
     cell::load_cell_file((dir() / "notip.yaml").string());
     FAIL("no error");
   } catch (const cell::CellError& e) {
-    CHECK(std::string(e.what()).find("mimics 'finger_left_joint', an arm joint") != std::string::npos);
+    CHECK(std::string(e.what()).find("mimics 'finger_left_joint', the arm's last axis") != std::string::npos);
   }
 }
 

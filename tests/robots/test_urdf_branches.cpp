@@ -79,7 +79,7 @@ TEST_CASE("branches: two independent fingers without a tip are ambiguous; the er
   // A finger and its follower: the follower is no independent joint, so the finger would be J3
   // and its follower follows an arm joint: an error saying to give the tip.
   const std::string e = error(gripper_arm());
-  CHECK(e.find("joint 'finger_right_joint' mimics 'finger_left_joint', an arm joint") != std::string::npos);
+  CHECK(e.find("joint 'finger_right_joint' mimics 'finger_left_joint', the arm's last axis") != std::string::npos);
   CHECK(e.find("name the link the hand hangs on with tip:") != std::string::npos);
   const std::string two = gripper_arm(link("thumb", "0 0 0.01", "0.01 0.01 0.01") +
                                       joint("thumb_joint", "prismatic", "hand", "thumb", "0 0 0", kLimitFinger));
