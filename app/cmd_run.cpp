@@ -71,7 +71,7 @@ class RunProgress {
     next_ = Clock::now() + std::chrono::milliseconds(250);
     // The step is all the simulator knows mid-run; program and line come with the run's result.
     if (const int step = sim_.motion_step(); step != step_) step_ = step, where_ = fmt::format("step {}", step);
-    err_ << fmt::format("\r\033[K  t = {:.3f} s  {}  {} poses checked", time_s, where_, sim_.poses_checked()) << std::flush;
+    err_ << fmt::format("\r\033[K  t = {:.3f} s  {}  {} poses checked", time_s, where_, sim_.recorders().counts.poses) << std::flush;
     drawn_ = true;
   }
   ~RunProgress() {
@@ -148,14 +148,14 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (!cell) return kExitUsage;
   const double cell_s = since(start);
   motion::Simulator sim(std::move(*cell));
-  sim.add_preprocess_time(cell_s);
-  sim.set_trace(!opt.trace.empty());
-  if (!opt.replay.empty()) sim.set_replay(kReplayGridS);
+  sim.recorders().timing.timing.preprocess_s += cell_s;
+  sim.recorders().trace.on = !opt.trace.empty();
+  if (!opt.replay.empty()) sim.recorders().replay.grid_s = kReplayGridS;
   interpreter::Interpreter interp(sim, out);
   interp.set_input(std::cin, ::isatty(STDIN_FILENO) == 1);  // PROMPT asks again only at a terminal
   const Clock::time_point parse_start = Clock::now();
   const auto diags = interp.load_file(opt.file);
-  sim.add_parse_time(since(parse_start));
+  sim.recorders().timing.timing.parse_s += since(parse_start);
   if (print_diagnostics(diags, err)) {
     const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), out, err);
     return rc != kExitCompleted ? rc : kExitProgramError;
@@ -216,7 +216,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       break;
   }
   if (int w = write_report(opt.report, run_report(summary), out, err); w != kExitCompleted) return w;
-  if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.trace()), out, err);
+  if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.recorders().trace.samples), out, err);
       w != kExitCompleted)
     return w;
   if (!opt.replay.empty())

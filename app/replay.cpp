@@ -117,7 +117,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   const motion::Scene scene = motion::scene_bodies(cell);
   const int n = cell.robot.joint_count();
 
-  std::vector<motion::ReplaySample> samples = sim.replay();
+  std::vector<motion::ReplaySample> samples = sim.recorders().replay.samples;
   // The arm stands still after its last motion (WAIT, hand, a motionless program): one frame
   // at the end of the run shows that, except after a contact, where the halting pose ends it.
   const double end_s = result.status == interpreter::RunStatus::collision ? result.collision.time_free_s : sim.time_s();

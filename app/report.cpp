@@ -99,13 +99,13 @@ RunSummary summarize_run(const std::string& file, interpreter::RunResult result,
   summary.file = file;
   summary.result = std::move(result);
   summary.sim_time_s = sim.time_s();
-  summary.poses_checked = sim.poses_checked();
-  summary.counts = sim.collision_counts();
+  summary.poses_checked = sim.recorders().counts.poses;
+  summary.counts = sim.recorders().counts.counts;
   summary.engine_used = sim.collision_engine_used();
-  summary.bisection_checks = sim.bisection_checks();
+  summary.bisection_checks = sim.recorders().counts.bisection;
   summary.stepping = sim.cell().collision.stepping;
-  summary.accuracy = sim.accuracy();
-  summary.timing = sim.timing();
+  summary.accuracy = sim.recorders().accuracy.figures;
+  summary.timing = sim.recorders().timing.timing;
   summary.wall_s = wall_s;
   return summary;
 }

@@ -91,7 +91,7 @@ json contact_run(const AnalyticScene& s, const Method& m, double step_mm, double
     if (r.status != motion::MotionStatus::collision)
       throw std::runtime_error(s.name + ": " + m.name + ": no collision reported");
     c = r.collision;
-    poses = sim.poses_checked(), bisection = sim.bisection_checks();
+    poses = sim.recorders().counts.poses, bisection = sim.recorders().counts.bisection;
   }
   const double err = c.time_s - s.t_star;
   // How far t* lies outside the reported bracket [time_free_s, time_s] (0 inside).
@@ -313,7 +313,7 @@ json ik_section() {
                                {"solve_us_median", median(us)}};
   }
   {  // Numeric LM on generic6.urdf: one descent of at most k iterations, tolerances 0.
-    const robots::Robot r = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+    const robots::Robot r = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf").value();
     constexpr int kPoses = 4000;
     std::mt19937 rng(424242);
     std::uniform_real_distribution<double> u(0, 1), near(-0.1, 0.1);

@@ -371,7 +371,7 @@ int main(int argc, char** argv) {
 
   // ---------------------------------------------------------------- generic6, numeric (TRAC-IK style)
   {
-    const Robot r = load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+    const Robot r = load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf").value();
     const KDL::Chain chain = kdl_chain(r);
     const JointVector lo = display_to_dh(r, r.lower), hi = display_to_dh(r, r.upper);
     KDL::ChainIkSolverPos_LMA lma(chain, Eigen::Matrix<double, 6, 1>::Ones(), 1e-5, 500);

@@ -110,25 +110,20 @@ class Reader : public Fields {
         }
       }
       const auto path = (base_dir_ / mesh.Scalar()).lexically_normal().string();
-      try {
-        auto loaded = collision::read_mesh(path, scale);
-        if (loaded.mesh.triangles.empty()) fail(mesh, fmt::format("{}: no valid face in {}", what, path));
-        for (auto& w : loaded.warnings) warnings.push_back(std::move(w));
-        return std::move(loaded.mesh);
-      } catch (const collision::MeshError& e) {
-        fail(mesh, fmt::format("{}: {}", what, e.what()));
-      }
+      auto loaded = collision::read_mesh(path, scale);
+      if (!loaded) fail(mesh, fmt::format("{}: {}", what, loaded.error().message));
+      if (loaded->mesh.triangles.empty()) fail(mesh, fmt::format("{}: no valid face in {}", what, path));
+      for (auto& w : loaded->warnings) warnings.push_back(std::move(w));
+      return std::move(loaded->mesh);
     }
     if (const auto sphere = node["sphere"]) {
       if (!sphere.IsMap()) fail(sphere, what + ".sphere must be {radius: r[, tolerance_mm: t]}");
       const double r = positive(sphere["radius"] ? sphere["radius"] : sphere, what + ".sphere.radius");
       const double tol = sphere["tolerance_mm"] ? positive(sphere["tolerance_mm"], what + ".sphere.tolerance_mm")
                                                 : std::max(0.5, r * 1e-3);
-      try {
-        return collision::make_sphere(r, tol);
-      } catch (const collision::MeshError& e) {
-        fail(sphere, fmt::format("{}.sphere: {}", what, e.what()));
-      }
+      auto p = collision::make_sphere(r, tol);
+      if (!p) fail(sphere, fmt::format("{}.sphere: {}", what, p.error().message));
+      return std::move(*p);
     }
     if (const auto box = node["box"]) {
       const auto s = numbers(box, 3, what + ".box");
@@ -205,11 +200,9 @@ class Reader : public Fields {
     const auto path = robots::resolve_uri(name, base_dir_, options.packages, error);
     if (!error.empty()) fail(node, "robot: " + error);
     if (path.extension() != ".urdf" && path.extension() != ".xacro") fail(node, fmt::format("unknown robot '{}' ({})", name, usage));
-    try {
-      return robots::load_urdf(path.string(), options);
-    } catch (const robots::UrdfError& e) {
-      fail(node, fmt::format("robot: {}", e.what()));
-    }
+    auto robot = robots::load_urdf(path.string(), options);
+    if (!robot) fail(node, fmt::format("robot: {}", robot.error().message));
+    return std::move(*robot);
   }
 
   // Body coordinates beyond kMaxCoordinateMm lose the engine's precision (positions round to
@@ -279,7 +272,7 @@ class Reader : public Fields {
     read_workcell(root, *this, cell, names);  // workcell.cpp
     if (const auto c = root["collision"]) {
       expect_keys(c, {"halvings", "step_mm", "clearance_mm", "ignore", "enabled", "toc_tolerance_s", "pairs",
-                      "pair_samples", "stepping"},
+                      "pair_samples", "stepping", "continuous", "report_within_mm", "on_clearance"},
                   "collision");
       auto& s = cell.collision;
       if (c["halvings"] && c["halvings"].IsScalar() && c["halvings"].Scalar() == "auto") {
@@ -313,6 +306,17 @@ class Reader : public Fields {
         const auto v = st.IsScalar() ? st.Scalar() : std::string();
         if (v != "fixed" && v != "gap") fail(st, "collision.stepping must be fixed or gap");
         s.stepping = v == "gap" ? motion::Stepping::gap : motion::Stepping::fixed;
+      }
+      if (c["continuous"]) s.continuous = boolean(c["continuous"], "collision.continuous");
+      if (c["report_within_mm"]) {
+        s.report_within_mm = number(c["report_within_mm"], "collision.report_within_mm");
+        if (!(s.report_within_mm >= 0) || s.report_within_mm > 1e9)
+          fail(c["report_within_mm"], "collision.report_within_mm must be 0..1e9");
+      }
+      if (const auto oc = c["on_clearance"]) {
+        const auto v = oc.IsScalar() ? oc.Scalar() : std::string();
+        if (v != "halt" && v != "warn") fail(oc, "collision.on_clearance must be halt or warn");
+        s.on_clearance = v == "warn" ? motion::OnClearance::warn : motion::OnClearance::halt;
       }
       if (c["pair_samples"]) {
         const double n = number(c["pair_samples"], "collision.pair_samples");
@@ -442,13 +446,9 @@ motion::Cell load_cell_text(const std::string& yaml, const std::string& source_n
 }
 
 motion::Cell load_cell_file(const std::string& path) {
-  std::string text;
-  try {
-    text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
-  } catch (const collision::FileReadError& e) {
-    throw CellError(e.what(), path, 0, 0);
-  }
-  return parse_cell(text, path, std::filesystem::path(path).parent_path().string(), true);
+  const Result<std::string> text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
+  if (!text) throw CellError(text.error().message, path, 0, 0);
+  return parse_cell(*text, path, std::filesystem::path(path).parent_path().string(), true);
 }
 
 const std::string& default_cell_yaml() {

@@ -13,16 +13,23 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 namespace asimov::collision {
+static LoadedMesh validate_mesh_x(Polyhedron mesh, const std::string& source, const std::vector<std::size_t>& face_numbers);
+static LoadedMesh parse_stl_x(const std::string& data, const std::string& path, const Vec3& scale);
+static LoadedMesh parse_obj_x(const std::string& data, const std::string& path, const Vec3& scale);
 namespace {
+// Thrown deep inside the readers and caught at this file's public functions, which return it
+// as an Error (docs/design.md "Errors"): the readers stay free of a status test per face.
+struct MeshError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 std::string read_file(const std::string& path) {
-  try {
-    return read_file_bounded(path, kMaxMeshFileBytes);
-  } catch (const FileReadError& e) {
-    throw MeshError(path + ": " + e.what());
-  }
+  Result<std::string> text = read_file_bounded(path, kMaxMeshFileBytes);
+  if (!text) throw MeshError(path + ": " + text.error().message);
+  return std::move(*text);
 }
 
 // Collects triangles with bit-identical vertices merged; checks finiteness.
@@ -82,7 +89,7 @@ struct Builder {
   }
   LoadedMesh finish() {
     if (mesh.triangles.empty()) throw MeshError(path + ": no faces");
-    return validate_mesh(std::move(mesh), path, numbers);
+    return validate_mesh_x(std::move(mesh), path, numbers);
   }
 };
 
@@ -102,7 +109,7 @@ std::string lower_extension(const std::string& path) {
 
 }  // namespace
 
-LoadedMesh validate_mesh(Polyhedron mesh, const std::string& source, const std::vector<std::size_t>& face_numbers) {
+static LoadedMesh validate_mesh_x(Polyhedron mesh, const std::string& source, const std::vector<std::size_t>& face_numbers) {
   LoadedMesh out;
   auto number = [&](std::size_t i) { return face_numbers.empty() ? i + 1 : face_numbers[i]; };
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
@@ -163,9 +170,9 @@ LoadedMesh validate_mesh(Polyhedron mesh, const std::string& source, const std::
   return out;
 }
 
-LoadedMesh read_stl(const std::string& path, const Vec3& scale) { return parse_stl(read_file(path), path, scale); }
+static LoadedMesh read_stl_x(const std::string& path, const Vec3& scale) { return parse_stl_x(read_file(path), path, scale); }
 
-LoadedMesh parse_stl(const std::string& data, const std::string& path, const Vec3& scale) {
+static LoadedMesh parse_stl_x(const std::string& data, const std::string& path, const Vec3& scale) {
   Builder b{.path = path, .scale = scale};
   // Binary when the size matches the triangle count, whatever the header says ("solid" too).
   if (data.size() >= 84) {
@@ -215,9 +222,9 @@ LoadedMesh parse_stl(const std::string& data, const std::string& path, const Vec
   return b.finish();
 }
 
-LoadedMesh read_obj(const std::string& path, const Vec3& scale) { return parse_obj(read_file(path), path, scale); }
+static LoadedMesh read_obj_x(const std::string& path, const Vec3& scale) { return parse_obj_x(read_file(path), path, scale); }
 
-LoadedMesh parse_obj(const std::string& data, const std::string& path, const Vec3& scale) {
+static LoadedMesh parse_obj_x(const std::string& data, const std::string& path, const Vec3& scale) {
   Builder b{.path = path, .scale = scale};
   std::vector<Vec3> v;
   std::istringstream in(data);
@@ -262,10 +269,10 @@ LoadedMesh parse_obj(const std::string& data, const std::string& path, const Vec
   return b.finish();
 }
 
-LoadedMesh read_mesh(const std::string& path, const Vec3& scale) {
+static LoadedMesh read_mesh_x(const std::string& path, const Vec3& scale) {
   const std::string e = lower_extension(path);
-  if (e == "stl") return read_stl(path, scale);
-  if (e == "obj") return read_obj(path, scale);
+  if (e == "stl") return read_stl_x(path, scale);
+  if (e == "obj") return read_obj_x(path, scale);
   throw MeshError(path + ": unknown mesh format (expected .stl or .obj)");
 }
 
@@ -304,7 +311,7 @@ Polyhedron uv_sphere(double radius, int segments, int rings) {
 }
 }  // namespace
 
-Polyhedron make_sphere(double radius, double tolerance) {
+static Polyhedron make_sphere_x(double radius, double tolerance) {
   // A face's plane is sqrt(r^2 - rho^2) from the centre (rho: its circumradius), so a face
   // deviates more than the chord of one direction: refine until every face is within tolerance,
   // but never past the face budget (a radius of 1e8 mm within 1e-6 mm would need ~10^14 faces).
@@ -333,6 +340,40 @@ Polyhedron make_sphere(double radius, double tolerance) {
 
 Polyhedron make_cylinder_tol(double radius, double height, double tolerance) {
   return make_cylinder(radius, height, segments_for_tolerance(radius, tolerance));
+}
+
+// The public face: the same functions returning their MeshError as an Error.
+namespace {
+template <class F>
+auto as_result(const std::string& file, F&& f) -> Result<decltype(f())> {
+  try {
+    return f();
+  } catch (const MeshError& e) {
+    return Error{e.what(), "", file};
+  }
+}
+}  // namespace
+
+Result<LoadedMesh> validate_mesh(Polyhedron mesh, const std::string& source, const std::vector<std::size_t>& face_numbers) {
+  return as_result("", [&] { return validate_mesh_x(std::move(mesh), source, face_numbers); });
+}
+Result<LoadedMesh> read_stl(const std::string& path, const Vec3& scale) {
+  return as_result(path, [&] { return read_stl_x(path, scale); });
+}
+Result<LoadedMesh> read_obj(const std::string& path, const Vec3& scale) {
+  return as_result(path, [&] { return read_obj_x(path, scale); });
+}
+Result<LoadedMesh> parse_stl(const std::string& data, const std::string& path, const Vec3& scale) {
+  return as_result(path, [&] { return parse_stl_x(data, path, scale); });
+}
+Result<LoadedMesh> parse_obj(const std::string& data, const std::string& path, const Vec3& scale) {
+  return as_result(path, [&] { return parse_obj_x(data, path, scale); });
+}
+Result<LoadedMesh> read_mesh(const std::string& path, const Vec3& scale) {
+  return as_result(path, [&] { return read_mesh_x(path, scale); });
+}
+Result<Polyhedron> make_sphere(double radius, double tolerance) {
+  return as_result("", [&] { return make_sphere_x(radius, tolerance); });
 }
 
 }  // namespace asimov::collision

@@ -6,11 +6,16 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <stdexcept>
 #include <sys/stat.h>
 
 namespace asimov::collision {
+namespace {
+struct FileReadError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
-std::string read_file_bounded(const std::string& path, std::size_t max_bytes) {
+std::string read_or_throw(const std::string& path, std::size_t max_bytes) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw FileReadError(fmt::format("cannot open the file ({})", std::strerror(errno)));
   if (S_ISDIR(st.st_mode)) throw FileReadError("is a directory, not a file");
@@ -39,6 +44,15 @@ std::string read_file_bounded(const std::string& path, std::size_t max_bytes) {
     }
   }
   return text;
+}
+}  // namespace
+
+Result<std::string> read_file_bounded(const std::string& path, std::size_t max_bytes) {
+  try {
+    return read_or_throw(path, max_bytes);
+  } catch (const FileReadError& e) {
+    return Error{e.what(), "", path};
+  }
 }
 
 std::string printable(std::string_view text) {

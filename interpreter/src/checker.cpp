@@ -3,11 +3,14 @@
 #include "data_section.hpp"
 #include "expressions.hpp"
 #include "limits.hpp"
+#include "settings.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <cstring>
 #include <map>
 
 namespace asimov::interpreter {
@@ -120,6 +123,24 @@ class Checker {
     out_.errors.push_back(std::move(d));
   }
   void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
+  // The 1-based column of the first `name(` (case-insensitive, a whole word) of the current
+  // statement; the statement's column when it is not found.
+  int column_of(const std::string& name) const {
+    auto lower = [](std::string s) {
+      for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      return s;
+    };
+    const std::string hay = lower(src_.text[static_cast<std::size_t>(line_ - 1)]), needle = lower(name);
+    for (std::size_t at = hay.find(needle, static_cast<std::size_t>(column_ - 1)); at != std::string::npos;
+         at = hay.find(needle, at + 1)) {
+      std::size_t after = at + needle.size();
+      while (after < hay.size() && (hay[after] == ' ' || hay[after] == '\t')) ++after;
+      const char before = at == 0 ? ' ' : hay[at - 1];
+      const bool starts = !(std::isalnum(static_cast<unsigned char>(before)) || std::strchr("._$#", before));
+      if (starts && after < hay.size() && hay[after] == '(') return static_cast<int>(at) + 1;
+    }
+    return column_;
+  }
 
   // A block error that a syntax error in the same program may have caused (a block opener
   // or END the parser rejected) is not reported: the syntax error already is.
@@ -359,12 +380,21 @@ class Checker {
         error("PARAMETER expects a parameter name");
       Instr& in = emit(Code::parameter);
       in.target = setting_name(b.target);
+      if (!known_parameter(in.target.text)) error(fmt::format("unknown parameter {}", in.target.text));
       in.args.push_back(expression(b.value));
       return;
     }
     Node target = variable(b.target, false);
     const Code code = b.kw == Kw::set ? Code::set : b.kw == Kw::decompose ? Code::decompose : Code::assign;
     Node value = expression(b.value);
+    if (code == Code::set) {  // what fails on first execution is reported now
+      const char want = target.text[0] == '#' ? 'p' : 't';
+      const char got = location_kind(value);
+      if (target.text[0] == '$') error("SET needs a location variable");
+      else if (got && got != want)
+        error(fmt::format("{} cannot hold a {}", target.text, got == 'p' ? "precision point" : got == 't' ? "transformation"
+                                                              : got == 's' ? "string" : "real"));
+    }
     if (code == Code::assign) {
       const StaticKind k = static_kind(value);
       const bool string_target = target.text[0] == '$';
@@ -376,6 +406,22 @@ class Checker {
     in.real_target = code == Code::assign && target.text[0] != '$' && target.text[0] != '#';
     in.target = std::move(target);
     in.args.push_back(std::move(value));
+  }
+
+  // What a value is when the syntax shows it: 'p' precision point, 't' transformation, 's'
+  // string, 'r' real; 0 when only the run tells (a variable without prefix, an operator).
+  static char location_kind(const Node& n) {
+    if (n.kind == NodeKind::variable && n.text[0] == '#') return 'p';
+    if (n.kind == NodeKind::binary && n.op == ast::Op::compound) return 't';
+    if (n.kind == NodeKind::function) switch (n.func) {
+        case Func::ppoint: return 'p';
+        case Func::trans: case Func::here: case Func::dest: case Func::null: case Func::inverse:
+        case Func::rx: case Func::ry: case Func::rz: case Func::shift: case Func::tool: case Func::base:
+        case Func::frame: return 't';
+        default: break;
+      }
+    const StaticKind k = static_kind(n);
+    return k == StaticKind::string ? 's' : k == StaticKind::real ? 'r' : 0;
   }
 
   void for_statement(const ast::ForStmt& f) {
@@ -522,7 +568,7 @@ class Checker {
     }
   }
 
-  // ENABLE / DISABLE sw, ...: switch names, checked when the statement runs (dialect §6).
+  // ENABLE / DISABLE sw, ...: switch names, known ones only (dialect §6).
   void switches(const ast::Instruction& i) {
     Instr& in = emit(i.kw == Kw::enable ? Code::enable : Code::disable);
     for (const ast::Expr& e : i.args) {
@@ -532,6 +578,7 @@ class Checker {
         return;
       }
       in.args.push_back(setting_name(*v));
+      if (!known_switch(in.args.back().text)) error(fmt::format("unknown switch {}", in.args.back().text));
     }
     if (in.args.empty()) error("a switch name is missing");
   }
@@ -667,7 +714,9 @@ class Checker {
   std::vector<int> block_parent_;       // block id -> enclosing block id (0 = program level)
   std::map<unsigned, LabelInfo> labels_;
   std::vector<Goto> gotos_;
-  ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail) { error(std::move(detail)); }};
+  ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail, const std::string& near) {
+    error_at(line_, near.empty() ? column_ : column_of(near), std::move(detail));
+  }};
 };
 
 }  // namespace

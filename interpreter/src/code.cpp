@@ -17,7 +17,7 @@ constexpr SimpleForm kSimpleForms[] = {
 };
 
 constexpr Word kWords[] = {
-#define ASIMOV_MOTION(kw, spelling, ...) {spelling, Kw::kw, reserved | do_ok, true},
+#define ASIMOV_MOTION(kw, spelling, ...) {spelling, Kw::kw, do_ok, true},
 #define ASIMOV_SIMPLE(kw, spelling, code, min, max, flags, what) {spelling, Kw::kw, flags, true},
 #define ASIMOV_STATEMENT(kw, spelling, flags) {spelling, Kw::kw, flags, true},
 #define ASIMOV_ALIAS(kw, spelling, flags) {spelling, Kw::kw, flags, true},

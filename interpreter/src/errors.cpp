@@ -27,7 +27,44 @@ constexpr std::array<std::string_view, 12> kMessageTexts = {
 };
 static_assert(kMessageTexts.size() == static_cast<std::size_t>(Message::count));
 
+struct ErrorCode {
+  int code;
+  std::string_view message;
+};
+constexpr ErrorCode kErrorCodes[] = {
+    {-450, "*Syntax error*"},
+    {-406, "*Undefined program or variable name*"},
+    {-401, "*Undefined value*"},
+    {-402, "*Illegal value*"},
+    {-409, "*Division by zero*"},
+    {-413, "*Too many nested calls*"},
+    {-414, "*Too many statements*"},
+    {-1300, "*Not supported in simulation*"},
+    {-415, "*Program interrupted*"},
+    {-416, "*Wait limit exceeded*"},
+    {-610, "*Location out of reach*"},
+    {-611, "*Joint limit exceeded*"},
+    {-612, "*Singularity on straight-line path*"},
+    {-620, "*Collision*"},
+    {-500, "*File not found*"},
+    {-503, "*File already exists*"},
+    {-504, "*Unexpected end of file*"},
+};
+
 }  // namespace
+
+int error_code(std::string_view message) {
+  for (const ErrorCode& e : kErrorCodes)
+    if (e.message == message) return e.code;
+  return -1300;
+}
+
+std::string error_text(int code) {
+  if (code == 0) return {};
+  for (const ErrorCode& e : kErrorCodes)
+    if (e.code == code) return std::string(e.message);
+  return "*Unknown error code*";
+}
 
 std::string_view message_text(Message kind) {
   return kMessageTexts[static_cast<std::size_t>(kind)];

@@ -26,6 +26,13 @@ struct Fault {
   std::string detail;
 };
 
+// Codes for ERROR() and $ERROR() (dialect §7): asimov's own numbers in V+'s error range
+// (-300 ... -1300) for the messages a run can stop with (the simulator's too). 0: no error; a
+// message without a code of its own gets -1300.
+int error_code(std::string_view message);
+// The message of a code: "" for 0, "*Unknown error code*" for a code asimov never gives.
+std::string error_text(int code);
+
 Fault fault(Message kind, std::string detail = {});
 [[noreturn]] void raise(Message kind, std::string detail = {});
 // A VAL error with its own text (the cell's devices and parts: "*Nothing in the gripper*").

@@ -129,6 +129,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     locate(result.error, motion_program_, motion_line_);
   };
 
+  run_program_ = name;
   RunStatus status = RunStatus::completed;
   try {
     status = setup();
@@ -160,6 +161,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     result.error = Diagnostic{};
     if (status == RunStatus::halted) stack_.clear();  // HALT cannot be resumed
   }
+  if (result.status == RunStatus::error || result.status == RunStatus::interrupted || result.status == RunStatus::collision)
+    memory_.last_error = error_code(result.error.message);  // what ERROR() returns from now on
   if (result.status == RunStatus::completed) {
     result.program = name;
     result.line = result.step = 0;
@@ -393,22 +396,22 @@ void Evaluator::statement(const Instr& in) {
       return;
     }
     case Code::tool: {
-      if (in.args.empty()) sim_.set_tool(motion::Location::Identity());  // TOOL = TOOL NULL
-      else sim_.set_tool(as_transformation(eval(in.args[0])));
+      if (in.args.empty()) sim_.settings().tool = motion::Location::Identity();  // TOOL = TOOL NULL
+      else sim_.settings().tool = as_transformation(eval(in.args[0]));
       return;
     }
     case Code::base: {
       if (in.args.size() == 1 && in.args[0].kind != NodeKind::absent) {
         const Value v = eval(in.args[0]);
         if (kind_of(v) != Kind::real) {
-          sim_.set_base(as_transformation(v));
+          sim_.settings().base = as_transformation(v);
           return;
         }
       }
       double x[4] = {0, 0, 0, 0};  // BASE dx, dy, dz, rz (omitted: 0)
       for (std::size_t k = 0; k < in.args.size(); ++k)
         if (in.args[k].kind != NodeKind::absent) x[k] = to_real(eval(in.args[k]), "BASE");
-      sim_.set_base(motion::trans(x[0], x[1], x[2], x[3], 0, 0));
+      sim_.settings().base = motion::trans(x[0], x[1], x[2], x[3], 0, 0);
       return;
     }
     case Code::configure: {
@@ -422,7 +425,7 @@ void Evaluator::statement(const Instr& in) {
                          : w == ast::Kw::below ? "BELOW" : w == ast::Kw::flip ? "FLIP" : w == ast::Kw::noflip ? "NOFLIP" : nullptr;
       if (name && !robots::configuration_word_applies(sim_.robot(), word))
         warn_once(std::string(name) + " (no meaning for this arm: ignored)", in);
-      return request_configuration(in.word, sim_.request());
+      return request_configuration(in.word, sim_.settings().request);
     }
     case Code::speed: {
       const double s = to_real(eval(in.args[0]));
@@ -634,7 +637,7 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
   if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
     motion_sites_.emplace_back(m.program, m.line);
-  const bool hand_pending = sim_.hand_pending();  // OPEN / CLOSE act as this motion starts
+  const bool hand_pending = sim_.hand().pending.has_value();  // OPEN / CLOSE act as this motion starts
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
   if (r.status == motion::MotionStatus::interrupted) return check_motion(r);  // the previous motion's halt
@@ -647,7 +650,7 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
     contact_ = r.collision;
     return RunStatus::collision;
   }
-  if (hand_pending && !sim_.hand_pending()) hand_changed(sim_.hand(), m.line);
+  if (hand_pending && !sim_.hand().pending.has_value()) hand_changed(sim_.hand().state, m.line);
   return RunStatus::completed;
 }
 

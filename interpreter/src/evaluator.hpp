@@ -30,6 +30,7 @@ struct Memory {
   std::set<int> signals;                                   // digital signals that are on
   std::array<std::pair<double, double>, 17> timers{};      // TIMER n: value set, clock then [s]
   Settings settings;                                       // PARAMETER, ENABLE / DISABLE
+  int last_error = 0;                                      // ERROR(): code of the last run-time error
 };
 
 class Evaluator {
@@ -157,6 +158,8 @@ class Evaluator {
   motion::Location as_transformation(const Value& v);
   Value eval(const Node& n);
   Value function(const Node& n);
+  double state(int select) const;  // STATE(select)
+  double clock() const { return sim_.time_s(); }  // the simulated clock (TIMER)
   int signal_number(const Node& n, bool output);
   Variable& variable(const Node& n) {
     if (n.ref.scope == Scope::global) return *ctx_.globals[n.ref.slot];
@@ -204,6 +207,7 @@ class Evaluator {
   FrameStack stack_;
   const Program* current_program_ = nullptr;  // where the executing statement is
   int current_line_ = 0;
+  std::string run_program_;                   // the program this execution started with
   const Program* motion_program_ = nullptr;   // where the last motion was started
   int motion_line_ = 0;
   double speed_always_ = 100;                 // SPEED ... ALWAYS

@@ -5,6 +5,7 @@
 #include "evaluator.hpp"
 
 #include "errors.hpp"
+#include "parser.hpp"
 #include "limits.hpp"
 #include "operators.hpp"
 #include "terminal.hpp"
@@ -149,11 +150,35 @@ Value Evaluator::function(const Node& n) {
     for (char c : n.text) name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     raise(Message::not_supported, name);
   }
-  if (n.func == Func::timer) {
+  if (n.func == Func::state) return state(to_index(to_real(eval(n.kids[0]), "STATE selector")));
+  if (n.func == Func::task) {  // TASK(): this task; TASK(1, n): 4 while task n executes, else 0
+    if (n.kids.empty()) return 0.0;
+    const int select = to_index(to_real(eval(n.kids[0]), "TASK selector"));
+    const int task = n.kids.size() > 1 && n.kids[1].kind != NodeKind::absent
+        ? to_index(to_real(eval(n.kids[1]), "task number")) : 0;
+    if (select != 1) raise(Message::not_supported, fmt::format("TASK({}, ...)", select));
+    return task == 0 ? 4.0 : 0.0;  // task 0 is the one executing
+  }
+  if (n.func == Func::error) {  // ERROR(task [, select]): the last error's code, 0 when none
+    for (const Node& k : n.kids)
+      if (k.kind != NodeKind::absent) to_real(eval(k), "ERROR argument");
+    return static_cast<double>(memory_.last_error);
+  }
+  if (n.func == Func::error_text) return error_text(to_index(to_real(eval(n.kids[0]), "error code")));
+  if (n.func == Func::select) return 1.0;  // SELECT(ROBOT): the one robot
+  if (n.func == Func::status) {  // STATUS("prog"): 0 not in memory, 1 loaded, 2 executing
+    const std::string name = normalize_name(to_string_value(eval(n.kids[0])));
+    const auto slot = memory_.symbols.program_slots.find(name);
+    if (slot == memory_.symbols.program_slots.end() || !memory_.programs[static_cast<std::size_t>(slot->second)])
+      return 0.0;
+    return run_program_ == name ? 2.0 : 1.0;
+  }
+  if (n.func == Func::timer) {  // TIMER(0) and negative: the simulated clock [assumption]
     const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
-    if (k < 1 || k > 16) raise(Message::illegal_value, fmt::format("timer {}", k));
+    if (k <= 0) return clock();
+    if (k > 16) raise(Message::illegal_value, fmt::format("timer {}", k));
     const auto& [value, since] = memory_.timers[static_cast<std::size_t>(k)];
-    return value + (sim_.time_s() - since);
+    return value + (clock() - since);
   }
   std::vector<std::optional<Value>> args;
   args.reserve(n.kids.size());
@@ -162,6 +187,19 @@ Value Evaluator::function(const Node& n) {
     else args.emplace_back(eval(k));
   }
   return call_function(n.func, args, sim_);
+}
+
+// STATE(select) as the simulated controller reports it (dialect §7): power on and calibrated,
+// under program control, no front-panel flag, automatic mode.
+double Evaluator::state(int select) const {
+  switch (select) {
+    case 1: return 7;  // robot under program control
+    case 2: return sim_.motion_pending() ? 1 : motion_program_ ? 2 : 0;  // moving / at its target / no motion yet
+    case 4: return 0;  // no front-panel or hardware flag (the E-stop bit 4 is clear)
+    case 5: return 1;  // automatic mode
+    case 9: return sim_.motion_pending() ? 1 : 0;  // a motion under way
+    default: raise(Message::not_supported, fmt::format("STATE({})", select));
+  }
 }
 
 // --- the real fast path -------------------------------------------------------------------

@@ -1,6 +1,7 @@
 #include "expressions.hpp"
 
 #include "limits.hpp"
+#include "settings.hpp"
 
 #include <fmt/format.h>
 
@@ -130,7 +131,7 @@ Node ExpressionCompiler::function(const ast::Call& call) {
   const std::string name = normalize_name(call.name);
   const auto f = find_function(name);
   if (!f) {
-    error(fmt::format("unknown function {}", name));
+    error(fmt::format("unknown function {}", call.name), call.name);  // as written, caret under it
     return n;
   }
   n.func = *f;
@@ -147,13 +148,18 @@ Node ExpressionCompiler::function(const ast::Call& call) {
       n.kids.emplace_back();  // omitted
       continue;
     }
-    if (*f == Func::parameter || *f == Func::switch_) {
+    if (*f == Func::parameter || *f == Func::switch_ || *f == Func::select) {
+      const char* what = *f == Func::parameter ? "PARAMETER" : *f == Func::switch_ ? "SWITCH" : "SELECT";
       const ast::VarRef* v = plain_variable(*call.args[i], false);
       if (!v || v->name[0] == '$' || v->name[0] == '#') {
-        error(fmt::format("{} needs a name", *f == Func::parameter ? "PARAMETER" : "SWITCH"));
+        error(fmt::format("{} needs a name", what));
         return n;
       }
       n.kids.push_back(setting_name(*v));
+      const std::string& setting = n.kids.back().text;  // what would fail when it runs is said now
+      if (*f == Func::select && setting != "ROBOT") error("SELECT() knows ROBOT only");
+      if (*f == Func::parameter && !known_parameter(setting)) error(fmt::format("unknown parameter {}", setting));
+      if (*f == Func::switch_ && !known_switch(setting)) error(fmt::format("unknown switch {}", setting));
     } else if (*f == Func::defined || *f == Func::last) {
       const ast::VarRef* v = plain_variable(*call.args[i], true);
       if (!v || (*f == Func::last && !ast::is_whole_array(*v))) {

@@ -14,8 +14,10 @@ namespace asimov::interpreter {
 class ExpressionCompiler {
  public:
   // `program`: the program being compiled (its parameters, AUTO and LOCAL names); `error`
-  // reports a load-time problem at the current statement.
-  ExpressionCompiler(Symbols& symbols, const Program& program, std::function<void(std::string)> error)
+  // reports a load-time problem at the current statement, at the first `near(` of its text
+  // when `near` is not empty (a function name), else where the statement starts.
+  using ErrorSink = std::function<void(std::string detail, const std::string& near)>;
+  ExpressionCompiler(Symbols& symbols, const Program& program, ErrorSink error)
       : symbols_(symbols), prog_(program), error_(std::move(error)) {}
 
   Node expression(const ast::Expr& e);
@@ -33,11 +35,11 @@ class ExpressionCompiler {
   Node climb(Node lhs, const std::vector<ast::Operation>& rest, std::size_t& pos, int min_prec);
   Node operand(const ast::Operand& o);
   Node function(const ast::Call& call);
-  void error(std::string detail) { error_(std::move(detail)); }
+  void error(std::string detail, const std::string& near = {}) { error_(std::move(detail), near); }
 
   Symbols& symbols_;
   const Program& prog_;
-  std::function<void(std::string)> error_;
+  ErrorSink error_;
   int depth_ = 0;  // nesting of expression(): only whole expressions are marked and compiled
 };
 

@@ -12,7 +12,7 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<FunctionInfo, 49> kFunctions = {{
+constexpr std::array<FunctionInfo, 55> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -25,13 +25,14 @@ constexpr std::array<FunctionInfo, 49> kFunctions = {{
     {"$chr", 1, 1},     {"asc", 1, 2},      {"val", 1, 1},     {"defined", 1, 1},
     {"sig", 1, -1},     {"timer", 1, 1},    {"$mid", 3, 3},    {"last", 1, 1},
     {"frame", 4, 4},    {"parameter", 1, 1}, {"switch", 1, 1},  {"inrange", 1, 1},
-    {"", 0, -1},
+    {"state", 1, 1},    {"task", 0, 2},     {"error", 1, 2},   {"$error", 1, 1},
+    {"select", 1, 1},   {"status", 1, 1},   {"", 0, -1},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
 // Dialect §7: functions that load, and stop the program with *Not supported in simulation*.
 constexpr std::string_view kVplusFunctions[] = {"getc", "iostat", "$lngb", "lngb", "$fltb", "fltb",
-                                                "$intb", "intb", "$decode", "error", "$error", "task"};
+                                                "$intb", "intb", "$decode"};
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
@@ -73,7 +74,7 @@ std::optional<Func> find_function(std::string_view name) {
 
 motion::Location as_pose(const Value& v, const motion::Simulator& sim) {
   if (const auto* j = std::get_if<robots::JointVector>(&v))
-    return sim.base() * robots::flange_pose(sim.robot(), *j) * sim.tool();
+    return sim.settings().base * robots::flange_pose(sim.robot(), *j) * sim.settings().tool;
   return trans_only(v);
 }
 
@@ -138,8 +139,8 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::here: return finite_location(sim.here());
     case Func::dest: return finite_location(sim.dest());
     case Func::null: return motion::Location(motion::Location::Identity());
-    case Func::tool: return sim.tool();
-    case Func::base: return sim.base();
+    case Func::tool: return sim.settings().tool;
+    case Func::base: return sim.settings().base;
     case Func::trans: return motion::trans(x(0), x(1), x(2), x(3), x(4), x(5));
     case Func::ppoint: {
       const int n = sim.robot().joint_count();
@@ -223,6 +224,12 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::last:
     case Func::sig:
     case Func::timer:
+    case Func::state:
+    case Func::task:
+    case Func::error:
+    case Func::error_text:
+    case Func::select:
+    case Func::status:
     case Func::count: break;
   }
   raise(Message::illegal_value, "bad function");

@@ -10,7 +10,7 @@ namespace asimov::interpreter {
 // The flags column of instructions.def (a namespace, so that the rows can name them bare).
 namespace word_flag {
 enum : unsigned {
-  reserved = 1u << 0,     // never a variable name (dialect §1)
+  reserved = 1u << 0,     // never a variable name, not even where no instruction can stand (dialect §1)
   do_ok = 1u << 1,        // a monitor DO runs it; offered by completion after DO
   no_do = 1u << 2,        // control flow or a declaration: DO refuses it
   trailing = 1u << 3,     // ALWAYS, MONITOR, DO, THEN, OF after the arguments

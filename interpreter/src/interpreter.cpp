@@ -6,6 +6,8 @@
 #include "limits.hpp"
 #include "parser.hpp"
 
+#include <fmt/format.h>
+
 #include "asimov/collision/text_file.hpp"
 
 #include <fmt/format.h>
@@ -72,7 +74,15 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   std::vector<Diagnostic> all = std::move(parsed.errors);
   all.insert(all.end(), checked.errors.begin(), checked.errors.end());
   std::stable_sort(all.begin(), all.end(), [](const Diagnostic& a, const Diagnostic& b) { return a.line < b.line; });
-  if (all.size() > kMaxLoadErrors) all.resize(kMaxLoadErrors);
+  if (all.size() > kMaxLoadErrors) {  // the cap is said, with what it left out
+    const std::size_t more = all.size() - kMaxLoadErrors;
+    all.resize(kMaxLoadErrors);
+    Diagnostic note;
+    note.message = "*Too many errors*";
+    note.detail = fmt::format("{} more not reported (at most {} per LOAD)", more, kMaxLoadErrors);
+    note.file = file_name;
+    all.push_back(std::move(note));
+  }
   if (!all.empty()) return all;  // nothing is loaded (the checker reports errors only)
   // The data of this load must fit beside what the process holds (docs/limits.md); this
   // estimate leaves out the index tables, whose charge can still end the assignment below.
@@ -135,16 +145,14 @@ std::vector<Diagnostic> Interpreter::load_file(const std::string& path) {
     d.detail = path;
     return {d};
   }
-  std::string text;
-  try {
-    text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);  // a folder, /dev/zero: refused
-  } catch (const collision::FileReadError& e) {
+  const Result<std::string> text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);  // a folder, /dev/zero: refused
+  if (!text) {
     Diagnostic d;
     d.message = "*Cannot read file*";
-    d.detail = path + ": " + e.what();
+    d.detail = path + ": " + text.error().message;
     return {d};
   }
-  return load_source(text, path);
+  return load_source(*text, path);
 }
 
 std::vector<std::string> Interpreter::program_names() const { return impl_->memory.load_order; }

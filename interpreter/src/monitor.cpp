@@ -337,6 +337,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
            : r.status == RunStatus::interrupted   ? ExecState::interrupted
                                                   : ExecState::error;
     state_step_ = r.step;
+    state_program_ = r.program;
     halted_ = r.interrupt;
   }
   switch (r.status) {
@@ -564,7 +565,7 @@ CommandStatus Monitor::cmd_load(Args rest) {
   const std::vector<std::shared_ptr<const Program>> before = m.programs;
   const auto parse_start = std::chrono::steady_clock::now();
   const auto diags = interp_.load_file(path);
-  sim_.add_parse_time(std::chrono::duration<double>(std::chrono::steady_clock::now() - parse_start).count());
+  sim_.recorders().timing.timing.parse_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - parse_start).count();
   bool error = false;
   for (const Diagnostic& d : diags) {
     out_ << (d.warning ? "Warning: " : "") << format_diagnostic(d);
@@ -650,8 +651,8 @@ CommandStatus Monitor::cmd_speed(Args rest) {
 namespace {
 // STATUS: the run's accuracy and wall time, as in the --report "accuracy" and "timing" objects.
 std::string accuracy_line(const motion::Simulator& sim) {
-  const motion::RunAccuracy& a = sim.accuracy();
-  const motion::RunTiming& t = sim.timing();
+  const motion::RunAccuracy& a = sim.recorders().accuracy.figures;
+  const motion::RunTiming& t = sim.recorders().timing.timing;
   const std::string bracket = a.contacts ? fmt::format("{:.3g} s", a.contact_bracket_s) : "none";
   return fmt::format("Accuracy: step <= {:.3g} mm, contact bracket {}, IK residual {:.3g} mm {:.3g} rad, "
                      "line deviation {:.3g} mm {:.3g} rad; wall parse {:.3f} s, preprocessing {:.3f} s, "
@@ -669,22 +670,25 @@ CommandStatus Monitor::cmd_status() {
                        shown3(x[3]), shown3(x[4]), shown3(x[5]));
   };
   std::string state = "idle";
+  // The step is named with its program when a CALLed program stopped (step 3 of inner).
+  const std::string step = state_program_.empty() || state_program_ == last_program_
+      ? fmt::format("step {}", state_step_) : fmt::format("step {} of {}", state_step_, state_program_);
   if (state_ == ExecState::completed) state = "completed";
-  if (state_ == ExecState::interrupted) state = fmt::format("interrupted at step {}", state_step_);
+  if (state_ == ExecState::interrupted) state = fmt::format("interrupted at {}", step);
   if (state_ == ExecState::interrupted && halted_)
     state += fmt::format(", motion of step {} halted at {:.1f} % of its path", halted_->step, 100 * halted_->path_fraction);
-  if (state_ == ExecState::paused) state = fmt::format("paused at step {}", state_step_);
-  if (state_ == ExecState::halted) state = fmt::format("halted at step {}", state_step_);
-  if (state_ == ExecState::error) state = fmt::format("stopped by error at step {}", state_step_);
-  if (state_ == ExecState::collision) state = fmt::format("stopped by collision at step {}", state_step_);
+  if (state_ == ExecState::paused) state = fmt::format("paused at {}", step);
+  if (state_ == ExecState::halted) state = fmt::format("halted at {}", step);
+  if (state_ == ExecState::error) state = fmt::format("stopped by error at {}", step);
+  if (state_ == ExecState::collision) state = fmt::format("stopped by collision at {}", step);
   const robots::Configuration c = sim_.configuration();
-  const robots::ConfigurationRequest& r = sim_.request();
+  const robots::ConfigurationRequest& r = sim_.settings().request;
   std::string pending;
   if (r.righty >= 0) pending += r.righty ? " RIGHTY" : " LEFTY";
   if (r.above >= 0) pending += r.above ? " ABOVE" : " BELOW";
   if (r.noflip >= 0) pending += r.noflip ? " NOFLIP" : " FLIP";
-  const char* hand = sim_.hand() == motion::HandState::open ? "OPEN"
-                   : sim_.hand() == motion::HandState::closed ? "CLOSED" : "RELAXED";
+  const char* hand = sim_.hand().state == motion::HandState::open ? "OPEN"
+                   : sim_.hand().state == motion::HandState::closed ? "CLOSED" : "RELAXED";
   out_ << "Program: " << (last_program_.empty() ? "none" : last_program_) << '\n'
        << "State: " << state << '\n'
        << "Monitor speed: " << format_number(interp_.monitor_speed()) << '\n'
@@ -694,11 +698,11 @@ CommandStatus Monitor::cmd_status() {
        << "Configuration: " << (c.righty ? "RIGHTY" : "LEFTY") << ' ' << (c.above ? "ABOVE" : "BELOW") << ' '
        << (c.noflip ? "NOFLIP" : "FLIP") << ' ' << (r.single ? "SINGLE" : "MULTIPLE") << '\n'
        << "Pending configuration: " << (pending.empty() ? "none" : pending.substr(1)) << '\n'
-       << "Hand: " << hand << (sim_.hand_pending() ? " (change pending)" : "") << '\n'
-       << "Tool: " << pose(sim_.tool()) << '\n'
-       << "Base: " << pose(sim_.base()) << '\n'
-       << "Collision checking: " << (sim_.collision_enabled() ? "on" : "off") << '\n'
-       << "Clearance: " << format_number(sim_.clearance_mm()) << " mm\n"
+       << "Hand: " << hand << (sim_.hand().pending.has_value() ? " (change pending)" : "") << '\n'
+       << "Tool: " << pose(sim_.settings().tool) << '\n'
+       << "Base: " << pose(sim_.settings().base) << '\n'
+       << "Collision checking: " << (sim_.cell().collision.enabled ? "on" : "off") << '\n'
+       << "Clearance: " << format_number(sim_.cell().collision.clearance_mm) << " mm\n"
        << fmt::format("Simulated time: {:.3f} s\n", sim_.time_s()) << accuracy_line(sim_);
   return CommandStatus::ok;
 }
@@ -718,6 +722,7 @@ CommandStatus Monitor::cmd_zero() {
   last_program_.clear();
   state_ = ExecState::idle;
   state_step_ = 0;
+  state_program_.clear();
   halted_.reset();
   return CommandStatus::ok;
 }

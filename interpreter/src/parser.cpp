@@ -14,6 +14,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -60,7 +61,8 @@ using ast::Kw;
 using ast::Op;
 
 // Reserved words (the `reserved` rows of instructions.def): they never parse as variable
-// names (dialect §1).
+// names (dialect §1). Instruction keywords are not reserved: they are names wherever no
+// instruction can stand (expressions, declarations, `name =` lines).
 bool is_reserved(const std::string& word) {
   std::string lower = word;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -172,6 +174,7 @@ x3::rule<class args_class, std::vector<boost::optional<ast::Expr>>> const argume
 x3::rule<class label_class, unsigned, true> const label = "label";
 x3::rule<class instruction_class, ast::Instruction> const instruction = "instruction";
 x3::rule<class binding_class, ast::Binding> const binding = "assignment";
+x3::rule<class assignment_class, ast::Binding> const assignment = "assignment";
 x3::rule<class for_class, ast::ForStmt> const for_stmt = "FOR";
 x3::rule<class if_class, ast::IfStmt> const if_stmt = "IF";
 x3::rule<class call_stmt_class, ast::CallStmt> const call_stmt = "CALL";
@@ -238,9 +241,13 @@ const auto instruction_def = word_of(instruction_words) >> -(optional_expression
     >> -word_of(unit_words) >> -word_of(trailing_words) >> x3::omit[-x3::lit(':')];
 // optional_expression = [ expression ]    (omitted: a Nil operand)
 const auto optional_expression_def = expression | x3::attr(ast::Expr());
-// assignment = ( SET | DECOMPOSE | PARAMETER ) variable "=" expression | variable "=" expression
-const auto binding_def = (word_of(binding_words) > variable > '=' > expression)
-    | ((x3::attr(Kw::assign) >> variable >> '=') > expression);
+// binding = ( SET | DECOMPOSE | PARAMETER ) variable "=" expression | assignment
+// assignment = variable "=" expression
+const auto assignment_def = (x3::attr(Kw::assign) >> variable >> '=') > expression;
+const auto binding_def = (word_of(binding_words) > variable > '=' > expression) | assignment;
+// A line `name [subscript] =` (not `==`) is an assignment even when the name is an instruction
+// keyword: `stop = STATE(4) BAND 4` (V+).
+const auto assignment_ahead = &(variable >> '=' >> !x3::lit('='));
 // for = FOR variable "=" expression TO expression [ STEP expression ]
 const auto to_keyword_def = kw("to");
 const auto for_stmt_def = kw("for") > variable > '=' > expression > to_keyword > expression
@@ -271,10 +278,10 @@ const auto timer_stmt_def = kw("timer") > expression > '=' > expression;
 // unsupported = V+_KEYWORD { any }     (not followed by "=": `read = 1` is an assignment)
 const auto unsupported_def = x3::raw[word_of(unsupported_words)] >> !x3::lit('=')
     >> x3::raw[x3::lexeme[*x3::char_]];
-// statement = program_header | declaration | type | for | if | call | timer | instruction
-//           | unsupported | assignment
-const auto statement_def = program_header | declaration | type_stmt | for_stmt | if_stmt
-    | call_stmt | timer_stmt | instruction | unsupported | binding;
+// statement = assignment (when the line reads `name [subscript] =`) | program_header
+//           | declaration | type | for | if | call | timer | instruction | unsupported | binding
+const auto statement_def = (assignment_ahead >> assignment) | program_header | declaration | type_stmt
+    | for_stmt | if_stmt | call_stmt | timer_stmt | instruction | unsupported | binding;
 
 // data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
 const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
@@ -284,7 +291,7 @@ const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
 
 BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
-                    binding, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
+                    binding, assignment, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
                     program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported, encode)
 
 // skipper = blank | ";" { any }
@@ -298,6 +305,56 @@ std::string expected_text(const std::string& which) {
   if (w.size() == 1) return "expected \"" + w + "\"";
   if (w.find("boost") != std::string::npos) return "unexpected text";
   return "expected " + w;
+}
+
+// A "#" where the parse stopped is most often a comment written in another language's way.
+std::string with_hint(std::string::const_iterator where, std::string::const_iterator last, std::string detail) {
+  if (where != last && *where == '#') detail += "; comments start with \";\" in V+";
+  return detail;
+}
+
+// What a control character is, for the message (a form feed, Ctrl-Z ...).
+std::string control_name(unsigned char c) {
+  char code[8];
+  std::snprintf(code, sizeof code, "0x%02X", c);
+  const char* name = c == 0 ? "NUL" : c == 7 ? "bell" : c == 8 ? "backspace" : c == 0x0B ? "vertical tab"
+                     : c == 0x0C ? "form feed" : c == 0x1B ? "escape" : c == 0x7F ? "delete" : nullptr;
+  const std::string what = name ? name : std::string("Ctrl-") + static_cast<char>('@' + c);
+  return "control character " + std::string(code) + " (" + what + ")";
+}
+
+// A reserved word followed by "=" (not "=="): `pi = 3`.
+bool keyword_assignment(const std::string& text, std::size_t at, std::string& word) {
+  std::size_t end = at;
+  while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '.' || text[end] == '_'))
+    ++end;
+  std::size_t eq = end;
+  while (eq < text.size() && (text[eq] == ' ' || text[eq] == '\t')) ++eq;
+  word = text.substr(at, end - at);
+  return end > at && eq < text.size() && text[eq] == '=' && (eq + 1 == text.size() || text[eq + 1] != '=')
+      && is_reserved(word);
+}
+
+// Lines end at LF, CR LF, CR CR LF (a CR LF file converted once more on the way) or a lone CR
+// (dialect §1); a last line without newline is a line.
+std::vector<std::string> split_lines(const std::string& source) {
+  std::vector<std::string> lines;
+  std::size_t start = 0, i = 0;
+  const std::size_t n = source.size();
+  while (i < n) {
+    const char c = source[i];
+    if (c != '\n' && c != '\r') {
+      ++i;
+      continue;
+    }
+    lines.push_back(source.substr(start, i - start));
+    if (c == '\r' && i + 1 < n && source[i + 1] == '\n') i += 2;
+    else if (c == '\r' && i + 2 < n && source[i + 1] == '\r' && source[i + 2] == '\n') i += 3;
+    else ++i;
+    start = i;
+  }
+  if (start < n) lines.push_back(source.substr(start));
+  return lines;
 }
 
 // A numeric literal at `where` that does not fit a double gets its own detail.
@@ -365,16 +422,7 @@ std::optional<TooComplex> too_complex(const std::string& text) {
 ParsedSource parse_source(const std::string& source, const std::string& file) {
   ParsedSource out;
   out.file = file;
-  std::size_t start = 0;
-  while (start <= source.size()) {
-    // Lines end with LF, CR LF or a lone CR (old Mac files were one line of "unexpected text").
-    std::size_t end = source.find_first_of("\r\n", start);
-    if (end == std::string::npos) end = source.size();
-    out.text.push_back(source.substr(start, end - start));
-    if (end == source.size()) break;
-    start = end + (source[end] == '\r' && end + 1 < source.size() && source[end + 1] == '\n' ? 2 : 1);
-  }
-  if (!out.text.empty() && out.text.back().empty()) out.text.pop_back();  // final newline
+  out.text = split_lines(source);
   out.lines.resize(out.text.size());
 
   bool in_data = false;  // inside .LOCATIONS / .REALS / .STRINGS
@@ -394,19 +442,22 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       out.errors.push_back(std::move(d));
       line = ast::Line{};
     };
-    // Bytes outside ASCII are allowed only in comments (dialect §1).
+    // Bytes outside ASCII and control characters (but TAB) are allowed only in comments
+    // (dialect §1).
     bool in_string = false;
     auto bad = text.end();
     for (auto it = text.begin(); it != text.end(); ++it) {
       if (*it == '"') in_string = !in_string;
       if (*it == ';' && !in_string) break;
-      if (static_cast<unsigned char>(*it) > 126) {
+      const auto c = static_cast<unsigned char>(*it);
+      if (c > 126 || (c < 32 && c != '\t')) {
         bad = it;
         break;
       }
     }
     if (bad != text.end()) {
-      fail(bad, "character outside ASCII");
+      const auto c = static_cast<unsigned char>(*bad);
+      fail(bad, c > 127 ? "character outside ASCII" : control_name(c));
       continue;
     }
     if (!in_data) {
@@ -455,7 +506,10 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
                    "\" is a keyword, not a variable";
         else if (*first == '=')
           detail = "\"=\" is not an operator; use \"==\" to compare";
-        fail(first, refine(first, last, detail));
+        std::string word;
+        if (!line.statement && keyword_assignment(text, static_cast<std::size_t>(first - text.begin()), word))
+          detail = "\"" + word + "\" is a keyword, not a variable";
+        fail(first, refine(first, last, with_hint(first, last, detail)));
       }
     } catch (const x3::expectation_failure<std::string::const_iterator>& e) {
       auto where = e.where();
@@ -463,7 +517,7 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       std::string detail = expected_text(e.which());
       if (where != last && *where == '=' && detail != "expected \"=\"")
         detail = "\"=\" is not an operator; use \"==\" to compare";
-      fail(where, refine(where, last, detail));
+      fail(where, refine(where, last, with_hint(where, last, detail)));
     }
   }
   return out;

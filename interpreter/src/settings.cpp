@@ -11,29 +11,38 @@ namespace asimov::interpreter {
 
 double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "HAND.TIME") return s.hand_time_s;
-  if (name == "COLLISION.CLEARANCE") return sim.clearance_mm();
+  if (name == "COLLISION.CLEARANCE") return sim.cell().collision.clearance_mm;
   raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
 }
 
 void set_parameter(const std::string& name, double value, Settings& s, motion::Simulator& sim) {
-  const bool known = name == "HAND.TIME" || name == "COLLISION.CLEARANCE";
-  if (!known) raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
+  if (!known_parameter(name)) raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
   if (!(value >= 0) || !std::isfinite(value))
     raise(Message::illegal_value, fmt::format("{} = {}", name, format_number(value)));
   if (name == "HAND.TIME") s.hand_time_s = value;
   else sim.set_clearance(value);
 }
 
+bool known_parameter(const std::string& name) { return name == "HAND.TIME" || name == "COLLISION.CLEARANCE"; }
+
+bool known_switch(const std::string& name) {
+  return name == "CP" || name == "COLLISION" || name == "POWER" || name == "DRY.RUN" || name == "SCALE.ACCEL";
+}
+
 bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "CP") return s.cp;
-  if (name == "COLLISION") return sim.collision_enabled();
+  if (name == "COLLISION") return sim.cell().collision.enabled;
+  if (name == "POWER") return true;  // the simulated arm is powered and calibrated
+  if (name == "DRY.RUN") return false;
+  if (name == "SCALE.ACCEL") return true;
   raise(Message::illegal_value, fmt::format("unknown switch {}", name));
 }
 
 bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim) {
   if (name == "CP") s.cp = on;
   else if (name == "COLLISION") sim.set_collision_enabled(on);
-  else if (name == "SCALE.ACCEL") return false;
+  else if (name == "POWER") return on;  // ENABLE POWER: it is on already
+  else if (name == "SCALE.ACCEL" || name == "DRY.RUN") return false;
   else raise(Message::illegal_value, fmt::format("unknown switch {}", name));
   return true;
 }

@@ -1,5 +1,5 @@
 // Settings of dialect §6: PARAMETER name = value / PARAMETER(name), and ENABLE / DISABLE /
-// SWITCH(name) (names in upper case; an unknown one is an *Illegal value*); and the
+// SWITCH(name) (names in upper case; an unknown one is a *Syntax error* at LOAD); and the
 // configuration words of §5.
 #pragma once
 #include "ast.hpp"
@@ -17,8 +17,14 @@ struct Settings {
 double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim);
 void set_parameter(const std::string& name, double value, Settings& s, motion::Simulator& sim);
 
+// The names PARAMETER and SWITCH / ENABLE / DISABLE accept (the checker reports any other at
+// LOAD): HAND.TIME, COLLISION.CLEARANCE; CP, COLLISION, POWER, DRY.RUN, SCALE.ACCEL.
+bool known_parameter(const std::string& name);
+bool known_switch(const std::string& name);
+
 bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim);
-// False for the switches V+ has and the simulation ignores with a warning (SCALE.ACCEL, §7).
+// False for the switches V+ has and the simulation ignores with a warning (SCALE.ACCEL, §7;
+// DISABLE POWER, DRY.RUN). ENABLE POWER does nothing: the simulated arm's power is on.
 bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim);
 
 // RIGHTY, LEFTY, ABOVE, BELOW, FLIP, NOFLIP, SINGLE, MULTIPLE: a request for the next joint

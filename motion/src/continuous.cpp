@@ -1,9 +1,14 @@
 #include "continuous.hpp"
 
+#include "asimov/motion/walk_observer.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace asimov::motion {
+namespace {
+constexpr double kGrazeS = 1e-6;  // [s] finest unprovable window before a graze halt (docs/collision.md §12)
+}  // namespace
 
 double joint_motion(std::span<const robots::BodyReach> reach, const GapPair& pair, const robots::JointVector& q1,
                     const robots::JointVector& q2) {
@@ -34,9 +39,11 @@ void ContinuousChecker::note(std::size_t pair, const collision::DistanceResult& 
   a = {r.distance, t, r.point_a, r.point_b, step_};
 }
 
-void ContinuousChecker::measure(std::size_t pair, Point& p, double upper) {
+void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool probe) {
   const collision::BodyPair bp = engine_.enabled_pairs()[pair];
+  const std::uint64_t k0 = cpu_ticks();
   const collision::DistanceResult r = engine_.distance(bp.a, bp.b, {.upper_mm = upper});
+  if (on_measure) on_measure(pair, r, p.t, probe, cpu_ticks() - k0);
   ++queries_;
   note(pair, r, p.t);
   p.hit = r.status == collision::DistanceStatus::contact ||
@@ -46,15 +53,30 @@ void ContinuousChecker::measure(std::size_t pair, Point& p, double upper) {
 }
 
 // Earliest contact of the pair in (l.t, r.t]: l is free; r.hit says whether r collides. True
-// with `out` filled when one is found (or a window of width <= tol stays unproven).
+// with `out` filled when one is found. Windows are visited in time order.
 bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path,
                               ContinuousContact& out) {
   const double c = clearance_;
   const double mu = path.motion(pair, l.t, l.q, r.t, r.q);
-  if (!r.hit && (l.d - c) + (r.d - c) > mu) return false;  // free: the two-sided bound
+  if (!r.hit && (l.d - c) + (r.d - c) > mu) {  // free: the two-sided bound
+    if (!graze_) return false;
+    out = *graze_;  // proven free after an unprovable window: the pair grazed there and left
+    return true;
+  }
   const double m_t = l.t + (r.t - l.t) / 2;
-  if (r.t - l.t <= tol_ || !(m_t > l.t && m_t < r.t)) {
-    out = {.found = true, .graze = !r.hit, .pair = pair, .t_free = l.t, .t_hit = r.t, .q_free = l.q, .q_hit = r.q};
+  // A colliding right end stops the split at toc_tolerance_s (the contact bracket). A free one
+  // that cannot be proven free is split to kGrazeS at most (a coarse tolerance must not turn a
+  // near miss into a contact before the real one) and then kept as a graze: the bounds cannot
+  // prove the last stretch before a contact free, so what follows decides: a contact (the graze
+  // was its approach) or a window proven free (a graze, a conservative halt).
+  const double width = r.t - l.t;
+  if ((r.hit ? width <= tol_ : width <= std::min(tol_, kGrazeS)) || !(m_t > l.t && m_t < r.t)) {
+    const ContinuousContact here{.found = true, .graze = !r.hit, .pair = pair, .t_free = l.t, .t_hit = r.t, .q_free = l.q, .q_hit = r.q};
+    if (!r.hit) {
+      if (!graze_) graze_ = here;
+      return false;
+    }
+    out = here;
     return true;
   }
   Point m;
@@ -63,7 +85,7 @@ bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, 
   path.pose(m.q);
   posed_t_ = m_t;
   ++probes_;
-  measure(pair, m, mu + 2 * c);
+  measure(pair, m, mu + 2 * c, true);
   if (solve(pair, l, m, path, out)) return true;
   return solve(pair, m, r, path, out);
 }
@@ -80,13 +102,17 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
   const bool cached = cache_t_ == t_a && cache_d_.size() == n;
   std::vector<double> mu(n);
   std::vector<Point> end(n);
-  // At b (the engine is posed there): every pair, with a cut-off that also serves the next
-  // window and the clearance report.
+  // At b (the engine is posed there): every pair, with the cut-off the two-sided bound needs
+  // given the distance cached at a (gap stepping chose b so that most pairs need next to
+  // nothing: their step-2 bound decides), and the one the clearance report needs (only
+  // distances below the pair's least one so far). The values are the next window's start.
   for (std::size_t i = 0; i < n; ++i) {
     mu[i] = path.motion(i, t_a, q_a, t_b, q_b);
     end[i].t = t_b;
     end[i].q = q_b;
-    measure(i, end[i], std::max(2 * mu[i], report_mm_) + 2 * c);
+    const double need = mu[i] + 2 * c - (cached ? cache_d_[i] : 0.0);
+    const double report = approach_[i].distance >= 0 ? std::min(report_mm_, approach_[i].distance) : report_mm_;
+    measure(i, end[i], std::max({need * (1 + 1e-9) + 1e-9, report, c}), false);
   }
   ContinuousContact best;
   Point start;
@@ -100,7 +126,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
         r.q = best.q_hit;
         path.pose(r.q);
         posed_t_ = r.t;
-        measure(i, r, path.motion(i, t_a, q_a, r.t, r.q) + 2 * c);
+        measure(i, r, path.motion(i, t_a, q_a, r.t, r.q) + 2 * c, true);
       }
     }
     const double m = path.motion(i, l.t, l.q, r.t, r.q);
@@ -112,11 +138,15 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     if (!cached || !l.exact) {  // the last checked pose's cut-off was too low: measure there
       path.pose(q_a);
       posed_t_ = t_a;
-      measure(i, l, m + 2 * c);
+      measure(i, l, m + 2 * c, false);
       l.hit = false;  // a was checked free (only a rounding at the clearance could say otherwise)
     }
     ContinuousContact found;
-    if (!solve(i, l, r, path, found)) continue;
+    graze_.reset();
+    if (!solve(i, l, r, path, found)) {
+      if (!graze_) continue;
+      found = *graze_;  // unprovable up to b (checked free): a graze
+    }
     if (!best.found || found.t_hit < best.t_hit) {
       const double t_free = best.found ? std::min(best.t_free, found.t_free) : found.t_free;
       const robots::JointVector q_free = best.found && best.t_free < found.t_free ? best.q_free : found.q_free;

@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace asimov::motion {
@@ -70,6 +71,11 @@ class ContinuousChecker {
   ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm);
 
   void set_clearance(double clearance_mm) { clearance_ = clearance_mm; }
+  void set_report_mm(double report_mm) { report_mm_ = report_mm; }
+  // Told of every distance measured: the pair (index into Engine::enabled_pairs()), the time,
+  // whether at a probe (a pose between checked poses) and the cpu_ticks() it took.
+  std::function<void(std::size_t pair, const collision::DistanceResult&, double t, bool probe, std::uint64_t ticks)>
+      on_measure;
   // Forget the cached distances (the bodies were posed elsewhere than the last checked pose).
   void reset() { cache_t_ = -1; }
 
@@ -92,7 +98,7 @@ class ContinuousChecker {
     bool hit = false;  // the pair is in contact (distance 0, or <= c with a clearance)
     bool exact = false;  // d is the distance (not a lower bound from the cut-off)
   };
-  void measure(std::size_t pair, Point& p, double upper);
+  void measure(std::size_t pair, Point& p, double upper, bool probe);
   bool solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path, ContinuousContact& out);
   void note(std::size_t pair, const collision::DistanceResult& r, double t);
 
@@ -106,6 +112,7 @@ class ContinuousChecker {
   std::vector<double> cache_d_; // per pair: lower bound at cache_t_
   std::vector<char> cache_exact_;
   std::vector<PairApproach> approach_;
+  std::optional<ContinuousContact> graze_;  // solve: the first unprovable window of the pair
   std::uint64_t probes_ = 0, queries_ = 0;
 };
 

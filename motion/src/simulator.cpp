@@ -32,17 +32,12 @@ struct PoseHook final : WalkObserver {
 
 struct Simulator::Impl {
   Cell cell;
-  Location base, tool, dest;
-  robots::ConfigurationRequest request;
+  ArmSettings settings;
+  Location dest;
   WalkState state;
-  HandState hand = HandState::open;
-  std::optional<HandState> hand_request;
-  TimingRecorder timing;  // first: the constructor's preprocessing is timed into it
+  Hand hand;
+  Recorders rec{cell.robot, settings.base, settings.tool};  // before world: it times the preprocessing
   World world;
-  TraceRecorder trace{cell.robot, base, tool};
-  ReplayRecorder replay{cell.robot};
-  AccuracyRecorder accuracy{cell.robot};
-  CountRecorder counts;
   PoseHook hook;
   Walker walker{cell.robot, world, cell.collision};
   std::optional<Trajectory> pending;
@@ -56,13 +51,14 @@ struct Simulator::Impl {
   } rest;
   std::optional<InterruptReport> halted;
 
-  explicit Impl(Cell c) : cell(std::move(c)), world(timed_world(cell, timing.timing)) {
-    const ScopeTimer timer{timing.timing.preprocess_s};
+  explicit Impl(Cell c) : cell(std::move(c)), world(timed_world(cell, rec.timing.timing)) {
+    const ScopeTimer timer{rec.timing.timing.preprocess_s};
     state.joints = start_joints(cell);
-    base = cell.base;
-    tool = cell.tool;
+    settings.base = cell.base;
+    settings.tool = cell.tool;
     dest = here();
-    for (WalkObserver* o : std::initializer_list<WalkObserver*>{&timing, &counts, &trace, &replay, &accuracy, &hook})
+    for (WalkObserver* o : std::initializer_list<WalkObserver*>{&rec.timing, &rec.counts, &rec.trace, &rec.replay,
+                                                              &rec.accuracy, &hook})
       walker.add_observer(*o);
   }
   static World timed_world(const Cell& cell, RunTiming& t) {
@@ -70,20 +66,20 @@ struct Simulator::Impl {
     return World(cell);
   }
 
-  Location here() const { return base * robots::flange_pose(cell.robot, state.joints) * tool; }
+  Location here() const { return settings.base * robots::flange_pose(cell.robot, state.joints) * settings.tool; }
 
   PlanStart plan_start() const {
-    return {cell.robot, world.reach(), world.moving_pairs(), step_mm(cell.collision), state.joints, base, tool, state.time_s};
+    return {cell.robot, world.reach(), world.moving_pairs(), step_mm(cell.collision), state.joints, settings.base, settings.tool, state.time_s};
   }
 
   // A planned motion becomes the pending one; a pending OPEN/CLOSE/RELAX takes effect.
   MotionResult accept(Plan plan) {
-    accuracy.on_ik(plan.ik_residual, plan.ik_solves);
+    rec.accuracy.on_ik(plan.ik_residual, plan.ik_solves);
     if (plan.result.status != MotionStatus::ok) return plan.result;
     dest = plan.trajectory.target;
     pending = std::move(plan.trajectory);
     halted.reset();  // a new motion drops the rest of an interrupted one
-    if (hand_request) hand = *hand_request, hand_request.reset();
+    if (hand.pending) hand.state = *hand.pending, hand.pending.reset();
     return {};
   }
 };
@@ -97,40 +93,28 @@ const robots::Robot& Simulator::robot() const { return impl_->cell.robot; }
 const robots::JointVector& Simulator::joints() const { return impl_->state.joints; }
 Location Simulator::here() const { return impl_->here(); }
 Location Simulator::dest() const { return impl_->dest; }
-Location Simulator::base() const { return impl_->base; }
-Location Simulator::tool() const { return impl_->tool; }
-void Simulator::set_base(const Location& base) { impl_->base = base; }
-void Simulator::set_tool(const Location& tool) { impl_->tool = tool; }
 robots::Configuration Simulator::configuration() const { return robots::configuration_of(impl_->cell.robot, impl_->state.joints); }
-robots::ConfigurationRequest& Simulator::request() { return impl_->request; }
+ArmSettings& Simulator::settings() { return impl_->settings; }
+const ArmSettings& Simulator::settings() const { return impl_->settings; }
 double Simulator::time_s() const { return impl_->state.time_s; }
-std::uint64_t Simulator::bisection_checks() const { return impl_->counts.bisection; }
-std::uint64_t Simulator::poses_checked() const { return impl_->counts.poses; }
 bool Simulator::motion_pending() const { return impl_->pending.has_value(); }
-void Simulator::set_trace(bool on) { impl_->trace.on = on; }
-const std::vector<TraceSample>& Simulator::trace() const { return impl_->trace.samples; }
-void Simulator::set_replay(double grid_s) { impl_->replay.grid_s = grid_s > 0 ? grid_s : 0; }
-const std::vector<ReplaySample>& Simulator::replay() const { return impl_->replay.samples; }
-const collision::StepCounts& Simulator::collision_counts() const { return impl_->counts.counts; }
+Recorders& Simulator::recorders() { return impl_->rec; }
+const Recorders& Simulator::recorders() const { return impl_->rec; }
 bool Simulator::collision_engine_used() const { return impl_->world.engine() != nullptr; }
-const RunAccuracy& Simulator::accuracy() const { return impl_->accuracy.figures; }
-const RunTiming& Simulator::timing() const { return impl_->timing.timing; }
-void Simulator::add_parse_time(double seconds) { impl_->timing.timing.parse_s += seconds; }
-void Simulator::add_preprocess_time(double seconds) { impl_->timing.timing.preprocess_s += seconds; }
 int Simulator::motion_step() const { return impl_->pending ? impl_->pending->step : 0; }
 
 MotionResult Simulator::start_joint_move(const robots::JointVector& target, SpeedSettings speed, int step) {
   if (impl_->pending)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
-  const ScopeTimer timer{impl_->timing.timing.motion_s};
+  const ScopeTimer timer{impl_->rec.timing.timing.motion_s};
   return impl_->accept(plan_joint_move(impl_->plan_start(), target, speed, step));
 }
 
 MotionResult Simulator::start_move(const Location& target, bool straight, SpeedSettings speed, int step) {
   if (impl_->pending)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
-  const ScopeTimer timer{impl_->timing.timing.motion_s};
-  return impl_->accept(plan_move(impl_->plan_start(), impl_->request, target, straight, speed, step));
+  const ScopeTimer timer{impl_->rec.timing.timing.motion_s};
+  return impl_->accept(plan_move(impl_->plan_start(), impl_->settings.request, target, straight, speed, step));
 }
 
 MotionResult Simulator::finish_motion() {
@@ -168,12 +152,11 @@ MotionResult Simulator::resume_motion(std::optional<double> monitor_speed) {
   return r;
 }
 
-void Simulator::request_hand(HandState state) { impl_->hand_request = state; }
+void Simulator::request_hand(HandState state) { impl_->hand.pending = state; }
 
 MotionResult Simulator::hand_immediate(HandState state, double hand_time_s) {
   if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
-  impl_->hand = state;
-  impl_->hand_request.reset();
+  impl_->hand = {state, std::nullopt};
   if (hand_time_s > 0) impl_->state.time_s += hand_time_s;
   return {};
 }
@@ -186,18 +169,15 @@ MotionResult Simulator::wait(double seconds) {
 
 void Simulator::set_collision_enabled(bool on) {
   impl_->cell.collision.enabled = on;
-  const ScopeTimer timer{impl_->timing.timing.preprocess_s};
+  const ScopeTimer timer{impl_->rec.timing.timing.preprocess_s};
   if (on) impl_->world.build_engine(impl_->cell);
 }
 
-bool Simulator::collision_enabled() const { return impl_->cell.collision.enabled; }
 // The one copy of the clearance: every query carries it (the engine keeps none).
 void Simulator::set_clearance(double clearance_mm) { impl_->cell.collision.clearance_mm = clearance_mm; }
-double Simulator::clearance_mm() const { return impl_->cell.collision.clearance_mm; }
 
-HandState Simulator::hand() const { return impl_->hand; }
-bool Simulator::hand_pending() const { return impl_->hand_request.has_value(); }
+Hand Simulator::hand() const { return impl_->hand; }
 
-int Simulator::inrange(const Location& target) const { return motion::inrange(impl_->plan_start(), impl_->request, target); }
+int Simulator::inrange(const Location& target) const { return motion::inrange(impl_->plan_start(), impl_->settings.request, target); }
 
 }  // namespace asimov::motion

@@ -1,6 +1,8 @@
 // The walk over a trajectory's checked poses (docs/collision-method.md §6.3-§6.4).
 #include "asimov/motion/walker.hpp"
 
+#include "continuous.hpp"
+
 #include <algorithm>
 #include <chrono>
 
@@ -9,12 +11,19 @@ namespace {
 using robots::JointVector;
 
 constexpr int kMaxBisectionRounds = 4;  // contact-time bisections per contact (another pair met)
+
+double toc_tolerance(const CollisionSettings& s) { return s.toc_tolerance_s >= 0 ? s.toc_tolerance_s : 1e-6; }
+
+// The clearance that halts: with on_clearance warn only touching does (the clearance report
+// lists the pairs that came within clearance_mm).
+double halting_clearance(const CollisionSettings& s) { return s.on_clearance == OnClearance::warn ? 0.0 : s.clearance_mm; }
 }  // namespace
 
 double step_mm(const CollisionSettings& s) { return std::max({s.clearance_mm, s.step_mm, kMinStepMm}); }
 
 Walker::Walker(const robots::Robot& robot, World& world, const CollisionSettings& settings)
     : robot_(robot), world_(world), settings_(settings) {}
+Walker::~Walker() = default;
 
 void Walker::add_observer(WalkObserver& observer) { observers_.push_back(&observer); }
 
@@ -25,6 +34,9 @@ struct Walker::Walk {
   WalkState& st;
   collision::Engine* engine;  // null: nothing to check (no engine, or collision disabled)
   double clearance;
+  ContinuousChecker* checker;  // null: continuous checking off
+  ContinuousPath path;         // the trajectory as continuous checking sees it (continuous_path)
+  std::size_t line_i = 0, line_j = 0;  // lines: the checked samples of the current stretch
 
   template <class F>
   void tell(F&& f) {
@@ -92,7 +104,7 @@ struct Walker::Walk {
   bool bisect_contact(double t_free, JointVector& q_free, PathAt&& at, CollisionReport& report) {
     const double t_start = t_free;
     const JointVector q_start = q_free;
-    const double tol = w.settings_.toc_tolerance_s >= 0 ? w.settings_.toc_tolerance_s : 1e-6;
+    const double tol = toc_tolerance(w.settings_);
     std::vector<collision::BodyPair>& hit_pairs = w.hit_pairs_;
     for (int round = 0; round < kMaxBisectionRounds; ++round) {
       w.world_.pose(report.joints);
@@ -128,6 +140,67 @@ struct Walker::Walk {
     report.time_free_s = t_start;
     q_free = q_start;
     return false;
+  }
+
+  // Continuous checking sees the trajectory through two facts only: its joints at time t and a
+  // bound on each pair's relative motion over [t1, t2] (docs/collision.md §12), so any path
+  // that can state both (blended segments too) is checked the same way.
+  JointVector joints_at(double t, const JointVector& seed) {
+    if (tr.kind != PathKind::line) return joint_path_at(tr, t);
+    const LinePoint lp = line_path_between(w.robot_, tr, line_i, line_j, t, &seed);
+    if (lp.ik_used) {
+      const PoseError e = pose_error(robots::flange_pose(w.robot_, lp.joints), lp.flange);
+      tell([&](WalkObserver& o) { o.on_ik(e, 1); });
+    }
+    return lp.joints;
+  }
+  double motion_bound(std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) const {
+    const GapPair& p = w.world_.gap_pairs()[pair];
+    if (tr.kind != PathKind::line) return joint_motion(w.world_.reach(), p, q1, q2);
+    return line_motion(w.world_.reach(), p, tr.line.samples, tr.profile.sigma(t1 - tr.t0), q1,
+                       tr.profile.sigma(t2 - tr.t0), q2);
+  }
+  void continuous_path() {
+    path.at = [this](double t, const JointVector& seed) { return joints_at(t, seed); };
+    path.motion = [this](std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) {
+      return motion_bound(pair, t1, q1, t2, q2);
+    };
+    path.pose = [this](const JointVector& q) { w.world_.pose(q); };
+    checker->on_measure = [this](std::size_t pair, const collision::DistanceResult& r, double t, bool probe,
+                                 std::uint64_t ticks) {
+      const collision::BodyPair bp = engine->enabled_pairs()[pair];
+      tell([&](WalkObserver& o) { o.on_distance(bp, r, {t, probe, tr.step, ticks}); });
+    };
+  }
+
+  // The stretch from the last checked pose (t_a, st.joints), free against every pair, to the
+  // pose just checked at t_b (the engine is posed there): true with `report` when continuous
+  // checking finds a contact in it; then the arm is at the last pose proven free, the clock at
+  // the contact.
+  bool continuous_contact(double t_a, double t_b, const JointVector& q_b, CollisionReport& report) {
+    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, tr.step);
+    if (!c.found) return false;
+    checker->reset();
+    const collision::BodyPair pair = engine->enabled_pairs()[c.pair];
+    CollisionReport r;
+    if (!record(query(c.q_hit, std::span(&pair, 1)), {QueryKind::probe}, c.q_hit, r)) {
+      // A graze (no probe in contact, docs/collision.md §12): the pair, the point halfway
+      // between its witnesses.
+      const collision::DistanceResult d = engine->distance(pair.a, pair.b);
+      r.body_a = engine->body_name(pair.a);
+      r.body_b = engine->body_name(pair.b);
+      r.point = 0.5 * (d.point_a + d.point_b);
+      r.face_a = d.face_a;
+      r.face_b = d.face_b;
+      r.joints = c.q_hit;
+    }
+    r.time_s = c.t_hit;
+    r.time_free_s = c.t_free;
+    st.joints = c.q_free;
+    st.last_free = true;
+    st.time_s = c.t_hit;
+    report = std::move(r);
+    return true;
   }
 
   MotionResult collision_result(CollisionReport report, double search_s) {
@@ -184,7 +257,13 @@ struct Walker::Walk {
       const double t = tr.t0 + tr.profile.time_at(b.s);
       stretch({t_prev, t, a.s, b.s, i, j, bound});
       const bool was_free = st.last_free;
-      if (visit(b.joints, t, report)) {
+      const bool hit = visit(b.joints, t, report);
+      line_i = i;
+      line_j = j;
+      // The distances are measured in the engine's time (timing: on_distance).
+      if (checker && was_free && continuous_contact(t_prev, t, b.joints, report))
+        return collision_result(std::move(report), 0);
+      if (hit) {
         // Between samples: the line's pose at sigma(t) by IK seeded with the nearest free
         // joints, as plan_line solves its samples (line_path_at).
         const auto at = [this, &a, &b](double tm, const JointVector& ref) {
@@ -232,7 +311,9 @@ struct Walker::Walk {
       const double t = tr.t0 + tr.profile.time_at(sigma);
       stretch({t_prev, t, sigma_from, sigma, 0, 0, k * body_max});
       const bool was_free = st.last_free;
-      if (visit(q, t, report)) return halt(std::move(report), t_prev, was_free, at);
+      const bool hit = visit(q, t, report);
+      if (checker && was_free && continuous_contact(t_prev, t, q, report)) return collision_result(std::move(report), 0);
+      if (hit) return halt(std::move(report), t_prev, was_free, at);
       st.joints = q;
       t_prev = t;
     }
@@ -247,6 +328,7 @@ struct Walker::Walk {
     }
     // Gap stepping needs the engine: the gaps are its containers' (at the current pose).
     const bool gap = engine && w.settings_.stepping == Stepping::gap;
+    if (checker) continuous_path();
     if (gap) {
       w.gap_pairs_.assign(w.world_.gap_pairs().begin(), w.world_.gap_pairs().end());
       w.world_.pose(st.joints);
@@ -261,7 +343,15 @@ struct Walker::Walk {
 
 MotionResult Walker::walk(const Trajectory& tr, WalkState& state) {
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
-  Walk walk{*this, tr, state, engine, settings_.clearance_mm};
+  ContinuousChecker* checker = nullptr;
+  if (engine && settings_.continuous) {
+    if (!continuous_) continuous_ = std::make_unique<ContinuousChecker>(*engine, 0, toc_tolerance(settings_), 0);
+    continuous_->set_clearance(halting_clearance(settings_));
+    continuous_->set_report_mm(std::max(settings_.report_within_mm, settings_.clearance_mm));
+    continuous_->reset();  // between walks the hand, the parts or the settings may have changed
+    checker = continuous_.get();
+  }
+  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker, {}};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
   MotionResult r = walk.run();
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });

@@ -151,10 +151,6 @@ motion::Cell load_cell_any(const py::object& source, const std::string& base_dir
     return cell::load_cell_file(path);
   } catch (const cell::CellError& e) {
     raise_cell_error(e);
-  } catch (const robots::UrdfError& e) {
-    raise_message("CellError", "*Cell error*", e.what(), e.file(), e.line());
-  } catch (const collision::MeshError& e) {
-    raise_message("CellError", "*Cell error*", e.what());
   }
 }
 
@@ -206,7 +202,7 @@ class Session {
  public:
   Session(motion::Cell cell, bool trace)
       : sim_(std::move(cell)), interp_(sim_, out_), monitor_(interp_, sim_, out_) {
-    sim_.set_trace(trace);
+    sim_.recorders().trace.on = trace;
     interp_.set_input(no_input_, false);  // PROMPT has nobody to ask: *Illegal value*
   }
 
@@ -278,7 +274,7 @@ class Session {
   }
 
   py::dict trace() const {
-    const auto& samples = sim_.trace();
+    const auto& samples = sim_.recorders().trace.samples;
     const auto n = static_cast<py::ssize_t>(samples.size());
     const py::ssize_t j = sim_.robot().joint_count();
     py::array_t<double> t(n), joints({n, j}), tool({n, py::ssize_t{4}, py::ssize_t{4}}), xyzoat({n, py::ssize_t{6}});
@@ -311,7 +307,7 @@ class Session {
   std::vector<interpreter::Diagnostic> timed_load(F load) {
     const auto t0 = std::chrono::steady_clock::now();
     auto diags = load();
-    sim_.add_parse_time(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    sim_.recorders().timing.timing.parse_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return diags;
   }
   std::vector<std::string> check_loaded(const std::vector<interpreter::Diagnostic>& diags, const std::string& file) {
@@ -366,23 +362,17 @@ class PyEngine {
       }
       mesh.triangles.push_back(tri);
     }
-    try {
-      auto checked = collision::validate_mesh(std::move(mesh), "body '" + name + "'");
-      warn(checked.warnings);
-      return add(name, std::move(checked.mesh), group, is_static, halvings);
-    } catch (const collision::MeshError& e) {
-      raise_message("RobotError", "*Mesh error*", e.what());
-    }
+    auto checked = collision::validate_mesh(std::move(mesh), "body '" + name + "'");
+    if (!checked) raise_message("RobotError", "*Mesh error*", checked.error().message);
+    warn(checked->warnings);
+    return add(name, std::move(checked->mesh), group, is_static, halvings);
   }
   collision::BodyId add_mesh(const std::string& path, const std::optional<std::string>& name, double scale, int group,
                              bool is_static, int halvings) {
-    try {
-      auto loaded = collision::read_mesh(path, collision::Vec3::Constant(scale));
-      warn(loaded.warnings);
-      return add(name.value_or(std::filesystem::path(path).stem().string()), std::move(loaded.mesh), group, is_static, halvings);
-    } catch (const collision::MeshError& e) {
-      raise_message("RobotError", "*Mesh error*", e.what(), path);
-    }
+    auto loaded = collision::read_mesh(path, collision::Vec3::Constant(scale));
+    if (!loaded) raise_message("RobotError", "*Mesh error*", loaded.error().message, path);
+    warn(loaded->warnings);
+    return add(name.value_or(std::filesystem::path(path).stem().string()), std::move(loaded->mesh), group, is_static, halvings);
   }
 
   void set_pose(collision::BodyId id, const Array& pose) {
@@ -533,13 +523,9 @@ PYBIND11_MODULE(_asimov, m) {
   m.def("default_cell", [] { return cell::default_cell(); }, "The built-in cell (PUMA 560, table, box).");
   m.def("puma560", &robots::puma560, "The built-in PUMA 560.");
   m.def("load_urdf", [](const std::string& path) {
-    try {
-      return robots::load_urdf(path);
-    } catch (const robots::UrdfError& e) {
-      raise_message("RobotError", "*URDF error*", e.what(), e.file(), e.line());
-    } catch (const collision::MeshError& e) {
-      raise_message("RobotError", "*Mesh error*", e.what(), path);
-    }
+    auto robot = robots::load_urdf(path);
+    if (!robot) raise_message("RobotError", "*URDF error*", robot.error().message, robot.error().file, robot.error().line);
+    return std::move(*robot);
   }, py::arg("path"), "A robot from a URDF file. Raises RobotError.");
   m.def("trans", [](double x, double y, double z, double o, double a, double t) { return pose_array(motion::trans(x, y, z, o, a, t)); },
         py::arg("x"), py::arg("y"), py::arg("z"), py::arg("o") = 0.0, py::arg("a") = 0.0, py::arg("t") = 0.0,
@@ -567,7 +553,7 @@ PYBIND11_MODULE(_asimov, m) {
       .def_property_readonly("joints", [](Session& s) { return joints_array(s.sim().joints()); })
       .def_property_readonly("here", [](Session& s) { return pose_array(s.sim().here()); })
       .def_property_readonly("time_s", [](Session& s) { return s.sim().time_s(); })
-      .def_property_readonly("poses_checked", [](Session& s) { return s.sim().poses_checked(); })
+      .def_property_readonly("poses_checked", [](Session& s) { return s.sim().recorders().counts.poses; })
       .def_property_readonly("robot", [](Session& s) { return s.sim().robot(); })
       .def_property_readonly("cell", [](Session& s) { return s.sim().cell(); })
       .def_property_readonly("quit", &Session::quit);

@@ -15,11 +15,15 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <stdexcept>
 
 namespace asimov::robots {
 namespace {
-using collision::MeshError;
 using collision::Vec3;
+// A problem inside the assimp path; returned as an Error by read_mesh_file.
+struct MeshError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 std::string lower_extension(const std::string& path) {
   std::string e = std::filesystem::path(path).extension().string();
@@ -44,11 +48,9 @@ void collada_asset(const std::string& path, double& metres, char& up) {
     else if (t.find('Z') != std::string::npos) up = 'Z';
   }
 }
-}  // namespace
 
-collision::LoadedMesh read_mesh_file(const std::string& path, const Vec3& scale) {
-  const std::string ext = lower_extension(path);
-  if (ext == ".stl" || ext == ".obj") return collision::read_mesh(path, scale);
+collision::Polyhedron read_with_assimp(const std::string& path, const std::string& ext, const Vec3& scale,
+                                       std::vector<std::size_t>& faces) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw MeshError(path + ": cannot open the mesh file");
   // The limits of STL / OBJ (docs/limits.md), before assimp reads anything.
@@ -75,7 +77,6 @@ collision::LoadedMesh read_mesh_file(const std::string& path, const Vec3& scale)
     skip_root = true;  // the root holds assimp's own unit factor
   }
   collision::Polyhedron mesh;
-  std::vector<std::size_t> faces;
   std::size_t face_number = 0;
   std::function<void(const aiNode*, const Eigen::Matrix4d&)> walk = [&](const aiNode* node, const Eigen::Matrix4d& parent) {
     Eigen::Matrix4d local;
@@ -104,7 +105,20 @@ collision::LoadedMesh read_mesh_file(const std::string& path, const Vec3& scale)
   };
   walk(scene->mRootNode, file);
   if (mesh.triangles.empty()) throw MeshError(path + ": no triangle in the mesh");
-  return collision::validate_mesh(std::move(mesh), path, faces);
+  return mesh;
+}
+}  // namespace
+
+Result<collision::LoadedMesh> read_mesh_file(const std::string& path, const Vec3& scale) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".stl" || ext == ".obj") return collision::read_mesh(path, scale);
+  std::vector<std::size_t> faces;
+  try {
+    collision::Polyhedron mesh = read_with_assimp(path, ext, scale, faces);
+    return collision::validate_mesh(std::move(mesh), path, faces);
+  } catch (const MeshError& e) {
+    return Error{e.what(), "", path};
+  }
 }
 
 }  // namespace asimov::robots

@@ -10,6 +10,6 @@
 namespace asimov::robots {
 
 // `scale` multiplies the coordinates after the file's own units (1000: metres -> mm).
-collision::LoadedMesh read_mesh_file(const std::string& path, const collision::Vec3& scale);
+Result<collision::LoadedMesh> read_mesh_file(const std::string& path, const collision::Vec3& scale);
 
 }  // namespace asimov::robots

@@ -2,6 +2,7 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "mesh_files.hpp"
+#include "urdf_error.hpp"
 #include "xacro.hpp"
 
 #include "asimov/collision/mesh_io.hpp"
@@ -124,7 +125,9 @@ class Parser {
       return collision::make_cylinder(positive(c, "radius") * kMm, positive(c, "length") * kMm, kCylinderSegments);
     if (const XMLElement* s = geometry->FirstChildElement("sphere")) {
       const double r = positive(s, "radius") * kMm;
-      return collision::make_sphere(r, std::max(kSphereToleranceMm, r * 1e-3));  // as cell files
+      Result<collision::Polyhedron> p = collision::make_sphere(r, std::max(kSphereToleranceMm, r * 1e-3));  // as cell files
+      if (!p) fail(s, p.error().message);
+      return std::move(*p);
     }
     if (const XMLElement* m = geometry->FirstChildElement("mesh")) {
       const std::string file = required(m, "filename");
@@ -135,13 +138,11 @@ class Parser {
       if (!std::filesystem::is_regular_file(p, ec))  // a collision mesh is never skipped
         fail(m, "<mesh filename=\"" + file + "\">: no such file: " + p.string());
       const Vec3 scale = triple(m, "scale", Vec3::Ones()) * kMm;
-      try {  // by extension (STL, OBJ, assimp formats); collision::MeshError names the file and face
-        collision::LoadedMesh loaded = read_mesh_file(p.string(), scale);
-        for (auto& w : loaded.warnings) warnings_.push_back(source_ + ":" + std::to_string(m->GetLineNum()) + ": " + w);
-        return std::move(loaded.mesh);
-      } catch (const collision::MeshError& err) {
-        fail(m, err.what());
-      }
+      // By extension (STL, OBJ, assimp formats); the Error names the file and face.
+      Result<collision::LoadedMesh> loaded = read_mesh_file(p.string(), scale);
+      if (!loaded) fail(m, loaded.error().message);
+      for (auto& w : loaded->warnings) warnings_.push_back(source_ + ":" + std::to_string(m->GetLineNum()) + ": " + w);
+      return std::move(loaded->mesh);
     }
     fail(geometry, "<geometry> needs a box, cylinder, sphere or mesh");
   }
@@ -335,29 +336,41 @@ class Parser {
 };
 }  // namespace
 
-UrdfError::UrdfError(std::string file, int line, const std::string& message)
-    : std::runtime_error(file + ":" + std::to_string(line) + ": " + message), file_(std::move(file)), line_(line) {}
+namespace {
+Error as_error(const UrdfError& e) { return Error{e.what(), "", e.file(), e.line()}; }
 
-Robot load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir,
-                     const UrdfOptions& options) {
+Robot load_text_or_throw(const std::string& xml, const std::string& source_name, const std::string& base_dir,
+                         const UrdfOptions& options) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)
     throw UrdfError(source_name, doc.ErrorLineNum(), std::string("XML error: ") + doc.ErrorStr());
   return Parser(source_name, base_dir, options).robot(doc.RootElement());
 }
 
-Robot load_urdf(const std::string& path, const UrdfOptions& options) {
-  std::string xml;
-  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  if (std::filesystem::path(path).extension() == ".xacro")
-    return load_urdf_text(expand_xacro(path, options.packages, options.xacro_args), path + " (expanded)",
-                          dir.empty() ? "." : dir.string(), options);
+}  // namespace
+
+Result<Robot> load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir,
+                             const UrdfOptions& options) {
   try {
-    xml = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
-  } catch (const collision::FileReadError& e) {
-    throw UrdfError(path, 0, e.what());
+    return load_text_or_throw(xml, source_name, base_dir, options);
+  } catch (const UrdfError& e) {
+    return as_error(e);
   }
-  return load_urdf_text(xml, path, dir.empty() ? "." : dir.string(), options);
+}
+
+Result<Robot> load_urdf(const std::string& path, const UrdfOptions& options) {
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  const std::string base_dir = dir.empty() ? "." : dir.string();
+  try {
+    if (std::filesystem::path(path).extension() == ".xacro")
+      return load_text_or_throw(expand_xacro(path, options.packages, options.xacro_args), path + " (expanded)", base_dir,
+                                options);
+  } catch (const UrdfError& e) {
+    return as_error(e);
+  }
+  Result<std::string> xml = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
+  if (!xml) return Error{path + ":0: " + xml.error().message, "", path};
+  return load_urdf_text(*xml, path, base_dir, options);
 }
 
 }  // namespace asimov::robots

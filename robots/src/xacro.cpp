@@ -351,11 +351,11 @@ class Expander {
 
   const XMLDocument& load(const std::string& path, const XMLElement* from, const std::string& from_file) {
     std::string xml;
-    try {
-      xml = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
-    } catch (const collision::FileReadError& e) {
-      if (from) throw UrdfError(from_file, from->GetLineNum(), std::string("<xacro:include>: ") + e.what());
-      throw UrdfError(path, 0, e.what());
+    if (Result<std::string> text = collision::read_file_bounded(path, collision::kMaxTextFileBytes)) {
+      xml = std::move(*text);
+    } else {
+      if (from) throw UrdfError(from_file, from->GetLineNum(), "<xacro:include>: " + text.error().message);
+      throw UrdfError(path, 0, text.error().message);
     }
     auto doc = std::make_unique<XMLDocument>();
     if (doc->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS)

@@ -4,6 +4,7 @@
 // Errors throw UrdfError naming file, line and construct.
 #pragma once
 #include "asimov/robots/package_path.hpp"
+#include "urdf_error.hpp"
 
 #include <map>
 #include <string>

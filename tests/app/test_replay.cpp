@@ -208,8 +208,8 @@ TEST_CASE("replay to a folder that does not exist: exit 1, cannot write") {
 
 TEST_CASE("replay recording: off by default, and on it leaves the run unchanged") {
   const auto run = [](bool replay, motion::Simulator& sim) {
-    sim.set_trace(true);
-    if (replay) sim.set_replay(app::kReplayGridS);
+    sim.recorders().trace.on = true;
+    if (replay) sim.recorders().replay.grid_s = app::kReplayGridS;
     motion::SpeedSettings speed;
     robots::JointVector a = sim.joints(), b = sim.joints();
     a[0] += 40, a[2] -= 30, a[4] += 30, b[0] -= 30, b[2] -= 20;
@@ -226,16 +226,16 @@ TEST_CASE("replay recording: off by default, and on it leaves the run unchanged"
   motion::Simulator off(cell::default_cell()), on(cell::default_cell());
   REQUIRE(run(false, off) == motion::MotionStatus::ok);
   REQUIRE(run(true, on) == motion::MotionStatus::ok);
-  CHECK(off.replay().empty());
-  CHECK(on.poses_checked() == off.poses_checked());
+  CHECK(off.recorders().replay.samples.empty());
+  CHECK(on.recorders().counts.poses == off.recorders().counts.poses);
   CHECK(on.time_s() == off.time_s());
-  CHECK(on.accuracy().ik_solves == off.accuracy().ik_solves);
-  CHECK(on.accuracy().ik_residual.position_mm == off.accuracy().ik_residual.position_mm);
-  REQUIRE(on.trace().size() == off.trace().size());
+  CHECK(on.recorders().accuracy.figures.ik_solves == off.recorders().accuracy.figures.ik_solves);
+  CHECK(on.recorders().accuracy.figures.ik_residual.position_mm == off.recorders().accuracy.figures.ik_residual.position_mm);
+  REQUIRE(on.recorders().trace.samples.size() == off.recorders().trace.samples.size());
 
   // Every checked pose, in order, and the grid between them: no gap in a motion wider than
   // the grid (the WAIT is the one longer gap: the arm stands still there).
-  const auto& rep = on.replay();
+  const auto& rep = on.recorders().replay.samples;
   std::size_t k = 0, wide = 0;
   for (std::size_t i = 0; i < rep.size(); ++i) {
     if (i > 0) {
@@ -243,21 +243,21 @@ TEST_CASE("replay recording: off by default, and on it leaves the run unchanged"
       if (rep[i].time_s - rep[i - 1].time_s > app::kReplayGridS + 1e-12) ++wide;
     }
     if (!rep[i].checked) continue;
-    REQUIRE(k < on.trace().size());
-    CHECK(rep[i].time_s == on.trace()[k].time_s);
-    CHECK(rep[i].joints == on.trace()[k].joints);
+    REQUIRE(k < on.recorders().trace.samples.size());
+    CHECK(rep[i].time_s == on.recorders().trace.samples[k].time_s);
+    CHECK(rep[i].joints == on.recorders().trace.samples[k].joints);
     ++k;
   }
-  CHECK(k == on.trace().size());
+  CHECK(k == on.recorders().trace.samples.size());
   CHECK(wide == 1);
   CHECK(rep.back().step == 3);
   CHECK(rep.back().time_s == on.time_s());
-  CHECK(rep.size() > on.trace().size());
+  CHECK(rep.size() > on.recorders().trace.samples.size());
 
   // The straight line (step 2) is replayed on the line: its tool points, checked or on the grid,
   // lie on the segment from where the joint move ended to where the line ended.
   const auto tool_at = [&on](const robots::JointVector& q) {
-    return Eigen::Vector3d((on.base() * robots::flange_pose(on.robot(), q) * on.tool()).translation());
+    return Eigen::Vector3d((on.settings().base * robots::flange_pose(on.robot(), q) * on.settings().tool).translation());
   };
   std::optional<Eigen::Vector3d> from, to;
   std::vector<Eigen::Vector3d> line;

@@ -1,5 +1,6 @@
 // Bounded reads and printable text (issue 17): the helpers every loader and message uses.
 #include "asimov/collision/text_file.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -27,11 +28,15 @@ TEST_CASE("read_file_bounded: files, folders, devices, the limit", "[text][hosti
   std::filesystem::create_directories(dir);
   const auto file = dir / "f.txt";
   std::ofstream(file, std::ios::binary) << std::string(100, 'x');
-  CHECK(read_file_bounded(file.string(), 100) == std::string(100, 'x'));
-  CHECK_THROWS_WITH(read_file_bounded(file.string(), 99), "is larger than 99 bytes, the limit for this kind of file");
-  CHECK_THROWS_WITH(read_file_bounded(dir.string(), 100), "is a directory, not a file");
-  CHECK_THROWS_WITH(read_file_bounded((dir / "none").string(), 100), "cannot open the file (No such file or directory)");
-  CHECK_THROWS_WITH(read_file_bounded("/dev/zero", 1 << 20), "is larger than 1 MiB, the limit for this kind of file");
-  CHECK(read_file_bounded("/dev/null", 10).empty());
+  CHECK(asimov::test::must(read_file_bounded(file.string(), 100)) == std::string(100, 'x'));
+  const auto message = [](const std::string& path, std::size_t limit) {
+    return asimov::test::error_message(read_file_bounded(path, limit));
+  };
+  CHECK(message(file.string(), 99) == "is larger than 99 bytes, the limit for this kind of file");
+  CHECK(message(dir.string(), 100) == "is a directory, not a file");
+  CHECK(message((dir / "none").string(), 100) == "cannot open the file (No such file or directory)");
+  CHECK(message("/dev/zero", 1 << 20) == "is larger than 1 MiB, the limit for this kind of file");
+  CHECK(read_file_bounded(dir.string(), 100).error().file == dir.string());
+  CHECK(asimov::test::must(read_file_bounded("/dev/null", 10)).empty());
   std::filesystem::remove_all(dir);
 }

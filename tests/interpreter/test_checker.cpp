@@ -102,7 +102,7 @@ TEST_CASE("functions are known and have the right arity", "[checker]") {
   CHECK(check(".PROGRAM p()\nx = SIN(1) + ATAN2(1, 2) + MAX(1, 2, 3)\n.END\n").empty());
   auto e = check(".PROGRAM p()\nx = FOO(1)\n.END\n");
   REQUIRE(e.size() == 1);
-  CHECK(e[0].detail == "unknown function foo");
+  CHECK(e[0].detail == "unknown function FOO");  // as written
   e = check(".PROGRAM p()\nx = SIN(1, 2)\n.END\n");
   REQUIRE(e.size() == 1);
   CHECK(e[0].detail == "wrong number of arguments to sin");
@@ -161,4 +161,14 @@ TEST_CASE("a visible mix of strings and numbers is a syntax error", "[checker]")
   CHECK(check(".PROGRAM p()\nx = $s * 2\n.END\n").size() == 1);
   CHECK(check(".PROGRAM p()\nx = LEN($s) + 1\n$t = $s + \"x\"\nx = $s == \"a\"\n.END\n").empty());
   CHECK(check(".PROGRAM p()\nx = y + 1\n$t = $CHR(65) + $s\n.END\n").empty());
+}
+
+TEST_CASE("an unknown function is named as written, the caret under it", "[checker]") {
+  auto e = check(".PROGRAM p()\n  x = 1 + FooBar (2)\n.END\n");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].detail == "unknown function FooBar");
+  CHECK(e[0].column == 11);
+  e = check(".PROGRAM p()\n  x = foo.x + FOO(2)\n.END\n");  // not the variable foo.x
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].column == 15);
 }

@@ -82,7 +82,12 @@ TEST_CASE("at most 20 load errors", "[interpreter]") {
   std::string text = ".PROGRAM p()\n";
   for (int i = 0; i < 30; ++i) text += "  x = (\n";
   text += ".END\n";
-  CHECK(f.load(text).size() == 20);
+  const auto d = f.load(text);
+  REQUIRE(d.size() == 21);  // 20 errors and the note that says so
+  CHECK(d[19].message == "*Syntax error*");
+  CHECK(d[20].message == "*Too many errors*");
+  CHECK(d[20].detail == "10 more not reported (at most 20 per LOAD)");
+  CHECK(asimov::interpreter::format_diagnostic(d[20]) == "*Too many errors*  10 more not reported (at most 20 per LOAD)\n test.v2\n");
 }
 
 TEST_CASE("data sections assign globals when the load succeeds", "[interpreter][data]") {

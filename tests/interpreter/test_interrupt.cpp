@@ -40,7 +40,7 @@ const robots::JointVector kReady = jv6(0, -90, 90, 0, 0, 0);
 const robots::JointVector kFar = jv6(60, -45, 150, 20, 40, 30);
 
 bool passed_through(const motion::Simulator& sim, const robots::JointVector& q) {
-  return std::any_of(sim.trace().begin(), sim.trace().end(), [&](const auto& s) { return (s.joints - q).norm() == 0; });
+  return std::any_of(sim.recorders().trace.samples.begin(), sim.recorders().trace.samples.end(), [&](const auto& s) { return (s.joints - q).norm() == 0; });
 }
 
 constexpr const char* kProgram = R"(.PROGRAM main()
@@ -54,10 +54,10 @@ constexpr const char* kProgram = R"(.PROGRAM main()
 // Counts the poses of the uninterrupted program, so that N can be in its first motion.
 int first_motion_poses() {
   InterpreterFixture f;
-  f.sim.set_trace(true);
+  f.sim.recorders().trace.on = true;
   REQUIRE(f.load(kProgram).empty());
   REQUIRE(f.interp.run("main").status == RunStatus::completed);
-  const auto& tr = f.sim.trace();
+  const auto& tr = f.sim.recorders().trace.samples;
   const auto it = std::find_if(tr.begin(), tr.end(), [](const auto& s) { return (s.joints - kFar).norm() == 0; });
   REQUIRE(it != tr.end());
   return static_cast<int>(it - tr.begin()) + 1;
@@ -71,7 +71,7 @@ TEST_CASE("Ctrl-C inside a motion halts the arm there and PROCEED finishes the m
   for (const bool retry : {false, true}) {
     INFO((retry ? "RETRY" : "PROCEED"));
     InterpreterFixture f;
-    f.sim.set_trace(true);
+    f.sim.recorders().trace.on = true;
     FlagAfter stop;
     stop.n = poses / 2;
     stop.attach(f.sim, f.interp);
@@ -92,7 +92,7 @@ TEST_CASE("Ctrl-C inside a motion halts the arm there and PROCEED finishes the m
     CHECK((r.interrupt->joints - f.sim.joints()).norm() == 0);
     CHECK((f.sim.joints() - kReady).norm() > 1);
     CHECK((f.sim.joints() - kFar).norm() > 1);
-    CHECK(f.sim.poses_checked() == static_cast<std::uint64_t>(stop.n));
+    CHECK(f.sim.recorders().counts.poses == static_cast<std::uint64_t>(stop.n));
     CHECK_FALSE(passed_through(f.sim, kFar));
     REQUIRE(f.interp.can_resume());
 
@@ -199,7 +199,7 @@ TEST_CASE("monitor: Ctrl-C in a motion reports where the arm stopped, then STATU
 TEST_CASE("monitor: PROCEED reaches the target after a DO moved the arm or was itself interrupted", "[monitor][interrupt]") {
   const int poses = first_motion_poses();
   MonitorFixture m;
-  m.sim.set_trace(true);
+  m.sim.recorders().trace.on = true;
   FlagAfter stop;
   stop.n = poses / 2;
   stop.attach(m.sim, m.interp);

@@ -217,3 +217,16 @@ TEST_CASE("write_file_atomic replaces whole files and leaves nothing on failure"
   CHECK(files == 2);
   fs::remove_all(dir);
 }
+
+TEST_CASE("STATUS names the CALLed program where the execution stopped", "[monitor]") {
+  MonitorFixture f;
+  REQUIRE(f.load(".PROGRAM outer()\n  x = 1\n  CALL inner()\n.END\n.PROGRAM inner()\n  y = 2\n  z = 1 / 0\n.END\n")
+              .empty());
+  f.run("EXECUTE outer");
+  const std::string status = f.run("STATUS");
+  CHECK(status.find("Program: outer\n") != std::string::npos);
+  CHECK(status.find("State: stopped by error at step 2 of inner\n") != std::string::npos);
+  REQUIRE(f.load(".PROGRAM flat()\n  z = 1 / 0\n.END\n").empty());
+  f.run("EXECUTE flat");
+  CHECK(f.run("STATUS").find("State: stopped by error at step 1\n") != std::string::npos);
+}

@@ -227,8 +227,8 @@ TEST_CASE("READY, DRAW, TOOL, BASE and configuration words", "[motion]") {
   CHECK(f.out.str() == "30.000.00\n-1.00\n100.00\n");
   CHECK(f.sim.joints()[1] == Approx(-90).margin(1e-6));
   CHECK(f.sim.joints()[2] == Approx(90).margin(1e-6));
-  CHECK(f.sim.request().righty == 1);
-  CHECK(f.sim.request().single);
+  CHECK(f.sim.settings().request.righty == 1);
+  CHECK(f.sim.settings().request.single);
 }
 
 TEST_CASE("ALIGN turns tool Z onto the nearest world axis, DRIVE moves one joint", "[motion]") {

@@ -130,8 +130,12 @@ TEST_CASE("all syntax errors of a file are reported, one per line", "[parser][er
 }
 
 TEST_CASE("reserved words are not names, extended ones are", "[parser]") {
-  REQUIRE(errors_of("move = 3").size() == 1);
-  CHECK(errors_of("move = 3")[0].detail == "\"move\" is a keyword, not a variable");
+  for (const char* word : {"here", "tool", "base", "pi", "not", "to", "then", "value"}) {  // never names (dialect §1)
+    INFO(word);
+    const auto e = errors_of(std::string(word) + " = 3");
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].detail == "\"" + std::string(word) + "\" is a keyword, not a variable");
+  }
   CHECK(errors_of("x = \"tab\there\"").size() == 1);  // strings hold ASCII 32-126
   CHECK_FALSE(errors_of("x = to + 1").empty());
   CHECK(errors_of("move.x = 3").empty());
@@ -151,23 +155,87 @@ TEST_CASE("names are lower case and 15 characters", "[parser]") {
   CHECK(normalize_name("#a234567890123456789") == "#a23456789012345");
 }
 
-TEST_CASE("the reserved words of instructions.def never parse as variables; other keywords may", "[parser]") {
-  // The reserved words of dialect §1 (the list parser.cpp had before the table).
+TEST_CASE("the reserved words of instructions.def never parse as variables; instruction keywords may", "[parser]") {
+  // Operators, the words inside statements and the functions without parentheses (dialect §1).
   for (const char* w : {"and", "or", "xor", "not", "mod", "band", "bor", "bxor", "to", "step", "then", "else",
-                        "end", "do", "until", "while", "for", "if", "goto", "call", "return", "stop", "set",
-                        "decompose", "here", "move", "moves", "appro", "appros", "depart", "departs", "break",
-                        "speed", "type", "exit", "next", "pause", "halt", "always", "monitor", "by", "of",
-                        "value", "any", "case", "pi", "true", "false", "dest", "null", "random", "tool", "base",
-                        "auto", "local", "global", "elseif", "elif", "ready", "draw", "righty", "lefty", "above",
-                        "below", "flip", "noflip", "single", "multiple", "signal", "timer", "align", "drive",
-                        "wait", "prompt", "open", "close", "relax", "openi", "closei", "relaxi", "movet",
-                        "movest", "duration", "enable", "disable", "parameter", "switch"}) {
+                        "end", "do", "always", "monitor", "by", "of", "value", "any", "pi", "true", "false",
+                        "dest", "null", "random", "tool", "base", "here", "elseif", "elif"}) {
     INFO(w);
     CHECK(!errors_of(std::string("x = ") + w + "[1] + 1").empty());
   }
-  // Keywords that are not reserved stay usable as names.
+  // Instruction keywords are names in expressions, where no instruction can stand.
+  for (const char* w : {"until", "while", "for", "if", "goto", "call", "return", "stop", "set", "decompose", "move",
+                        "moves", "appro", "appros", "depart", "departs", "break", "speed", "type", "exit", "next",
+                        "pause", "halt", "case", "auto", "local", "global", "ready", "draw", "righty", "lefty",
+                        "above", "below", "flip", "noflip", "single", "multiple", "signal", "timer", "align",
+                        "drive", "wait", "prompt", "open", "close", "relax", "openi", "closei", "relaxi", "movet",
+                        "movest", "duration", "enable", "disable", "parameter", "switch"}) {
+    INFO(w);
+    CHECK(errors_of(std::string("x = ") + w + "[1] + 1").empty());
+  }
   for (const char* line : {"x = mmps + ips", "x = wait.event", "mmps = 1", "x = attach + read"}) {
     INFO(line);
     CHECK(errors_of(line).empty());
   }
+}
+
+TEST_CASE("lines end at LF, CR LF, CR CR LF or CR; the last needs no newline", "[parser]") {
+  for (const std::string eol : {"\n", "\r\n", "\r\r\n", "\r"}) {
+    INFO(int(eol.size()));
+    const auto p = parse_source(".PROGRAM p()" + eol + eol + "  x = 1" + eol + ".END", "t.v2");
+    CHECK(p.errors.empty());
+    REQUIRE(p.text.size() == 4);
+    CHECK(p.text[1].empty());
+    CHECK(p.text[2] == "  x = 1");
+    CHECK(p.text[3] == ".END");
+  }
+  const auto mixed = parse_source(".PROGRAM p()\r\r\n\r\r\n  x = 1\r\n.END\n", "t.v2");
+  CHECK(mixed.errors.empty());
+  CHECK(mixed.text.size() == 4);
+  const auto error_line = parse_source(".PROGRAM p()\r\r\n  x = (\r\r\n.END\r\r\n", "t.v2");  // numbered as written
+  REQUIRE(error_line.errors.size() == 1);
+  CHECK(error_line.errors[0].line == 2);
+}
+
+TEST_CASE("a control character is named", "[parser]") {
+  auto e = errors_of("x = 1\f");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].detail == "control character 0x0C (form feed)");
+  CHECK(e[0].column == 6);
+  CHECK(errors_of("x = 1 \x1a")[0].detail == "control character 0x1A (Ctrl-Z)");
+  CHECK(errors_of(std::string("x = 1", 5) + std::string(1, '\0'))[0].detail == "control character 0x00 (NUL)");
+  CHECK(errors_of("$s = \"a\x7f\"")[0].detail == "control character 0x7F (delete)");
+  CHECK(errors_of("x = 1 ; \f in a comment").empty());
+  CHECK(errors_of("x = 1\t; a tab is a blank").empty());
+}
+
+TEST_CASE("a # where the parse stops gets the comment hint", "[parser]") {
+  auto e = errors_of("x = 1  # set x");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].detail == "unexpected text; comments start with \";\" in V+");
+  CHECK(e[0].column == 8);
+  e = errors_of("# a comment");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].detail == "expected a statement; comments start with \";\" in V+");
+  CHECK(errors_of("SET #p = #PPOINT(1,2,3,4,5,6)").empty());  // precision points unchanged
+}
+
+TEST_CASE("instruction keywords are names where no instruction can stand", "[parser]") {
+  // Adept's ACE-generated ROS driver: `LOCAL ..., mode, stop`, `stop = STATE(4) BAND 4`, `IF stop THEN`.
+  for (const char* line : {"stop = STATE(4) BAND 4", "IF stop THEN", "move = 3", "type = 2", "wait = 1",
+                           "x = wait + open * 2", "speed[2] = 1", "IF (stop) THEN", "signal = SIG(1001)",
+                           "timer = 2", "for = 1", "x = call + if"}) {
+    INFO(line);
+    CHECK(errors_of(line).empty());
+  }
+  const auto p = parse_source(".PROGRAM p()\n  LOCAL a, mode, stop\n  AUTO type, wait\n  stop = 1\n  STOP\n"
+                              "  TIMER 1 = 0\n  FOR i = 1 TO 2\n  END\n.END\n", "t.v2");
+  CHECK(p.errors.empty());
+  CHECK(statement_as<ast::Binding>(p, 3));
+  const auto* stop = statement_as<ast::Instruction>(p, 4);
+  REQUIRE(stop);
+  CHECK(stop->kw == ast::Kw::stop);
+  CHECK(statement_as<ast::TimerStmt>(p, 5));  // still the TIMER statement
+  CHECK(statement_as<ast::ForStmt>(p, 6));
+  CHECK(errors_of("stop == 1").size() == 1);  // not an assignment: still an error
 }

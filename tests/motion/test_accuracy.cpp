@@ -65,9 +65,9 @@ TEST_CASE("accuracy: the step displacement bound covers every real vertex displa
   for (const Stepping stepping : {Stepping::fixed, Stepping::gap}) {
     const Cell cell = puma_cell(1.0, stepping);
     Simulator sim(cell);
-    sim.set_trace(true);
+    sim.recorders().trace.on = true;
     run_mixed(sim);
-    const auto& tr = sim.trace();
+    const auto& tr = sim.recorders().trace.samples;
     REQUIRE(tr.size() > 3);
     double real = 0;  // largest displacement of a body vertex between consecutive checked poses
     std::vector<collision::Vec3> prev = moving_vertices(cell, tr.front().joints);
@@ -76,19 +76,19 @@ TEST_CASE("accuracy: the step displacement bound covers every real vertex displa
       for (std::size_t v = 0; v < now.size(); ++v) real = std::max(real, (now[v] - prev[v]).norm());
       prev = now;
     }
-    const double bound = sim.accuracy().step_displacement_mm;
+    const double bound = sim.recorders().accuracy.figures.step_displacement_mm;
     INFO("stepping " << (stepping == Stepping::gap ? "gap" : "fixed") << ": real " << real << " mm, bound " << bound);
     CHECK(real <= bound);
     CHECK(real > 0.1 * bound);  // the bound is an upper bound, not a vacuous one
     if (stepping == Stepping::fixed) CHECK(bound <= 1.0);
-    CHECK(sim.accuracy().motions == 3);
+    CHECK(sim.recorders().accuracy.figures.motions == 3);
   }
 }
 
 TEST_CASE("accuracy: IK residuals of the PUMA are at rounding level", "[simulator][accuracy]") {
   Simulator sim(puma_cell());
   run_mixed(sim);
-  const RunAccuracy& a = sim.accuracy();
+  const RunAccuracy& a = sim.recorders().accuracy.figures;
   CHECK(a.ik_solves > 100);  // the line's samples and the MOVE target
   CHECK(a.ik_residual.position_mm <= 1e-9);
   CHECK(a.ik_residual.rotation_rad <= 1e-12);
@@ -104,10 +104,10 @@ TEST_CASE("accuracy: straight-line deviation between checked poses shrinks with 
     const Location to = trans(-150, 200, -100, 0, 0, 0) * sim.here() * trans(0, 0, 0, 30, 40, 0);
     REQUIRE(sim.start_move(to, true, {}, 1).status == MotionStatus::ok);
     REQUIRE(sim.finish_motion().status == MotionStatus::ok);
-    const RunAccuracy& a = sim.accuracy();
+    const RunAccuracy& a = sim.recorders().accuracy.figures;
     INFO("step " << step << ": " << a.line_deviation.position_mm << " mm, " << a.line_deviation.rotation_rad << " rad, "
                  << a.line_intervals << " intervals");
-    CHECK(a.line_intervals == sim.poses_checked() - 1);  // every checked pose but the start one
+    CHECK(a.line_intervals == sim.recorders().counts.poses - 1);  // every checked pose but the start one
     CHECK(a.line_deviation.position_mm > 0);
     CHECK(a.line_deviation.position_mm < previous);
     CHECK(a.line_deviation.position_mm < 0.1);
@@ -121,11 +121,11 @@ TEST_CASE("accuracy: the contact bracket is within toc_tolerance_s", "[simulator
     cell.collision.toc_tolerance_s = tol;
     cell.start_joints = jv({-40, -20, 169, 90, -90, 0});  // the crash demo's sweep into the box
     Simulator sim(cell);
-    CHECK_FALSE(sim.accuracy().contacts);
+    CHECK_FALSE(sim.recorders().accuracy.figures.contacts);
     REQUIRE(sim.start_joint_move(jv({60, -20, 169, 90, -90, 0}), {50, 50, -1, 0}, 1).status == MotionStatus::ok);
     const MotionResult r = sim.finish_motion();
     REQUIRE(r.status == MotionStatus::collision);
-    const RunAccuracy& a = sim.accuracy();
+    const RunAccuracy& a = sim.recorders().accuracy.figures;
     CHECK(a.contacts == 1);
     CHECK(a.contact_bracket_s == r.collision.time_s - r.collision.time_free_s);
     CHECK(a.contact_bracket_s <= tol);
@@ -135,13 +135,13 @@ TEST_CASE("accuracy: the contact bracket is within toc_tolerance_s", "[simulator
 
 TEST_CASE("timing: every phase of a run is measured; the caller adds the parse time", "[simulator][accuracy]") {
   Simulator sim(puma_cell());
-  const RunTiming& t = sim.timing();
+  const RunTiming& t = sim.recorders().timing.timing;
   CHECK(t.preprocess_s > 0);  // the engine was built in the constructor
   run_mixed(sim);
   CHECK(t.motion_s > 0);
   CHECK(t.collision_s > 0);
   CHECK(t.parse_s == 0);
-  sim.add_parse_time(0.5);
+  sim.recorders().timing.timing.parse_s += 0.5;
   CHECK(t.parse_s == 0.5);
 }
 
@@ -169,7 +169,7 @@ TEST_CASE("gap stepping: the same first contact as fixed stepping on random moti
       Outcome& o = out[st == Stepping::gap];
       o.start = straight ? sim.start_move(line_to * sim.here(), true, {}, 1) : sim.start_joint_move(target, {}, 1);
       if (o.start.status == MotionStatus::ok) o.end = sim.finish_motion();
-      o.poses = sim.poses_checked();
+      o.poses = sim.recorders().counts.poses;
     }
     INFO("clearance " << clearance << ", trial " << trial << (straight ? " (line)" : " (joint move)"));
     REQUIRE(out[0].start.status == out[1].start.status);

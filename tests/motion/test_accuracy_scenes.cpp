@@ -13,13 +13,17 @@ using namespace asimov::accuracy;
 namespace {
 
 constexpr double kSlack = 1e-9;  // [s]: rounding of the inverse profile and of the IK along the line
+constexpr double kNoBisection = 1e9;  // [s]: a tolerance above every sample interval
 
+// Bisection off (tolerance 1e9) is about the checked poses alone: continuous checking off too
+// (with it a contact between two checked poses is found at its instant, docs/collision.md §12).
 motion::CollisionSettings settings(double step_mm, double toc_tolerance_s,
                                    motion::Stepping stepping = motion::Stepping::fixed) {
   motion::CollisionSettings s;
   s.step_mm = step_mm;
   s.toc_tolerance_s = toc_tolerance_s;
   s.stepping = stepping;
+  s.continuous = toc_tolerance_s < kNoBisection;
   return s;
 }
 
@@ -46,7 +50,7 @@ TEST_CASE("accuracy scenes: the analytic contact lies in the reported bracket, p
     if (s.straight) CHECK(straight_line_duration_matches(s, 8));
 
     // Plain stepping (bisection off: tolerance above every sample interval) at a coarse step.
-    const motion::CollisionReport plain = contact(run(s, settings(8, 1e9)));
+    const motion::CollisionReport plain = contact(run(s, settings(8, kNoBisection)));
     check_bracket(s, plain);
     CHECK(plain.time_s - plain.time_free_s > 1e-4);  // a real sample interval, not a bisected one
     CHECK(plain.time_s > s.t_star);                  // the first colliding pose comes after t*
@@ -68,8 +72,8 @@ TEST_CASE("accuracy scenes: the analytic contact lies in the reported bracket, p
 TEST_CASE("accuracy scenes: without bisection the contact-instant error shrinks with the step", "[accuracy][toc]") {
   for (const AnalyticScene& s : analytic_scenes()) {
     INFO(s.name);
-    const motion::CollisionReport coarse = contact(run(s, settings(8, 1e9)));
-    const motion::CollisionReport fine = contact(run(s, settings(0.25, 1e9)));
+    const motion::CollisionReport coarse = contact(run(s, settings(8, kNoBisection)));
+    const motion::CollisionReport fine = contact(run(s, settings(0.25, kNoBisection)));
     check_bracket(s, fine);
     // The bracket is one sample interval: finer steps give shorter intervals and errors.
     CHECK(fine.time_s - fine.time_free_s < (coarse.time_s - coarse.time_free_s) / 2);
@@ -80,7 +84,7 @@ TEST_CASE("accuracy scenes: without bisection the contact-instant error shrinks 
 TEST_CASE("accuracy scenes: gap stepping brackets the analytic contact like fixed stepping", "[accuracy][toc][gap]") {
   for (const AnalyticScene& s : analytic_scenes()) {
     INFO(s.name);
-    const motion::CollisionReport plain = contact(run(s, settings(8, 1e9, motion::Stepping::gap)));
+    const motion::CollisionReport plain = contact(run(s, settings(8, kNoBisection, motion::Stepping::gap)));
     check_bracket(s, plain);
     CHECK(plain.time_s - plain.time_free_s > 1e-4);
     const motion::CollisionReport fine = contact(run(s, settings(1, 1e-7, motion::Stepping::gap)));

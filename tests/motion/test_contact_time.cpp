@@ -97,11 +97,11 @@ TEST_CASE("contact time: a J1 sweep into a wall is bisected to the analytic time
   CHECK(c.joints[0] - sim.joints()[0] < 1e-4);
   for (const auto& v : moving_vertices(cell, sim.joints())) CHECK(v.y() < Y0);
   // log2(sample spacing / 1e-6 s) midpoints and one check of the halting pose against every pair.
-  CHECK(sim.bisection_checks() >= 5);
-  CHECK(sim.bisection_checks() <= 30);
+  CHECK(sim.recorders().counts.bisection >= 5);
+  CHECK(sim.recorders().counts.bisection <= 30);
   WARN("J1 sweep: t* = " << t_star << " s, reported " << c.time_s << " s (error " << c.time_s - t_star
-                         << " s), bracket " << c.time_s - c.time_free_s << " s, " << sim.bisection_checks()
-                         << " bisection checks, " << sim.poses_checked() << " sampled poses");
+                         << " s), bracket " << c.time_s - c.time_free_s << " s, " << sim.recorders().counts.bisection
+                         << " bisection checks, " << sim.recorders().counts.poses << " sampled poses");
 }
 
 TEST_CASE("contact time: a straight line lowers a tool onto a plate", "[simulator][collision][toc]") {
@@ -141,5 +141,5 @@ TEST_CASE("contact time: a straight line lowers a tool onto a plate", "[simulato
     CHECK(test::point_surface_distance(c.point, mesh, pose) < 0.01);
   }
   WARN("straight line: tool " << top - low_hit << " mm into the plate at t_hit, " << low_free - top
-                              << " mm above at t_free, " << sim.bisection_checks() << " bisection checks");
+                              << " mm above at t_free, " << sim.recorders().counts.bisection << " bisection checks");
 }

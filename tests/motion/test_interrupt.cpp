@@ -59,15 +59,15 @@ TEST_CASE("interrupt: a joint move halts at a checked pose between start and tar
     const JointVector target = jv({60, -45, 150, 20, 40, 30});
     // Reference: the same motion, not interrupted, traced.
     Simulator ref(cell_with(stepping));
-    ref.set_trace(true);
+    ref.recorders().trace.on = true;
     REQUIRE(ref.start_joint_move(target, {}, 4).status == MotionStatus::ok);
     REQUIRE(ref.finish_motion().status == MotionStatus::ok);
-    const auto& poses = ref.trace();  // the start pose, then every checked pose up to the target
+    const auto& poses = ref.recorders().trace.samples;  // the start pose, then every checked pose up to the target
     REQUIRE(poses.size() >= 4);
     const double total_s = ref.time_s();
 
     Simulator sim(cell_with(stepping));
-    sim.set_trace(true);
+    sim.recorders().trace.on = true;
     FlagAfter stop;
     stop.n = static_cast<int>(poses.size()) / 2;
     stop.attach(sim);
@@ -77,7 +77,7 @@ TEST_CASE("interrupt: a joint move halts at a checked pose between start and tar
     CHECK_FALSE(sim.motion_pending());
     // Halted exactly at the n-th checked pose of the uninterrupted run, the clock there.
     const TraceSample& at = poses[static_cast<std::size_t>(stop.n - 1)];
-    CHECK(sim.poses_checked() == static_cast<std::uint64_t>(stop.n));
+    CHECK(sim.recorders().counts.poses == static_cast<std::uint64_t>(stop.n));
     CHECK((sim.joints() - at.joints).norm() == 0);
     CHECK(sim.time_s() == at.time_s);
     CHECK(sim.time_s() > 0);
@@ -96,15 +96,15 @@ TEST_CASE("interrupt: a joint move halts at a checked pose between start and tar
     // The rest: from where it stopped, along the same joint segment, to the same target.
     stop.flag = false;
     const double t_halt = sim.time_s();
-    const std::size_t traced = sim.trace().size();
+    const std::size_t traced = sim.recorders().trace.samples.size();
     REQUIRE(sim.resume_motion().status == MotionStatus::ok);
     CHECK_FALSE(sim.halted_motion().has_value());
     REQUIRE(sim.finish_motion().status == MotionStatus::ok);
     CHECK((sim.joints() - target).norm() == 0);
     CHECK(sim.time_s() > t_halt);
-    REQUIRE(sim.trace().size() > traced);
+    REQUIRE(sim.recorders().trace.samples.size() > traced);
     double off = 0;
-    for (std::size_t i = traced; i < sim.trace().size(); ++i) off = std::max(off, off_segment(sim.trace()[i].joints, start, target));
+    for (std::size_t i = traced; i < sim.recorders().trace.samples.size(); ++i) off = std::max(off, off_segment(sim.recorders().trace.samples[i].joints, start, target));
     CHECK(off < 1e-9);
   }
 }
@@ -116,10 +116,10 @@ TEST_CASE("interrupt: a straight line halts on the line and resumes to its targe
   REQUIRE(ref.finish_motion().status == MotionStatus::ok);
   const Location from = ref.here();
   const Location target = trans(150, 100, -200, 0, 0, 0) * from;
-  ref.set_trace(true);
+  ref.recorders().trace.on = true;
   REQUIRE(ref.start_move(target, true, {}, 2).status == MotionStatus::ok);
   REQUIRE(ref.finish_motion().status == MotionStatus::ok);
-  const std::size_t line_poses = ref.trace().size();
+  const std::size_t line_poses = ref.recorders().trace.samples.size();
   REQUIRE(line_poses >= 4);
   const double line_s = ref.time_s();
 
@@ -127,7 +127,7 @@ TEST_CASE("interrupt: a straight line halts on the line and resumes to its targe
   REQUIRE(sim.start_joint_move(start, {}, 1).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
   const double t0 = sim.time_s();
-  const std::uint64_t before = sim.poses_checked();
+  const std::uint64_t before = sim.recorders().counts.poses;
   FlagAfter stop;
   stop.seen = static_cast<int>(before);  // count the line's poses only
   stop.n = static_cast<int>(before + line_poses / 3);
@@ -135,8 +135,8 @@ TEST_CASE("interrupt: a straight line halts on the line and resumes to its targe
   REQUIRE(sim.start_move(target, true, {}, 2).status == MotionStatus::ok);
   const MotionResult r = sim.finish_motion();
   REQUIRE(r.status == MotionStatus::interrupted);
-  CHECK(sim.poses_checked() - before == line_poses / 3);
-  const TraceSample& at = ref.trace()[line_poses / 3 - 1];
+  CHECK(sim.recorders().counts.poses - before == line_poses / 3);
+  const TraceSample& at = ref.recorders().trace.samples[line_poses / 3 - 1];
   CHECK((sim.joints() - at.joints).norm() == 0);
   CHECK(sim.time_s() == at.time_s);
   CHECK(sim.time_s() > t0);
@@ -178,7 +178,7 @@ TEST_CASE("interrupt: a flag already set stops the motion at its start and WAIT 
   REQUIRE(sim.resume_motion().status == MotionStatus::ok);
   r = sim.hand_immediate(HandState::closed, 0.5);
   REQUIRE(r.status == MotionStatus::interrupted);
-  CHECK(sim.hand() == HandState::open);  // untouched
+  CHECK(sim.hand().state == HandState::open);  // untouched
   CHECK(sim.time_s() == t0);
   REQUIRE(sim.halted_motion().has_value());
 
@@ -186,7 +186,7 @@ TEST_CASE("interrupt: a flag already set stops the motion at its start and WAIT 
   sim.set_interrupt(nullptr);
   REQUIRE(sim.resume_motion().status == MotionStatus::ok);
   REQUIRE(sim.hand_immediate(HandState::closed, 0.5).status == MotionStatus::ok);
-  CHECK(sim.hand() == HandState::closed);
+  CHECK(sim.hand().state == HandState::closed);
   CHECK((sim.joints() - jv({0, -90, 150, 0, 0, 0})).norm() == 0);
   CHECK(sim.time_s() > t0 + 0.5);
 }
@@ -199,7 +199,7 @@ TEST_CASE("interrupt: with collision checking off the motion halts too and a new
   REQUIRE(sim.start_joint_move(jv({30, -90, 150, 0, 0, 0}), {}, 3).status == MotionStatus::ok);
   const MotionResult r = sim.finish_motion();
   REQUIRE(r.status == MotionStatus::interrupted);
-  CHECK(sim.poses_checked() == 5);
+  CHECK(sim.recorders().counts.poses == 5);
   CHECK(r.interrupt.path_fraction > 0);
   CHECK(r.interrupt.path_fraction < 1);
   REQUIRE(sim.halted_motion().has_value());

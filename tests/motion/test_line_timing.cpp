@@ -34,12 +34,12 @@ Measured run_line(const JointVector& start, Target target_of, double step_mm) {
   c.collision.enabled = false;
   c.collision.step_mm = step_mm;  // dense traced poses for the finite differences
   Simulator sim(std::move(c));
-  sim.set_trace(true);
+  sim.recorders().trace.on = true;
   const MotionResult r = sim.start_move(target_of(sim.here()), true, {}, 1);
   INFO(r.error.message << " " << r.error.detail);
   REQUIRE(r.status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
-  const auto& tr = sim.trace();
+  const auto& tr = sim.recorders().trace.samples;
   const auto& robot = sim.robot();
   Measured m;
   m.duration = sim.time_s();

@@ -40,12 +40,12 @@ TEST_CASE("simulator: a free joint move reaches its target", "[simulator]") {
   const MotionResult r = sim.finish_motion();
   REQUIRE(r.status == MotionStatus::ok);
   CHECK((sim.joints() - target).norm() == 0);
-  CHECK(sim.poses_checked() > 10);
+  CHECK(sim.recorders().counts.poses > 10);
   // J3 moves 60 deg at 90 deg/s, 360 deg/s^2: T = 60/90 + 90/360.
   CHECK(sim.time_s() == Approx(60.0 / 90 + 0.25));
   CHECK(sim.here().isApprox(robots::flange_pose(sim.robot(), target), 1e-12));
   CHECK(sim.dest().isApprox(sim.here(), 1e-12));
-  CHECK(sim.collision_counts().pairs_enabled > 0);
+  CHECK(sim.recorders().counts.counts.pairs_enabled > 0);
 }
 
 TEST_CASE("simulator: speed scales velocity only", "[simulator]") {
@@ -85,7 +85,7 @@ TEST_CASE("simulator: errors come before any pose is checked", "[simulator]") {
   CHECK(sim.start_move(bad, false, {}, 6).error.message == "*Location out of reach*");
   CHECK(sim.start_joint_move(jv({0, -90, 100, 0, 0, 0}), {0, 100, -1, 0}, 7).error.message == "*Illegal value*");
   CHECK_FALSE(sim.motion_pending());
-  CHECK(sim.poses_checked() == 0);
+  CHECK(sim.recorders().counts.poses == 0);
   CHECK(sim.time_s() == 0);
 }
 
@@ -156,7 +156,7 @@ TEST_CASE("simulator: the start pose of the first motion is checked", "[simulato
   REQUIRE(r.status == MotionStatus::collision);
   CHECK(r.collision.time_s == 0);
   CHECK((r.collision.joints - jv({0, -90, 90, 0, 0, 0})).norm() == 0);
-  CHECK(sim.poses_checked() == 1);
+  CHECK(sim.recorders().counts.poses == 1);
 }
 
 TEST_CASE("simulator: straight line, BASE and TOOL", "[simulator]") {
@@ -165,7 +165,7 @@ TEST_CASE("simulator: straight line, BASE and TOOL", "[simulator]") {
   cell.tool_shape = collision::transformed(collision::make_box({40, 40, 80}), collision::Pose(Eigen::Translation3d(0, 0, 100)));
   cell.objects.push_back(test::box_object("table", {700, 1200, 40}, {750, 0, -420}));
   Simulator sim(cell);
-  sim.set_trace(true);
+  sim.recorders().trace.on = true;
   REQUIRE(sim.start_joint_move(jv({10, -60, 150, 20, 40, 30}), {}, 1).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
   const Location target = trans(-80, 60, -100, 0, 0, 0) * sim.here() * trans(0, 0, 0, 0, 20, 0);
@@ -174,7 +174,7 @@ TEST_CASE("simulator: straight line, BASE and TOOL", "[simulator]") {
   CHECK((sim.here().translation() - target.translation()).norm() < 1e-6);
   CHECK((sim.here().linear() - target.linear()).norm() < 1e-9);
   // Every traced tool point of the line lies on the segment, times increase.
-  const auto& tr = sim.trace();
+  const auto& tr = sim.recorders().trace.samples;
   REQUIRE(tr.size() > 10);
   CHECK(tr.back().time_s == Approx(sim.time_s()));
   const collision::Vec3 p1 = target.translation();
@@ -198,7 +198,7 @@ TEST_CASE("simulator: straight line, BASE and TOOL", "[simulator]") {
   // BASE changes the interpretation of locations, not where the robot is.
   const JointVector before = sim.joints();
   const Location h0 = sim.here();
-  sim.set_base(trans(1000, 0, 0, 90, 0, 0));
+  sim.settings().base = trans(1000, 0, 0, 90, 0, 0);
   CHECK(sim.here().isApprox(trans(1000, 0, 0, 90, 0, 0) * h0, 1e-9));
   REQUIRE(sim.start_move(sim.here(), false, {}, 3).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
@@ -213,7 +213,7 @@ TEST_CASE("simulator: collision checking off never uses the engine", "[simulator
   CHECK_FALSE(sim.collision_engine_used());
   REQUIRE(sim.start_joint_move(jv({0, -90, 95, 0, 0, 0}), {}, 5).status == MotionStatus::ok);
   CHECK(sim.finish_motion().status == MotionStatus::ok);
-  CHECK(sim.collision_counts().pairs_enabled == 0);
+  CHECK(sim.recorders().counts.counts.pairs_enabled == 0);
 }
 
 TEST_CASE("simulator: configuration requests and INRANGE", "[simulator]") {
@@ -229,13 +229,13 @@ TEST_CASE("simulator: configuration requests and INRANGE", "[simulator]") {
   CHECK(sim.inrange(target) == 0);
   CHECK(sim.inrange(trans(3000, 0, 0, 0, 0, 0)) == 1);
   // Request NOFLIP: same tool pose, other wrist.
-  sim.request().noflip = 1;
+  sim.settings().request.noflip = 1;
   REQUIRE(sim.start_move(target, false, {}, 2).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
   CHECK(sim.configuration().noflip);
   CHECK(sim.configuration().righty);
   CHECK(sim.here().isApprox(target, 1e-9));
-  CHECK(sim.request().noflip == -1);  // consumed by the motion
+  CHECK(sim.settings().request.noflip == -1);  // consumed by the motion
   CHECK(sim.joints()[3] == Approx(140));
   CHECK(sim.joints()[4] == Approx(50));
   // The configuration reached is kept by the next motion.
@@ -243,6 +243,6 @@ TEST_CASE("simulator: configuration requests and INRANGE", "[simulator]") {
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
   CHECK(sim.configuration().noflip);
   // FLIP needs J4 = 140 + 180 = 320 or -40 ... -40 is fine; J4 = 200 would not be.
-  sim.request().noflip = 0;
+  sim.settings().request.noflip = 0;
   CHECK(sim.inrange(sim.here()) == 0);
 }

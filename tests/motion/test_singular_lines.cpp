@@ -27,12 +27,12 @@ Cell cell_at(const JointVector& start) {
 // Runs a refused straight line and checks nothing moved.
 MotionResult refused_line(Simulator& sim, const Location& target) {
   const JointVector before = sim.joints();
-  const std::uint64_t poses = sim.poses_checked();
+  const std::uint64_t poses = sim.recorders().counts.poses;
   const MotionResult r = sim.start_move(target, true, {}, 9);
   CHECK(r.status == MotionStatus::error);
   CHECK_FALSE(sim.motion_pending());
   CHECK(sim.finish_motion().status == MotionStatus::ok);
-  CHECK(sim.poses_checked() == poses);
+  CHECK(sim.recorders().counts.poses == poses);
   CHECK(sim.joints() == before);
   CHECK(sim.time_s() == 0);
   return r;
@@ -96,13 +96,13 @@ TEST_CASE("straight lines: every joint's speed stays within its limit", "[simula
   Cell c = cell_at(jv({0, -60, 150, 0, 3, 0}));
   c.collision.enabled = false;
   Simulator sim(std::move(c));
-  sim.set_trace(true);
+  sim.recorders().trace.on = true;
   const Location target = trans(0, 60, 0, 0, 0, 0) * sim.here();
   const MotionResult r = sim.start_move(target, true, {}, 1);
   INFO(r.error.message << " " << r.error.detail);
   REQUIRE(r.status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
-  const auto& trace = sim.trace();
+  const auto& trace = sim.recorders().trace.samples;
   REQUIRE(trace.size() > 10);
   double worst = 0;  // largest secant speed / limit over all joints and samples
   for (std::size_t i = 1; i < trace.size(); ++i) {

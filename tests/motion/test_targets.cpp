@@ -5,12 +5,14 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
 #include <cmath>
 
 using namespace asimov;
+using asimov::test::must;
 using namespace asimov::motion;
 using robots::JointVector;
 
@@ -96,7 +98,7 @@ TEST_CASE("targets: READY, DRIVE and its speed", "[targets]") {
 
 TEST_CASE("targets: APPRO / DEPART / DRAW / ALIGN reached by the simulator", "[targets][simulator]") {
   Simulator sim(free_cell(robots::puma560()));
-  sim.set_tool(trans(0, 0, 100, 0, 0, 0));
+  sim.settings().tool = trans(0, 0, 100, 0, 0, 0);
   const Location loc = trans(450, 150, -100, 0, 180, 0);
   REQUIRE(sim.start_move(appro_target(loc, 80), false, {}, 1).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
@@ -123,36 +125,36 @@ TEST_CASE("targets: APPRO / DEPART / DRAW / ALIGN reached by the simulator", "[t
 
 TEST_CASE("hand: OPEN/CLOSE/RELAX at the next motion start, OPENI waits HAND.TIME", "[targets][hand]") {
   Simulator sim(free_cell(robots::puma560()));
-  CHECK(sim.hand() == HandState::open);
+  CHECK(sim.hand().state == HandState::open);
   sim.request_hand(HandState::closed);
-  CHECK(sim.hand() == HandState::open);
-  CHECK(sim.hand_pending());
+  CHECK(sim.hand().state == HandState::open);
+  CHECK(sim.hand().pending.has_value());
   REQUIRE(sim.start_joint_move(jv({0, -90, 120, 0, 0, 0}), {}, 1).status == MotionStatus::ok);
-  CHECK(sim.hand() == HandState::closed);  // as the motion starts
-  CHECK_FALSE(sim.hand_pending());
+  CHECK(sim.hand().state == HandState::closed);  // as the motion starts
+  CHECK_FALSE(sim.hand().pending.has_value());
   // A refused motion does not start, so the request stays pending.
   sim.request_hand(HandState::relaxed);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
   CHECK(sim.start_joint_move(jv({0, -90, 300, 0, 0, 0}), {}, 2).status == MotionStatus::error);
-  CHECK(sim.hand() == HandState::closed);
-  CHECK(sim.hand_pending());
+  CHECK(sim.hand().state == HandState::closed);
+  CHECK(sim.hand().pending.has_value());
   // OPENI: waits for the motion, then HAND.TIME seconds; the pending RELAX is superseded.
   REQUIRE(sim.start_joint_move(jv({0, -90, 90, 0, 0, 0}), {}, 3).status == MotionStatus::ok);
-  CHECK(sim.hand() == HandState::relaxed);
+  CHECK(sim.hand().state == HandState::relaxed);
   REQUIRE(sim.motion_pending());
   sim.request_hand(HandState::closed);
   REQUIRE(sim.hand_immediate(HandState::open, 0.2).status == MotionStatus::ok);
   CHECK_FALSE(sim.motion_pending());
   const double t_motion = 30.0 / 90 + 0.25;
   CHECK(sim.time_s() == Approx(2 * t_motion + 0.2));
-  CHECK(sim.hand() == HandState::open);
-  CHECK_FALSE(sim.hand_pending());
+  CHECK(sim.hand().state == HandState::open);
+  CHECK_FALSE(sim.hand().pending.has_value());
   REQUIRE(sim.hand_immediate(HandState::closed).status == MotionStatus::ok);
   CHECK(sim.time_s() == Approx(2 * t_motion + 0.2 + kDefaultHandTime));
 }
 
 TEST_CASE("simulator: a URDF arm moves (numeric IK, straight lines, READY = zero pose)", "[targets][urdf]") {
-  robots::Robot r = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+  robots::Robot r = must(robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf"));
   Cell cell = free_cell(r);
   cell.collision.enabled = true;
   CellObject block;
@@ -188,7 +190,7 @@ TEST_CASE("simulator: a URDF arm moves (numeric IK, straight lines, READY = zero
 TEST_CASE("cells: the generic6 demo sequence completes without contact", "[targets][urdf][cell]") {
   // Mirrors programs/cells/generic6_cell.yaml and programs/cells/generic6_demo.v2.
   Cell cell;
-  cell.robot = robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+  cell.robot = must(robots::load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf"));
   cell.start_joints = robots::ready_joints(cell.robot);
   cell.tool = trans(0, 0, 150, 0, 0, 0);
   cell.tool_shape = collision::transformed(collision::make_box({40, 60, 120}), trans(0, 0, 70, 0, 0, 0));
@@ -217,5 +219,5 @@ TEST_CASE("cells: the generic6 demo sequence completes without contact", "[targe
   }
   REQUIRE(sim.start_joint_move(JointVector::Zero(6), {}, ++step).status == MotionStatus::ok);
   REQUIRE(sim.finish_motion().status == MotionStatus::ok);
-  WARN("generic6 demo: " << sim.poses_checked() << " poses checked, " << sim.time_s() << " s simulated");
+  WARN("generic6 demo: " << sim.recorders().counts.poses << " poses checked, " << sim.time_s() << " s simulated");
 }

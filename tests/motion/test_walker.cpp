@@ -48,6 +48,9 @@ struct Log final : WalkObserver {
     bisection += c.kind == QueryKind::bisection_pose;
     events += 'q';
   }
+  void on_distance(const collision::BodyPair&, const collision::DistanceResult&, const DistanceCost& c) override {
+    bisection += c.probe;  // continuous checking's probes between checked poses
+  }
   void on_ik(const PoseError&, std::uint64_t) override { events += 'i'; }
   void on_contact(const CollisionReport&, const JointVector&, double) override { events += 'c'; }
   void on_walk_end() override { events += 'e'; }
@@ -89,8 +92,8 @@ TEST_CASE("planner + walker: the facade's walk, bit for bit, observers in data-f
   CHECK(r.collision.step == 7);
   CHECK(st.joints == sim.joints());
   CHECK(st.time_s == sim.time_s());
-  CHECK(log.poses == sim.poses_checked());
-  CHECK(log.bisection == sim.bisection_checks());
+  CHECK(log.poses == sim.recorders().counts.poses);
+  CHECK(log.bisection == sim.recorders().counts.bisection);
   CHECK(log.bisection > 0);
 
   // b, the start pose (queried, then told), then per stretch: s q p; the contact; e.

@@ -10,6 +10,7 @@
 
 #include "support/joints.hpp"
 #include "support/link_bodies.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
@@ -18,6 +19,7 @@
 #include <random>
 
 using namespace asimov::robots;
+using asimov::test::must;
 using asimov::collision::Vec3;
 using asimov::test::jv;
 using asimov::test::random_joints;
@@ -102,7 +104,7 @@ void check_round_trips(const RoundTrip& rt) {
 
 TEST_CASE("cobra_s600 FK is the URDF's chain with V+ J3 = -1000 x its quill joint", "[cobra_s600]") {
   const Robot r = cobra_s600();
-  const Robot urdf = load_urdf_text(kCobraUrdf, "cobra_s600.urdf");
+  const Robot urdf = must(load_urdf_text(kCobraUrdf, "cobra_s600.urdf"));
   std::mt19937 rng(600);
   double ep = 0, er = 0;
   for (int k = 0; k < 20000; ++k) {

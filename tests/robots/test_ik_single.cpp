@@ -7,12 +7,14 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
 using namespace asimov;
+using asimov::test::must;
 using namespace asimov::robots;
 
 using asimov::test::jv;
@@ -35,7 +37,7 @@ IkResult solve_from(const Robot& r, const JointVector& target_joints, const Join
 }  // namespace
 
 TEST_CASE("SINGLE and MULTIPLE govern the last revolute joint of a URDF arm", "[ik][urdf][single]") {
-  const Robot g = load_urdf(kData + "generic6.urdf");
+  const Robot g = must(load_urdf(kData + "generic6.urdf"));
   REQUIRE(g.upper[5] > 340);  // J6 spans +-350 deg: two equivalents in range
   CHECK(last_revolute_joint(g) == 5);
   SphericalWristModel m;
@@ -72,7 +74,7 @@ TEST_CASE("SINGLE and MULTIPLE govern the last revolute joint of a URDF arm", "[
 }
 
 TEST_CASE("SINGLE on URDF arms: random poses keep J6 within -180 to 180, the other joints as MULTIPLE", "[ik][urdf][single]") {
-  const Robot g = load_urdf(kData + "generic6.urdf");
+  const Robot g = must(load_urdf(kData + "generic6.urdf"));
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> small(-3, 3);
   int wrapped = 0;

@@ -6,6 +6,7 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
@@ -14,6 +15,7 @@
 #include <random>
 
 using namespace asimov;
+using asimov::test::must;
 using namespace asimov::robots;
 
 using asimov::test::random_joints;
@@ -30,18 +32,18 @@ double wrapped_distance(const JointVector& a_rad, const JointVector& b_rad) {
 
 TEST_CASE("spherical wrist: detection", "[ik][spherical]") {
   SphericalWristModel m;
-  CHECK(spherical_wrist_model(load_urdf(kData + "generic6.urdf"), m));
+  CHECK(spherical_wrist_model(must(load_urdf(kData + "generic6.urdf")), m));
   CHECK((m.wrist - Vec3(520, 0, 900)).norm() < 1e-9);
-  CHECK(spherical_wrist_model(load_urdf(kData + "puma560.urdf"), m));
+  CHECK(spherical_wrist_model(must(load_urdf(kData + "puma560.urdf")), m));
   CHECK_FALSE(spherical_wrist_model(puma560(), m));  // DH robots use solve_puma
-  Robot bent = load_urdf(kData + "generic6.urdf");
+  Robot bent = must(load_urdf(kData + "generic6.urdf"));
   bent.chain[5].origin.translation().y() += 5;  // J6 axis no longer through the wrist centre
   CHECK_FALSE(spherical_wrist_model(bent, m));
 }
 
 TEST_CASE("spherical wrist: all solutions FK-exact, the original among them", "[ik][spherical][random]") {
   for (const char* file : {"generic6.urdf", "puma560.urdf"}) {
-    const Robot r = load_urdf(kData + file);
+    const Robot r = must(load_urdf(kData + file));
     SphericalWristModel m;
     REQUIRE(spherical_wrist_model(r, m));
     std::mt19937 rng(31);
@@ -75,7 +77,7 @@ TEST_CASE("spherical wrist: all solutions FK-exact, the original among them", "[
 
 TEST_CASE("spherical wrist: the PUMA as URDF gets the DH closed-form answers", "[ik][spherical]") {
   const Robot dh = puma560();
-  const Robot u = load_urdf(kData + "puma560.urdf");
+  const Robot u = must(load_urdf(kData + "puma560.urdf"));
   std::mt19937 rng(8);
   for (int n = 0; n < 2000; ++n) {
     const JointVector d = random_joints(dh, rng);
@@ -90,7 +92,7 @@ TEST_CASE("spherical wrist: the PUMA as URDF gets the DH closed-form answers", "
 }
 
 TEST_CASE("spherical wrist: singular wrist keeps J4, reach and limits", "[ik][spherical][singular]") {
-  const Robot r = load_urdf(kData + "generic6.urdf");
+  const Robot r = must(load_urdf(kData + "generic6.urdf"));
   SphericalWristModel m;
   REQUIRE(spherical_wrist_model(r, m));
   JointVector cur = JointVector::Zero(6);
@@ -115,7 +117,7 @@ TEST_CASE("spherical wrist: singular wrist keeps J4, reach and limits", "[ik][sp
 
 TEST_CASE("spherical wrist: configuration words agree with the PUMA's and select the branch", "[ik][spherical][configuration]") {
   const Robot dh = puma560();
-  const Robot u = load_urdf(kData + "puma560.urdf");
+  const Robot u = must(load_urdf(kData + "puma560.urdf"));
   std::mt19937 rng(77);
   int disagree = 0, tested = 0;
   for (int n = 0; n < 5000; ++n) {
@@ -128,7 +130,7 @@ TEST_CASE("spherical wrist: configuration words agree with the PUMA's and select
   CHECK(tested > 4900);
   // Every configuration of a pose of each arm: the solution carries the requested words.
   for (const char* file : {"generic6.urdf", "puma560.urdf"}) {
-    const Robot r = load_urdf(kData + file);
+    const Robot r = must(load_urdf(kData + file));
     JointVector start(6);
     start << 20, 30, -40, 40, -50, 60;
     if (std::string(file) == "puma560.urdf") start << 20, -30, 100, 40, -50, 60;
@@ -154,7 +156,7 @@ TEST_CASE("spherical wrist: configuration words agree with the PUMA's and select
 
 TEST_CASE("spherical wrist: branch labels agree with configuration_of", "[ik][spherical][configuration]") {
   for (const char* file : {"generic6.urdf", "puma560.urdf"}) {
-    const Robot r = load_urdf(kData + file);
+    const Robot r = must(load_urdf(kData + file));
     SphericalWristModel m;
     REQUIRE(spherical_wrist_model(r, m));
     std::mt19937 rng(3);

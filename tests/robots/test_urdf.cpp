@@ -7,6 +7,7 @@
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "support/joints.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
@@ -20,6 +21,7 @@
 #include <unistd.h>
 
 using namespace asimov;
+using asimov::test::must;
 using namespace asimov::robots;
 
 using asimov::test::random_joints;
@@ -35,12 +37,7 @@ double volume(const collision::Polyhedron& m) {
 }
 
 std::string error_of(const std::string& xml) {
-  try {
-    load_urdf_text(xml, "bad.urdf");
-  } catch (const UrdfError& e) {
-    return e.what();
-  }
-  return "no error";
+  return asimov::test::error_message(load_urdf_text(xml, "bad.urdf"));
 }
 
 const char* const kHead = "<?xml version=\"1.0\"?>\n<robot name=\"t\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n";
@@ -48,7 +45,7 @@ const char* const kHead = "<?xml version=\"1.0\"?>\n<robot name=\"t\">\n<link na
 
 TEST_CASE("URDF: the PUMA 560 written from the DH table reproduces the DH FK", "[urdf][puma560]") {
   const Robot dh = puma560();
-  const Robot u = load_urdf(kData + "puma560.urdf");
+  const Robot u = must(load_urdf(kData + "puma560.urdf"));
   REQUIRE(u.joint_count() == 6);
   REQUIRE(u.is_chain());
   CHECK_FALSE(is_puma_type(u));
@@ -73,7 +70,7 @@ TEST_CASE("URDF: the PUMA 560 written from the DH table reproduces the DH FK", "
 }
 
 TEST_CASE("URDF: the generic 6-axis arm loads with its bodies and hand-computed zero pose", "[urdf][generic6]") {
-  const Robot r = load_urdf(kData + "generic6.urdf");
+  const Robot r = must(load_urdf(kData + "generic6.urdf"));
   CHECK(r.name == "generic6");
   REQUIRE(r.joint_count() == 6);
   CHECK(r.lower[0] == Approx(-170));
@@ -108,7 +105,7 @@ TEST_CASE("URDF: the generic 6-axis arm loads with its bodies and hand-computed 
 }
 
 TEST_CASE("URDF: displacement bound holds for a chain arm", "[urdf][bound]") {
-  const Robot r = load_urdf(kData + "generic6.urdf");
+  const Robot r = must(load_urdf(kData + "generic6.urdf"));
   std::vector<BodyReach> reach;
   for (const auto& b : r.bodies) reach.push_back(body_reach(r, b.mesh, b.link));
   std::mt19937 rng(99);
@@ -141,7 +138,7 @@ TEST_CASE("URDF: prismatic joints move in mm, bound equals the travel", "[urdf][
                           "<axis xyz=\"0 0 2\"/><limit lower=\"-0.5\" upper=\"0.5\" velocity=\"0.25\"/></joint>\n"
                           "<joint name=\"turn\" type=\"continuous\"><parent link=\"b\"/><child link=\"c\"/>"
                           "<origin xyz=\"0.3 0 0\"/><axis xyz=\"0 0 1\"/></joint>\n</robot>\n";
-  const Robot r = load_urdf_text(xml, "slide.urdf");
+  const Robot r = must(load_urdf_text(xml, "slide.urdf"));
   REQUIRE(r.joint_count() == 2);
   CHECK(r.prismatic(0));
   CHECK(r.lower[0] == Approx(-500));
@@ -161,7 +158,7 @@ TEST_CASE("URDF: prismatic joints move in mm, bound equals the travel", "[urdf][
 }
 
 TEST_CASE("URDF: numeric IK converges on the generic arm", "[urdf][ik]") {
-  const Robot r = load_urdf(kData + "generic6.urdf");
+  const Robot r = must(load_urdf(kData + "generic6.urdf"));
   std::mt19937 rng(2026);
   const int n = 2000;
   int ok = 0, from_seed = 0;
@@ -190,7 +187,7 @@ TEST_CASE("URDF: numeric IK converges on the generic arm", "[urdf][ik]") {
 }
 
 TEST_CASE("URDF: numeric IK near the seed keeps the nearby solution", "[urdf][ik]") {
-  const Robot r = load_urdf(kData + "generic6.urdf");
+  const Robot r = must(load_urdf(kData + "generic6.urdf"));
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> small(-2, 2);
   for (int k = 0; k < 200; ++k) {
@@ -205,7 +202,7 @@ TEST_CASE("URDF: numeric IK near the seed keeps the nearby solution", "[urdf][ik
 }
 
 TEST_CASE("URDF: numeric IK tells out of reach from a joint limit", "[urdf][ik]") {
-  const Robot r = load_urdf(kData + "generic6.urdf");
+  const Robot r = must(load_urdf(kData + "generic6.urdf"));
   const JointVector ready = ready_joints(r);
   Pose far = flange_pose(r, ready);
   far.translation() = Vec3(3000, 0, 900);
@@ -224,7 +221,7 @@ TEST_CASE("URDF: numeric IK tells out of reach from a joint limit", "[urdf][ik]"
 }
 
 TEST_CASE("URDF: bad input is reported with file and line", "[urdf][errors]") {
-  CHECK_THROWS_WITH(load_urdf("/nonexistent/arm.urdf"), Catch::Contains("/nonexistent/arm.urdf:0: cannot open"));
+  CHECK_THAT(asimov::test::error_message(load_urdf("/nonexistent/arm.urdf")), Catch::Contains("/nonexistent/arm.urdf:0: cannot open"));
   CHECK_THAT(error_of("<robot name=\"t\">\n<link name=\"a\">\n</robot>\n"), Catch::StartsWith("bad.urdf:2: XML error"));
   CHECK_THAT(error_of(std::string(kHead) + "<joint name=\"j\" type=\"floating\"><parent link=\"a\"/><child link=\"b\"/></joint>\n</robot>"),
              Catch::StartsWith("bad.urdf:5: joint 'j': unsupported joint type 'floating'"));
@@ -250,7 +247,7 @@ TEST_CASE("URDF: bad input is reported with file and line", "[urdf][errors]") {
 }
 
 TEST_CASE("STL: ASCII and binary cubes, sphere tessellation", "[urdf][mesh]") {
-  // Meshes go through collision::read_mesh; its MeshError becomes a UrdfError at the <mesh> line.
+  // Meshes go through collision::read_mesh; its Error becomes the URDF error at the <mesh> line.
   const auto dir = std::filesystem::temp_directory_path() / ("asimov_test_urdf_stl_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const collision::Polyhedron box = collision::make_box(Vec3(1, 2, 3));
@@ -287,7 +284,7 @@ TEST_CASE("STL: ASCII and binary cubes, sphere tessellation", "[urdf][mesh]") {
            "<limit lower=\"-1\" upper=\"1\" velocity=\"1\"/></joint>\n</robot>\n";
   };
   for (const auto& name : {"cube_ascii.stl", "cube_binary.STL"}) {
-    const Robot r = load_urdf_text(urdf(std::string("<mesh filename=\"") + name + "\"/>"), "m.urdf", dir.string());
+    const Robot r = must(load_urdf_text(urdf(std::string("<mesh filename=\"") + name + "\"/>"), "m.urdf", dir.string()));
     REQUIRE(r.bodies.size() == 1);
     const collision::Polyhedron& m = r.bodies[0].mesh;
     CHECK(m.vertices.size() == 8);  // welded
@@ -300,17 +297,13 @@ TEST_CASE("STL: ASCII and binary cubes, sphere tessellation", "[urdf][mesh]") {
     bad << "solid x\n facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 nan 0\n   vertex 0 1 0\n"
            "  endloop\n endfacet\nendsolid x\n";
   }
-  std::string what = "no error";
-  try {
-    (void)load_urdf_text(urdf("<mesh filename=\"cube_ascii.stl\"/>"), "bad.urdf", dir.string());
-  } catch (const UrdfError& e) {
-    what = e.what();
-    CHECK(e.line() == 5);
-  }
+  const auto bad = load_urdf_text(urdf("<mesh filename=\"cube_ascii.stl\"/>"), "bad.urdf", dir.string());
+  const std::string what = asimov::test::error_message(bad);
+  CHECK((!bad.ok() && bad.error().line == 5));
   CHECK_THAT(what, Catch::StartsWith("bad.urdf:5: ") && Catch::Contains("cube_ascii.stl: face 1: non-finite"));
   CHECK_THAT(error_of(urdf("<mesh filename=\"arm.dae\"/>")), Catch::StartsWith("bad.urdf:5: ") && Catch::Contains("no such file: arm.dae"));
   std::filesystem::remove_all(dir);
-  const Robot sphere = load_urdf_text(urdf("<sphere radius=\"0.05\"/>"), "s.urdf");
+  const Robot sphere = must(load_urdf_text(urdf("<sphere radius=\"0.05\"/>"), "s.urdf"));
   REQUIRE(sphere.bodies.size() == 1);
   const double v = volume(sphere.bodies[0].mesh);
   CHECK(v > 4.0 / 3 * std::numbers::pi * std::pow(50 - 0.5, 3));  // every face within 0.5 mm of the sphere

@@ -7,6 +7,7 @@
 #include "support/joints.hpp"
 
 #include "support/run_cli.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -16,6 +17,7 @@
 #include <unistd.h>
 
 using namespace asimov::robots;
+using asimov::test::must;
 namespace fs = std::filesystem;
 
 namespace {
@@ -133,8 +135,8 @@ TEST_CASE("ROS_PACKAGE_PATH is searched after the given roots", "[urdf][packages
 TEST_CASE("a ROS-style package: package:// COLLADA meshes in mm Z_UP and m Y_UP match the primitives", "[urdf][packages]") {
   UrdfOptions o;
   o.packages.add_root(kWorkspace);
-  const Robot demo = load_urdf((kPackage / "urdf/demo6.urdf").string(), o);
-  const Robot generic = load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf");
+  const Robot demo = must(load_urdf((kPackage / "urdf/demo6.urdf").string(), o));
+  const Robot generic = must(load_urdf(std::string(ASIMOV_SOURCE_DIR) + "/robots/data/generic6.urdf"));
   // base_link.dae: the box 280 x 280 x 180 mm standing on the floor.
   const auto [blo, bhi] = bounds(body(demo, "base_link").mesh);
   CHECK((blo - Vec3(-140, -140, 0)).norm() < 1e-6);
@@ -155,32 +157,29 @@ TEST_CASE("COLLADA X_UP, other assimp formats, and bad or missing meshes", "[urd
   const fs::path d = scratch();
   // X_UP: file X is up, file -Y is world X.
   write(d / "x.dae", dae_box(300, 100, 200, 150, 0, 0, 0.001, "X_UP"));
-  const Robot rx = load_urdf_text(one_link("x.dae"), "x.urdf", d.string());
+  const Robot rx = must(load_urdf_text(one_link("x.dae"), "x.urdf", d.string()));
   const auto [xlo, xhi] = bounds(rx.bodies[0].mesh);
   CHECK((xlo - Vec3(-50, -100, 0)).norm() < 1e-6);
   CHECK((xhi - Vec3(50, 100, 300)).norm() < 1e-6);
   // The URDF scale applies after the file's units.
-  const Robot rs = load_urdf_text(one_link("x.dae", " scale=\"2 2 2\""), "x.urdf", d.string());
+  const Robot rs = must(load_urdf_text(one_link("x.dae", " scale=\"2 2 2\""), "x.urdf", d.string()));
   CHECK((bounds(rs.bodies[0].mesh).second - Vec3(100, 200, 600)).norm() < 1e-6);
   // file:// with an absolute path.
-  const Robot rf = load_urdf_text(one_link("file://" + (d / "x.dae").string()), "x.urdf", "/");
+  const Robot rf = must(load_urdf_text(one_link("file://" + (d / "x.dae").string()), "x.urdf", "/"));
   CHECK(rf.bodies[0].mesh.triangles.size() == 12);
   // An ASCII PLY tetrahedron (metres) through assimp.
   write(d / "t.ply",
         "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
         "element face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n0.1 0 0\n0 0.1 0\n0 0 0.1\n"
         "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
-  const Robot rp = load_urdf_text(one_link("t.ply"), "t.urdf", d.string());
+  const Robot rp = must(load_urdf_text(one_link("t.ply"), "t.urdf", d.string()));
   CHECK((bounds(rp.bodies[0].mesh).second - Vec3(100, 100, 100)).norm() < 1e-4);
-  // Missing file, missing package, unreadable mesh: UrdfError at the <mesh> line.
+  // Missing file, missing package, unreadable mesh: an Error at the <mesh> line.
   const auto message = [&](const std::string& urdf) {
-    try {
-      load_urdf_text(urdf, "m.urdf", d.string());
-    } catch (const UrdfError& e) {
-      CHECK(e.line() == 2);
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    const auto r = load_urdf_text(urdf, "m.urdf", d.string());
+    if (r) return std::string("no error");
+    CHECK(r.error().line == 2);
+    return r.error().message;
   };
   CHECK(message(one_link("nothere.dae")).find("no such file") != std::string::npos);
   CHECK(message(one_link("package://nopkg/m.dae")).find("package 'nopkg' not found") != std::string::npos);

@@ -11,6 +11,7 @@
 
 #include "support/joints.hpp"
 #include "support/link_bodies.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
@@ -21,6 +22,7 @@
 #include <random>
 
 using namespace asimov::robots;
+using asimov::test::must;
 using asimov::collision::Vec3;
 using asimov::test::jv;
 using asimov::test::random_joints;
@@ -158,7 +160,7 @@ void check_round_trips(const RoundTrip& rt) {
 TEST_CASE("viper_s650 FK is ViSP's closed form and the URDF's chain", "[viper_s650]") {
   const Robot r = viper_s650();
   REQUIRE(is_viper_type(r));
-  const Robot urdf = load_urdf_text(kViperUrdf, "viper_s650.urdf");
+  const Robot urdf = must(load_urdf_text(kViperUrdf, "viper_s650.urdf"));
   std::mt19937 rng(650);
   double ev = 0, eu = 0, rv = 0, ru = 0;
   for (int k = 0; k < 20000; ++k) {

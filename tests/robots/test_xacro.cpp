@@ -8,6 +8,7 @@
 #include "support/joints.hpp"
 
 #include "support/run_cli.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -17,6 +18,7 @@
 #include <unistd.h>
 
 using namespace asimov::robots;
+using asimov::test::must;
 namespace fs = std::filesystem;
 
 namespace {
@@ -63,8 +65,8 @@ std::string joint(const std::string& origin_z, const std::string& lower, const s
 TEST_CASE("xacro: the ROS-style package expands to the hand-written URDF's arm", "[urdf][xacro]") {
   UrdfOptions o;
   o.packages.add_root(kWorkspace);
-  const Robot urdf = load_urdf((kPackage / "urdf/demo6.urdf").string(), o);
-  const Robot xacro = load_urdf((kPackage / "urdf/demo6.xacro").string(), o);
+  const Robot urdf = must(load_urdf((kPackage / "urdf/demo6.urdf").string(), o));
+  const Robot xacro = must(load_urdf((kPackage / "urdf/demo6.xacro").string(), o));
   REQUIRE(xacro.joint_count() == urdf.joint_count());
   for (int i = 0; i < urdf.joint_count(); ++i) {
     CHECK(xacro.chain[i].name == urdf.chain[i].name);
@@ -89,7 +91,7 @@ TEST_CASE("xacro: the ROS-style package expands to the hand-written URDF's arm",
   }
   // $(arg prefix) from the caller renames every link and joint.
   o.xacro_args["prefix"] = "r1_";
-  const Robot prefixed = load_urdf((kPackage / "urdf/demo6.xacro").string(), o);
+  const Robot prefixed = must(load_urdf((kPackage / "urdf/demo6.xacro").string(), o));
   CHECK(prefixed.chain[0].name == "r1_joint_1");
   CHECK(prefixed.chain[5].name == "r1_joint_6");
 }
@@ -144,7 +146,7 @@ TEST_CASE("xacro: a robot through relative includes loads with the computed valu
   write("inc/part.xacro", std::string(kNs) + "<xacro:property name=\"z\" value=\"${0.1 * 3}\"/></robot>\n");
   const fs::path top = write("rel.xacro", std::string(kNs) + "<xacro:include filename=\"inc/part.xacro\"/>" +
                                               joint("${z}", "${radians(-90)}", "${pi / 2}") + "</robot>\n");
-  const Robot r = load_urdf(top.string());
+  const Robot r = must(load_urdf(top.string()));
   REQUIRE(r.joint_count() == 1);
   CHECK(r.lower[0] == Approx(-90).epsilon(1e-12));
   CHECK(r.upper[0] == Approx(90).epsilon(1e-12));

@@ -26,6 +26,8 @@ constexpr double kBlade = 0.5;  // tool blade thickness along the sweep [mm]
 
 struct Setting {
   double plate_mm, step_mm, clearance_mm;
+  double blade_mm = kBlade;
+  bool continuous = false;  // continuous checking between checked poses (docs/collision.md §12)
 };
 
 struct Outcome {
@@ -35,14 +37,14 @@ struct Outcome {
   std::uint64_t poses = 0;    // checked poses of the sweep (first phase)
 };
 
-Cell base_cell() {
+Cell base_cell(double blade_mm = kBlade) {
   Cell c;
   c.robot = robots::puma560();
   c.tool = trans(0, 0, 200, 0, 0, 0);
   // The blade: 60 mm wide (flange X), 0.5 mm thin (flange Y), 100 mm long (flange Z).
   collision::Pose at = collision::Pose::Identity();
   at.translation() = collision::Vec3(0, 0, 150);
-  c.tool_shape = collision::transformed(collision::make_box({60, kBlade, 100}), at);
+  c.tool_shape = collision::transformed(collision::make_box({60, blade_mm, 100}), at);
   return c;
 }
 
@@ -62,7 +64,7 @@ robots::JointVector sweep_start() {
 // crosses it edge-first over its lower 50 mm, its thin side leading (rotating about J1, the
 // blade's far end sets the sample spacing, its near end the time inside the plate).
 Cell thin_cell(const Setting& s, double offset, Stepping stepping) {
-  Cell c = base_cell();
+  Cell c = base_cell(s.blade_mm);
   robots::JointVector mid = sweep_start();
   mid[0] += 10;
   std::vector<collision::Pose> frames;
@@ -75,6 +77,7 @@ Cell thin_cell(const Setting& s, double offset, Stepping stepping) {
   c.collision.step_mm = s.step_mm;
   c.collision.clearance_mm = s.clearance_mm;
   c.collision.stepping = stepping;
+  c.collision.continuous = s.continuous;
   c.start_joints = sweep_start();
   return c;
 }
@@ -90,7 +93,7 @@ Outcome sweep(const Setting& s, double speed = 100, Stepping stepping = Stepping
   for (int k = 0; k < kPhases; ++k) {
     const Cell cell = thin_cell(s, std::max(s.step_mm, s.clearance_mm) * k / kPhases, stepping);
     Simulator sim(cell);
-    sim.set_trace(true);
+    sim.recorders().trace.on = true;
     SpeedSettings speed_settings;
     speed_settings.program = speed;
     REQUIRE(sim.start_joint_move(target, speed_settings, 1).status == MotionStatus::ok);
@@ -100,8 +103,8 @@ Outcome sweep(const Setting& s, double speed = 100, Stepping stepping = Stepping
       else ++out.other;
     }
     if (k == 0) {  // spacing measured on the first phase
-      out.poses = sim.poses_checked();
-      const auto& tr = sim.trace();
+      out.poses = sim.recorders().counts.poses;
+      const auto& tr = sim.recorders().trace.samples;
       std::vector<collision::Pose> fa, fb;
       for (std::size_t i = 1; i < tr.size(); ++i) {
         robots::link_frames(cell.robot, tr[i - 1].joints, fa);
@@ -123,7 +126,7 @@ TEST_CASE("thin plates at clearance 0: samples farther apart than plate plus bla
     INFO("plate " << s.plate_mm << " mm, step_mm " << s.step_mm << ": contacts " << o.contacts << " of " << kPhases
                   << ", max tool step " << o.max_tool_step << " mm, poses " << o.poses);
     CHECK(o.other == 0);
-    CHECK(o.max_tool_step > s.plate_mm + kBlade);  // the blade can pass between two samples ...
+    CHECK(o.max_tool_step > s.plate_mm + s.blade_mm);  // the blade can pass between two samples ...
     CHECK(o.contacts < kPhases);                   // ... and does for some plate positions
     CHECK(o.contacts > 0);                         // (not all: it depends on where samples fall)
   }
@@ -139,7 +142,7 @@ TEST_CASE("thin plates at clearance 0: samples closer than plate plus blade neve
                   << ", max tool step " << o.max_tool_step << " mm, poses " << o.poses);
     CHECK(o.other == 0);
     CHECK(o.max_tool_step <= s.step_mm);
-    CHECK(o.max_tool_step <= s.plate_mm + kBlade);
+    CHECK(o.max_tool_step <= s.plate_mm + s.blade_mm);
     CHECK(o.contacts == kPhases);
     const Outcome gap = sweep(s, 100, Stepping::gap);
     CHECK(gap.other == 0);
@@ -170,4 +173,24 @@ TEST_CASE("thin plates: SPEED does not change which contacts are seen (samples a
     CHECK(fast.contacts == slow.contacts);
     CHECK(fast.poses == slow.poses);
   }
+}
+
+TEST_CASE("thin plates at the default settings: continuous checking misses no contact at any thickness",
+          "[stiff][thin][continuous]") {
+  // docs/stiff-cases.md, table "Thin things, continuous": plates 0.01-1 mm, blades 0.05-1 mm,
+  // step_mm 1 (default), 5 and 20, clearance 0, SPEED 100, 12 plate positions each; gap
+  // stepping (the default) with continuous checking (the default).
+  int runs = 0, misses = 0;
+  for (const double plate : {0.01, 0.1, 1.0})
+    for (const double blade : {0.05, 0.5, 1.0})
+      for (const double step : {1.0, 5.0, 20.0}) {
+        const Setting s{plate, step, 0, blade, true};
+        const Outcome o = sweep(s, 100, Stepping::gap);
+        INFO("plate " << plate << " blade " << blade << " step_mm " << step << ": contacts " << o.contacts);
+        CHECK(o.other == 0);
+        CHECK(o.contacts == kPhases);
+        runs += kPhases;
+        misses += kPhases - o.contacts;
+      }
+  WARN("thin plates, continuous: " << runs << " runs, " << misses << " misses");
 }

@@ -31,6 +31,9 @@ class Engine {
   Engine(Engine&&) noexcept;
   Engine& operator=(Engine&&) noexcept;
 
+  // Precondition: def.mesh as validate_mesh (mesh_io.hpp) leaves it: finite vertices, indices
+  // in range. Every path from user input validates first; a violation is the caller's bug and
+  // throws std::invalid_argument (docs/design.md "Errors": preconditions are not errors).
   BodyId add_body(BodyDef def);
   std::size_t body_count() const;
   const std::string& body_name(BodyId id) const;

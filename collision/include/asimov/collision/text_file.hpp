@@ -2,25 +2,22 @@
 // Bounded whole-file reads for every loader (programs, cells, URDF, meshes): a directory, a file
 // that cannot be opened and one longer than the caller's limit are errors, so `--cell /dev/zero`
 // or a URDF that is a folder end with a message instead of reading forever.
+#include "asimov/core/result.hpp"
+
 #include <cstddef>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 
 namespace asimov::collision {
 
-// what(): the reason without the path ("is a directory", "cannot open the file",
-// "is larger than 16 MiB"); callers put the path in front in their own error type.
-class FileReadError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 // Limits, in bytes, the loaders use (docs/limits.md says why these sizes).
 inline constexpr std::size_t kMaxTextFileBytes = std::size_t{64} << 20;   // programs, cells, URDF
 inline constexpr std::size_t kMaxMeshFileBytes = std::size_t{512} << 20;  // STL / OBJ
 
-std::string read_file_bounded(const std::string& path, std::size_t max_bytes);
+// The file's bytes, or an Error whose message is the reason without the path ("is a directory,
+// not a file", "cannot open the file (...)", "is larger than 16 MiB, ...") and whose file is `path`:
+// callers put the path in front in their own words.
+Result<std::string> read_file_bounded(const std::string& path, std::size_t max_bytes);
 
 // `text` safe to print on a terminal and in JSON: control characters (C0, DEL, C1: escape
 // sequences that would clear or recolour the screen) and bytes that are not valid UTF-8 become

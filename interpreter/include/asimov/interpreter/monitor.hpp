@@ -102,6 +102,7 @@ class Monitor {
   std::string last_program_;          // EXECUTE without a name runs this one
   ExecState state_ = ExecState::idle; // of the last EXECUTE
   int state_step_ = 0;                // where it stopped
+  std::string state_program_;         // in which program (a CALLed one, when it differs)
   std::optional<motion::InterruptReport> halted_;  // the motion Ctrl-C halted in it
 };
 

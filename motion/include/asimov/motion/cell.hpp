@@ -26,6 +26,10 @@ enum class Stepping { fixed, gap };
 // below it are refused.
 inline constexpr double kMinStepMm = 1e-3;
 
+// What a clearance contact (distance <= clearance_mm, no touching) does: halt the program as a
+// contact, or only be reported (the run's clearance report lists the pairs that came that near).
+enum class OnClearance { halt, warn };
+
 struct CollisionSettings {
   int halvings = 9;            // M for every body unless a body says otherwise
   double step_mm = 1.0;        // no body point moves more than this between checked poses
@@ -41,6 +45,11 @@ struct CollisionSettings {
   int pair_samples = 10000;    // N of the generated matrix
   std::string pairs_cache;     // its cache file (collision::generate_pairs_cached); empty: none
   Stepping stepping = Stepping::gap;  // gap: 50x fewer checked poses than fixed on the demos, same contacts
+  // Continuous checking between checked poses (docs/collision.md §12): every window proven free
+  // or its earliest contact found, at any thickness. false: the checked poses alone.
+  bool continuous = true;
+  double report_within_mm = 10;  // clearance report: pairs that came nearer than this [mm]
+  OnClearance on_clearance = OnClearance::halt;
 };
 
 struct Cell {

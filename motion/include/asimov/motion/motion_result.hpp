@@ -2,6 +2,7 @@
 // by the planner, the walker and the Simulator facade.
 #pragma once
 #include "asimov/collision/types.hpp"
+#include "asimov/core/result.hpp"
 #include "asimov/robots/robot.hpp"
 #include <cstdint>
 #include <string>
@@ -10,10 +11,10 @@ namespace asimov::motion {
 
 enum class MotionStatus { ok, error, collision, interrupted };
 
-struct MotionError {
-  std::string message;  // VAL text: "*Location out of reach*", "*Joint limit exceeded*", ...
-  std::string detail;   // short detail, e.g. "J3 = 231.000 > 225.000"
-};
+// The one failure value (core/result.hpp): message = VAL text ("*Location out of reach*",
+// "*Joint limit exceeded*", ...), detail e.g. "J3 = 231.000 > 225.000"; no file or line (the
+// interpreter adds program and step).
+using MotionError = asimov::Error;
 
 // Contact time (docs/collision-method.md §6.4): when the checked pose at t_{k+1} collides and the one at
 // t_k was found free, the time is bisected on the exact path between them with the pairs that

@@ -45,7 +45,7 @@ struct RunTiming {
   double parse_s = 0;       // program files: load and check
   double preprocess_s = 0;  // cell load, engine preprocessing (incl. the checks that built a lazy grid)
   double motion_s = 0;      // planning, IK, sampling, FK
-  double collision_s = 0;   // engine queries at checked poses and contact-time bisection
+  double collision_s = 0;   // engine queries at checked poses, continuous checking, contact-time bisection
 };
 
 // Every checked pose with the tool's world pose, when `on`. BASE and TOOL are read at the
@@ -98,8 +98,13 @@ struct AccuracyRecorder final : WalkObserver {
 struct CountRecorder final : WalkObserver {
   void on_checked_pose(double, const robots::JointVector&, bool) override { ++poses; }
   void on_query(const collision::QueryResult& r, const QueryCost& cost) override;
+  void on_distance(const collision::BodyPair&, const collision::DistanceResult&, const DistanceCost& cost) override {
+    bisection += cost.probe;
+    ++distances;
+  }
   std::uint64_t poses = 0;
-  std::uint64_t bisection = 0;
+  std::uint64_t bisection = 0;  // contact-time bisection poses and continuous-checking probes
+  std::uint64_t distances = 0;  // distance queries of continuous checking
   collision::StepCounts counts;
 };
 
@@ -111,6 +116,9 @@ struct TimingRecorder final : WalkObserver {
   using Clock = std::chrono::steady_clock;
   void on_walk_begin(const Trajectory&) override;
   void on_query(const collision::QueryResult& r, const QueryCost& cost) override;
+  void on_distance(const collision::BodyPair&, const collision::DistanceResult&, const DistanceCost& cost) override {
+    query_ticks_ += cost.ticks;
+  }
   void on_contact(const CollisionReport&, const robots::JointVector&, double search_s) override;
   void on_walk_end() override;
   RunTiming timing;
@@ -119,6 +127,19 @@ struct TimingRecorder final : WalkObserver {
   Clock::time_point t0_;
   std::uint64_t k0_ = 0, query_ticks_ = 0, grid_ticks_ = 0;
   double other0_ = 0;
+};
+
+// The recorders a Simulator keeps, registered with its walker in this order (timing first: the
+// constructor's preprocessing is timed into it). Read them after (or during) a run; switch trace
+// and replay on by setting trace.on and replay.grid_s.
+struct Recorders {
+  Recorders(const robots::Robot& robot, const Location& base, const Location& tool)
+      : trace(robot, base, tool), replay(robot), accuracy(robot) {}
+  TimingRecorder timing;
+  CountRecorder counts;
+  TraceRecorder trace;
+  ReplayRecorder replay;
+  AccuracyRecorder accuracy;
 };
 
 // Adds the wall time of a scope to `acc`.

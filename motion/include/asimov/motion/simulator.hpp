@@ -30,6 +30,18 @@ namespace asimov::motion {
 // CLOSEI / RELAXI wait for the current motion, set the hand, then wait HAND.TIME seconds.
 enum class HandState { open, closed, relaxed };
 constexpr double kDefaultHandTime = 0.05;  // PARAMETER HAND.TIME default [s]
+struct Hand {
+  HandState state = HandState::open;
+  std::optional<HandState> pending;  // OPEN / CLOSE / RELAX waiting for the next motion
+};
+
+// BASE, TOOL and the pending configuration words (LEFTY, ABOVE, ...): the program's settings
+// that shape the next motions and HERE.
+struct ArmSettings {
+  Location base = Location::Identity();
+  Location tool = Location::Identity();
+  robots::ConfigurationRequest request;
+};
 
 class Simulator {
  public:
@@ -40,18 +52,16 @@ class Simulator {
   const Cell& cell() const;
   const robots::Robot& robot() const;
 
-  // State. HERE = BASE . FK(joints) . TOOL.
+  // State. HERE = settings().base . FK(joints) . settings().tool.
   const robots::JointVector& joints() const;
   Location here() const;
   Location dest() const;           // target of the current or last motion
-  Location base() const;
-  Location tool() const;
-  void set_base(const Location& base);
-  void set_tool(const Location& tool);
   robots::Configuration configuration() const;  // derived from the current joints
-  robots::ConfigurationRequest& request();      // pending configuration words
   double time_s() const;                        // simulated clock
-  std::uint64_t poses_checked() const;
+  // What the program sets for later motions (BASE, TOOL, configuration words); read and
+  // written freely, used when the next motion is planned and by HERE.
+  ArmSettings& settings();
+  const ArmSettings& settings() const;
 
   // Motions. `step` identifies the instruction (the interpreter passes its step) and comes
   // back in collision reports. Targets are validated before anything moves.
@@ -81,45 +91,27 @@ class Simulator {
   // a pending request) and advances the clock by hand_time_s (negative: 0).
   void request_hand(HandState state);
   MotionResult hand_immediate(HandState state, double hand_time_s = kDefaultHandTime);
-  HandState hand() const;
-  bool hand_pending() const;
+  Hand hand() const;
   // WAIT / WAIT.EVENT: finishes the pending motion (its failure or interruption is returned,
   // the clock then where the motion stopped), then advances the clock by `seconds` (negative:
   // 0) without motion.
   MotionResult wait(double seconds);
   // ENABLE / DISABLE COLLISION and PARAMETER COLLISION.CLEARANCE at run time (dialect §6):
-  // the cell's settings, applied from the next checked pose.
+  // the cell's settings (read them as cell().collision), applied from the next checked pose.
   void set_collision_enabled(bool on);
-  bool collision_enabled() const;
   void set_clearance(double clearance_mm);
-  double clearance_mm() const;
   // INRANGE: 0 reachable within limits in the requested configuration, 1 out of reach, 2 a joint
   // limit in the way (same IK as a joint motion to `target`).
   int inrange(const Location& target) const;
   bool motion_pending() const;
   int motion_step() const;  // program step of the motion pending or being carried out (0: none)
 
-  // Every checked pose is appended here when tracing is on.
-  void set_trace(bool on);
-  const std::vector<TraceSample>& trace() const;
-  // Replay recording, off by default (then it costs one branch per checked pose). With
-  // grid_s > 0: every checked pose, the exact path at the simulated instants k * grid_s between
-  // them, and after a contact the halting pose at time_free_s (later samples dropped). Times
-  // strictly increase; a sample at the instant of the previous one replaces it.
-  void set_replay(double grid_s);
-  const std::vector<ReplaySample>& replay() const;
-
-  // Collision counts summed over all engine queries (checked poses and contact-time bisection).
-  const collision::StepCounts& collision_counts() const;
-  // Poses checked by contact-time bisection (not in poses_checked() nor in the trace): one
-  // engine query per pose, on the pairs that collided at the first colliding checked pose.
-  std::uint64_t bisection_checks() const;
+  // What the run keeps of its walks (recorders.hpp): trace (on: trace.on = true), replay
+  // (replay.grid_s > 0), accuracy, query counts (poses checked, bisection poses, step counts),
+  // wall time per phase (the caller adds parse and cell-file time to timing.timing).
+  Recorders& recorders();
+  const Recorders& recorders() const;
   bool collision_engine_used() const;  // false when the cell has no enabled pair
-
-  const RunAccuracy& accuracy() const;
-  const RunTiming& timing() const;
-  void add_parse_time(double seconds);
-  void add_preprocess_time(double seconds);
 
  private:
   struct Impl;

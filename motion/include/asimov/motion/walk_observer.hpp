@@ -2,6 +2,7 @@
 // hooks watch a walk. The walker calls every registered observer in registration order; an
 // observer only reads what it is given (it cannot change the walk).
 #pragma once
+#include "asimov/collision/distance.hpp"
 #include "asimov/collision/query.hpp"
 #include "asimov/motion/motion_result.hpp"
 #include "asimov/motion/sampler.hpp"
@@ -46,6 +47,14 @@ struct QueryCost {
   bool built_grid = false;  // it built a lazy voxel grid (preprocessing)
 };
 
+// A distance measured by continuous checking (docs/collision.md §12).
+struct DistanceCost {
+  double t = 0;             // simulated time of the pose [s]
+  bool probe = false;       // a pose between two checked poses (else a checked pose)
+  int step = 0;             // program step of the motion
+  std::uint64_t ticks = 0;  // cpu_ticks() spent in the engine
+};
+
 struct WalkObserver {
   virtual ~WalkObserver() = default;
   virtual void on_walk_begin(const Trajectory&) {}
@@ -53,6 +62,9 @@ struct WalkObserver {
   // A checked pose, after its query: `contact` when it collides (unchecked poses: false).
   virtual void on_checked_pose(double /*t*/, const robots::JointVector& /*q*/, bool /*contact*/) {}
   virtual void on_query(const collision::QueryResult&, const QueryCost&) {}
+  // Continuous checking measured the distance of `pair` (engine ids; the result may be a lower
+  // bound, status beyond, when the pair is farther than the cut-off the proof needed).
+  virtual void on_distance(const collision::BodyPair& /*pair*/, const collision::DistanceResult&, const DistanceCost&) {}
   // IK solves (of the walk's exact straight-line path; the facade reports the planner's too).
   virtual void on_ik(const PoseError& /*residual*/, std::uint64_t /*solves*/) {}
   // The walk halts on a contact: the arm at `q_halt` (the pose of report.time_free_s);

@@ -1,7 +1,8 @@
 // The walker: carries out a planned motion (trajectory.hpp) over its checked poses, querying
 // the collision world at each (world.hpp), spacing them by the §6.3 step rule or by the
-// engine's gaps (gap stepping), bisecting the contact time when one collides (§6.4), stopping
-// at an interrupt. Recorders watch it through WalkObserver; it keeps nothing of its own
+// engine's gaps (gap stepping), proving each stretch between two checked poses free or finding
+// its earliest contact (continuous checking, docs/collision.md §12), bisecting the contact time
+// when a checked pose collides (§6.4), stopping at an interrupt. Recorders watch it through WalkObserver; it keeps nothing of its own
 // between walks but scratch space.
 #pragma once
 #include "asimov/motion/cell.hpp"
@@ -9,9 +10,12 @@
 #include "asimov/motion/world.hpp"
 
 #include <atomic>
+#include <memory>
 #include <vector>
 
 namespace asimov::motion {
+
+class ContinuousChecker;
 
 // Where the walk stands: the arm's joints and the simulated clock. walk() advances them.
 struct WalkState {
@@ -30,6 +34,7 @@ class Walker {
   // `settings` is read at each walk (ENABLE / DISABLE COLLISION and the clearance change at run
   // time); robot, world and settings must outlive the walker.
   Walker(const robots::Robot& robot, World& world, const CollisionSettings& settings);
+  ~Walker();
 
   // Observers are called in the order added; they must outlive the walker.
   void add_observer(WalkObserver& observer);
@@ -53,6 +58,8 @@ class Walker {
   std::vector<double> pair_mm_, sums_;
   std::vector<collision::BodyPair> hit_pairs_;
   collision::QueryResult result_;
+  // Continuous checking between checked poses (docs/collision.md §12), once the engine exists.
+  std::unique_ptr<ContinuousChecker> continuous_;
 };
 
 }  // namespace asimov::motion

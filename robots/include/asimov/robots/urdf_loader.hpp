@@ -10,22 +10,10 @@
 #include "asimov/robots/package_path.hpp"
 #include "asimov/robots/robot.hpp"
 #include <map>
-#include <stdexcept>
+#include "asimov/core/result.hpp"
 #include <string>
 
 namespace asimov::robots {
-
-// Thrown at load time only. what() = "file:line: message" (line 0: no line known).
-class UrdfError : public std::runtime_error {
- public:
-  UrdfError(std::string file, int line, const std::string& message);
-  const std::string& file() const { return file_; }
-  int line() const { return line_; }
-
- private:
-  std::string file_;
-  int line_ = 0;
-};
 
 // How a description's files are found: package://NAME/... through `packages` (package_path.hpp).
 struct UrdfOptions {
@@ -40,10 +28,11 @@ struct UrdfOptions {
 // (docs/kinematics.md §3 ratio); READY is the zero pose clamped into the limits.
 // A path ending in .xacro is expanded first, in process (docs/robots.md: what xacro covers);
 // errors in the expanded URDF name the .xacro file and the line of the expanded text.
-Robot load_urdf(const std::string& path, const UrdfOptions& options = {});
+// A problem is an Error: message "file:line: what" (line 0: none known), file and line set.
+Result<Robot> load_urdf(const std::string& path, const UrdfOptions& options = {});
 
 // Same from text; `source_name` names it in errors, `base_dir` resolves relative mesh files.
-Robot load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir = ".",
+Result<Robot> load_urdf_text(const std::string& xml, const std::string& source_name, const std::string& base_dir = ".",
                      const UrdfOptions& options = {});
 
 }  // namespace asimov::robots
