@@ -199,7 +199,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   int rc = kExitCompleted;
   switch (summary.result.status) {
     case interpreter::RunStatus::completed:
-      err << fmt::format("Program completed: {}\n", main);
+      err << fmt::format("Program completed: {}\n", main) << summary.closest;
       break;
     case interpreter::RunStatus::error:
     case interpreter::RunStatus::interrupted:

@@ -52,14 +52,10 @@ nlohmann::json pose_json(const collision::Pose& p) {
 // named where exactly one motion instruction ran at it (programs of a file may share a step
 // number), otherwise the page shows the bare step.
 nlohmann::json step_lines(const std::vector<interpreter::MotionStep>& motions, const std::vector<int>& steps) {
-  auto out = nlohmann::json::object();
-  for (int step : steps) {
-    const interpreter::MotionStep* hit = nullptr;
-    int count = 0;
-    for (const interpreter::MotionStep& m : motions)
-      if (m.step == step) hit = &m, ++count;
-    if (count == 1) out[std::to_string(step)] = {{"program", hit->program}, {"line", hit->line}, {"text", hit->text}};
-  }
+  nlohmann::json out = nlohmann::json::object();
+  for (int step : steps)
+    if (const interpreter::MotionStep* m = interpreter::motion_at_step(motions, step))
+      out[std::to_string(step)] = {{"program", m->program}, {"line", m->line}, {"text", m->text}};
   return out;
 }
 
@@ -187,9 +183,20 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
                   {"poses", b64(world)}}},         // Float32, count x moving x 7
       {"steps", step_lines(result.motions, distinct_steps)},
       {"end_time_s", samples.back().time_s}};
+  const auto body = [&index_of](const std::string& name) { return index_of.count(name) ? index_of[name] : -1; };
+  // The closest approach of the clearance report (docs/collision.md §12): the page marks it.
+  if (const auto near = sim.recorders().clearance.nearest_first(); !near.empty()) {
+    const motion::ClearanceApproach& a = near.front();
+    const std::string name_a = sim.body_name(a.pair.a), name_b = sim.body_name(a.pair.b);
+    doc["closest"] = {{"bodies", {name_a, name_b}},
+                      {"body_index", {body(name_a), body(name_b)}},
+                      {"distance_mm", a.distance_mm},
+                      {"time_s", a.time_s},
+                      {"point_a_mm", {a.point_a.x(), a.point_a.y(), a.point_a.z()}},
+                      {"point_b_mm", {a.point_b.x(), a.point_b.y(), a.point_b.z()}}};
+  }
   if (result.status == interpreter::RunStatus::collision) {
     const motion::CollisionReport& c = result.collision;
-    const auto body = [&index_of](const std::string& name) { return index_of.count(name) ? index_of[name] : -1; };
     doc["collision"] = {{"bodies", {c.body_a, c.body_b}},
                         {"body_index", {body(c.body_a), body(c.body_b)}},
                         {"point_mm", {c.point.x(), c.point.y(), c.point.z()}},

@@ -90,6 +90,31 @@ nlohmann::json run_report(const RunSummary& s) {
     for (const auto& [key, value] : s.workcell.items()) doc[key] = value;
   doc["accuracy"] = accuracy_json(s);
   doc["timing"] = timing_json(s.timing, s.wall_s);
+  if (!s.clearance.is_null()) doc["clearance"] = s.clearance;
+  return doc;
+}
+
+nlohmann::json clearance_json(const motion::Simulator& sim, const std::vector<interpreter::MotionStep>& motions) {
+  const motion::CollisionSettings& c = sim.cell().collision;
+  auto pairs = nlohmann::json::array();
+  for (const motion::ClearanceApproach& a : sim.recorders().clearance.nearest_first()) {
+    const interpreter::MotionStep* m = interpreter::motion_at_step(motions, a.step);
+    pairs.push_back({{"bodies", {sim.body_name(a.pair.a), sim.body_name(a.pair.b)}},
+                     {"distance_mm", a.distance_mm},
+                     {"time_s", a.time_s},
+                     {"step", a.step},
+                     {"program", m ? m->program : std::string()},  // "" / 0: the step is not one motion's
+                     {"line", m ? m->line : 0},
+                     {"point_a_mm", vec(a.point_a)},
+                     {"point_b_mm", vec(a.point_b)},
+                     {"within_clearance", c.clearance_mm > 0 && a.distance_mm <= c.clearance_mm}});
+  }
+  nlohmann::json doc = {{"report_within_mm", c.report_within_mm},
+                         {"clearance_mm", c.clearance_mm},
+                         {"on_clearance", c.on_clearance == motion::OnClearance::warn ? "warn" : "halt"},
+                         {"continuous", c.continuous}};
+  if (!pairs.empty()) doc["closest"] = pairs.front();  // reports hold no null: absent when none
+  doc["pairs"] = std::move(pairs);
   return doc;
 }
 
@@ -107,6 +132,8 @@ RunSummary summarize_run(const std::string& file, interpreter::RunResult result,
   summary.accuracy = sim.recorders().accuracy.figures;
   summary.timing = sim.recorders().timing.timing;
   summary.wall_s = wall_s;
+  summary.clearance = clearance_json(sim, summary.result.motions);
+  summary.closest = interpreter::format_closest(sim, summary.result.motions);
   return summary;
 }
 

@@ -24,7 +24,14 @@ struct RunSummary {
   motion::RunTiming timing;
   double wall_s = 0;                // whole command: cell load to the end of the run
   nlohmann::json workcell;          // "events" and "parts" (workcell_json); null: a static cell
+  nlohmann::json clearance;         // the clearance report (clearance_json)
+  std::string closest;              // interpreter::format_closest: "" when no pair came near
 };
+
+// The report's "clearance" object (docs/collision.md §12): report_within_mm, clearance_mm,
+// on_clearance, and per pair that came nearer than report_within_mm (or clearance_mm) its least
+// distance, time, step, program and line, witness points, nearest first; "closest": the first.
+nlohmann::json clearance_json(const motion::Simulator& sim, const std::vector<interpreter::MotionStep>& motions);
 
 // The summary of a run that ended with `result` on `sim` (clock, counts, accuracy, timing);
 // `wall_s`: the whole command so far. `asimov run` and the Python module report through it.

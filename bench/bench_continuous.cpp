@@ -58,8 +58,8 @@ Outcome outcome_of(const motion::Simulator& sim, const motion::MotionResult& r, 
     o.bodies = r.collision.body_a + " / " + r.collision.body_b;
     o.time_s = r.collision.time_s;
   }
-  o.poses = sim.poses_checked();
-  o.probes = sim.bisection_checks();
+  o.poses = sim.recorders().counts.poses;
+  o.probes = sim.recorders().counts.bisection;
   return o;
 }
 
@@ -82,8 +82,8 @@ Case program_case(const std::string& program, const std::string& cell_file) {
               o.bodies = r.collision.body_a + " / " + r.collision.body_b;
               o.time_s = r.collision.time_s;
             }
-            o.poses = sim.poses_checked();
-            o.probes = sim.bisection_checks();
+            o.poses = sim.recorders().counts.poses;
+            o.probes = sim.recorders().counts.bisection;
             return o;
           }};
 }

@@ -62,6 +62,17 @@ export function transformPoint(pose, v) {
           v[2] + w * tz + (x * ty - y * tx) + pz];
 }
 
+// The closest approach of the run (the report's clearance "closest"), as the page marks it: the
+// frame shown at its instant, the slider position (0..10000) and the midpoint of its witness
+// segment. null when no pair came within report_within_mm.
+export function closestMark(rep) {
+  const c = rep.closest;
+  if (!c) return null;
+  const F = rep.frames, end = F.time[F.count - 1];
+  const mid = [0, 1, 2].map((i) => (c.point_a_mm[i] + c.point_b_mm[i]) / 2);
+  return { frame: frameAt(F.time, c.time_s), slider: end > 0 ? Math.round((Math.min(c.time_s, end) / end) * 10000) : 0, mid };
+}
+
 // --- page --------------------------------------------------------------------------------------
 
 const COLORS = { link: 0xd98c3a, tool: 0x8a8f98, object: 0x5b87b8 };
@@ -88,6 +99,14 @@ async function main() {
   const bar = el('div', { id: 'bar' }, document.body);
   const play = el('button', { textContent: 'play', title: 'space' }, bar);
   const slider = el('input', { type: 'range', min: 0, max: 10000, value: 0, step: 1 }, bar);
+  const near = closestMark(rep);
+  if (near) {  // a tick on the slider and a button to go there
+    const ticks = el('datalist', { id: 'asimov-ticks' }, bar);
+    el('option', { value: near.slider }, ticks);
+    slider.setAttribute('list', 'asimov-ticks');
+    const go = el('button', { textContent: 'closest', title: 'go to the closest approach' }, bar);
+    go.onclick = () => { t = rep.closest.time_s; slider.value = near.slider; setPlaying(false); };
+  }
   const speed = el('select', {}, bar);
   for (const s of SPEEDS) el('option', { value: s, textContent: `x${s}`, selected: s === 1 }, speed);
 
@@ -131,6 +150,23 @@ async function main() {
     scene.add(marker);
   }
 
+  // The closest approach: its witness segment (and its two ends), shown at its instant.
+  let witness = null;
+  if (near) {
+    const c = rep.closest, mat = new THREE.MeshBasicMaterial({ color: 0x30e0ff, depthTest: false });
+    witness = new THREE.Group();
+    for (const p of [c.point_a_mm, c.point_b_mm]) {
+      const dot = new THREE.Mesh(new THREE.SphereGeometry(4, 16, 12), mat);
+      dot.position.fromArray(p);
+      witness.add(dot);
+    }
+    const g = new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(...c.point_a_mm), new THREE.Vector3(...c.point_b_mm)]);
+    witness.add(new THREE.Line(g, new THREE.LineBasicMaterial({ color: 0x30e0ff, depthTest: false })));
+    witness.renderOrder = 2;
+    witness.visible = false;
+    scene.add(witness);
+  }
+
   const qa = new THREE.Quaternion(), qb = new THREE.Quaternion();  // poseAt's scratch
   const camera = new THREE.PerspectiveCamera(45, 1, 1, 100000);
   camera.up.set(0, 0, 1);  // the cell's Z is up
@@ -161,6 +197,7 @@ async function main() {
         if (b >= 0) meshes[b].material.color.setHex(atEnd ? 0xff2020 : COLORS[rep.bodies[b].kind]);
       });
     }
+    if (witness) witness.visible = i === near.frame;
     const s = F.step[i], line = rep.steps[String(s)];
     const joints = Array.from(F.joints.subarray(i * rep.joint_count, (i + 1) * rep.joint_count), (v) => v.toFixed(2));
     hud.textContent = [
@@ -168,6 +205,8 @@ async function main() {
       `t = ${t.toFixed(3)} s / ${end.toFixed(3)} s   frame ${i + 1}/${F.count}${F.checked[i] ? '  checked pose' : ''}`,
       line ? `${line.program}, line ${line.line}: ${line.text}` : s > 0 ? `step ${s}` : '',
       `joints [deg]  ${joints.join('  ')}`,
+      rep.closest ? `closest approach${i === near.frame ? ' (this frame)' : ''}: ${rep.closest.bodies.join(' / ')} ` +
+                    `${rep.closest.distance_mm.toFixed(3)} mm at t = ${rep.closest.time_s.toFixed(6)} s` : '',
       hit && atEnd ? `*Collision*  ${hit.bodies[0]} / ${hit.bodies[1]} at t = ${hit.time_s.toFixed(6)} s, ` +
                      `point (${hit.point_mm.map((v) => v.toFixed(1)).join(', ')}) mm` : '',
     ].join('\n');

@@ -84,6 +84,26 @@ std::string format_pause(const RunResult& r) {
                      r.step);
 }
 
+const MotionStep* motion_at_step(const std::vector<MotionStep>& motions, int step) {
+  const MotionStep* hit = nullptr;
+  for (const MotionStep& m : motions)
+    if (m.step == step) {
+      if (hit) return nullptr;
+      hit = &m;
+    }
+  return hit;
+}
+
+std::string format_closest(const motion::Simulator& sim, const std::vector<MotionStep>& motions) {
+  const std::vector<motion::ClearanceApproach> near = sim.recorders().clearance.nearest_first();
+  if (near.empty()) return {};
+  const motion::ClearanceApproach& a = near.front();
+  const MotionStep* m = motion_at_step(motions, a.step);
+  const std::string where = m ? fmt::format("{}, line {}", m->program, m->line) : fmt::format("step {}", a.step);
+  return fmt::format("Closest approach: {} / {} {:.3f} mm at t = {:.6f} s ({})\n", sim.body_name(a.pair.a),
+                     sim.body_name(a.pair.b), a.distance_mm, a.time_s, where);
+}
+
 std::string format_interrupt(const RunResult& r) {
   if (!r.interrupt) return {};
   const auto& h = *r.interrupt;

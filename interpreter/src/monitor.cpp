@@ -663,6 +663,14 @@ std::string accuracy_line(const motion::Simulator& sim) {
 }
 }  // namespace
 
+// STATUS: the nearest pair of the clearance report so far (docs/collision.md §12).
+static std::string closest_line(const motion::Simulator& sim) {
+  const std::string line = format_closest(sim, {});
+  return line.empty() ? fmt::format("Closest approach: no pair within {} mm\n",
+                                    format_number(sim.recorders().clearance.within_mm))
+                      : line;
+}
+
 CommandStatus Monitor::cmd_status() {
   auto pose = [](const motion::Location& t) {
     const motion::Xyzoat x = motion::decompose(t);
@@ -703,7 +711,7 @@ CommandStatus Monitor::cmd_status() {
        << "Base: " << pose(sim_.settings().base) << '\n'
        << "Collision checking: " << (sim_.cell().collision.enabled ? "on" : "off") << '\n'
        << "Clearance: " << format_number(sim_.cell().collision.clearance_mm) << " mm\n"
-       << fmt::format("Simulated time: {:.3f} s\n", sim_.time_s()) << accuracy_line(sim_);
+       << fmt::format("Simulated time: {:.3f} s\n", sim_.time_s()) << accuracy_line(sim_) << closest_line(sim_);
   return CommandStatus::ok;
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace asimov::motion {
 namespace {
@@ -32,20 +33,13 @@ double line_motion(std::span<const robots::BodyReach> reach, const GapPair& pair
 ContinuousChecker::ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm)
     : engine_(engine), clearance_(clearance_mm), tol_(tol_s), report_mm_(report_mm) {}
 
-void ContinuousChecker::note(std::size_t pair, const collision::DistanceResult& r, double t) {
-  if (r.status == collision::DistanceStatus::beyond || !(r.distance < report_mm_)) return;
-  PairApproach& a = approach_[pair];
-  if (a.distance >= 0 && a.distance <= r.distance) return;
-  a = {r.distance, t, r.point_a, r.point_b, step_};
-}
-
 void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool probe) {
   const collision::BodyPair bp = engine_.enabled_pairs()[pair];
   const std::uint64_t k0 = cpu_ticks();
   const collision::DistanceResult r = engine_.distance(bp.a, bp.b, {.upper_mm = upper});
   if (on_measure) on_measure(pair, r, p.t, probe, cpu_ticks() - k0);
   ++queries_;
-  note(pair, r, p.t);
+  if (r.status != collision::DistanceStatus::beyond) least_[pair] = std::min(least_[pair], r.distance);
   p.hit = r.status == collision::DistanceStatus::contact ||
           (clearance_ > 0 && r.status == collision::DistanceStatus::exact && r.distance <= clearance_);
   p.d = p.hit ? 0.0 : r.distance;
@@ -91,13 +85,11 @@ bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, 
 }
 
 ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVector& q_a, double t_b,
-                                            const robots::JointVector& q_b, const ContinuousPath& path,
-                                            int step) {
-  step_ = step;
+                                            const robots::JointVector& q_b, const ContinuousPath& path) {
   posed_t_ = t_b;
   const auto pairs = engine_.enabled_pairs();
   const std::size_t n = pairs.size();
-  approach_.resize(n);
+  least_.resize(n, std::numeric_limits<double>::infinity());
   const double c = clearance_;
   const bool cached = cache_t_ == t_a && cache_d_.size() == n;
   std::vector<double> mu(n);
@@ -111,7 +103,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     end[i].t = t_b;
     end[i].q = q_b;
     const double need = mu[i] + 2 * c - (cached ? cache_d_[i] : 0.0);
-    const double report = approach_[i].distance >= 0 ? std::min(report_mm_, approach_[i].distance) : report_mm_;
+    const double report = std::min(report_mm_, least_[i]);
     measure(i, end[i], std::max({need * (1 + 1e-9) + 1e-9, report, c}), false);
   }
   ContinuousContact best;

@@ -46,14 +46,6 @@ struct ContinuousContact {
   robots::JointVector q_free, q_hit;
 };
 
-// Least distance of each pair met by the checker (checked poses and probes) within report_mm.
-struct PairApproach {
-  double distance = -1;  // [mm]; < 0: never within report_mm
-  double time_s = 0;
-  collision::Vec3 point_a = collision::Vec3::Zero(), point_b = collision::Vec3::Zero();
-  int step = 0;          // program step of the motion (Simulator::start_*)
-};
-
 // Motion bounds of the executed paths. Joint moves are straight in joint space, so a pair's
 // relative motion over q1 -> q2 is bounded by pair_displacement of q2 - q1 (each joint moves
 // monotonically). Straight lines follow IK between validated samples: the bound sums
@@ -67,7 +59,8 @@ double line_motion(std::span<const robots::BodyReach> reach, const GapPair& pair
 
 class ContinuousChecker {
  public:
-  // tol: toc_tolerance_s; report_mm: distances below this are kept per pair (clearance report).
+  // tol: toc_tolerance_s; report_mm: distances below this are measured exactly at checked poses
+  // (for the clearance report, on_measure), nearer than the pair's least one so far.
   ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm);
 
   void set_clearance(double clearance_mm) { clearance_ = clearance_mm; }
@@ -84,11 +77,10 @@ class ContinuousChecker {
   // contact in (t_a, t_b], if any; every pair is then free on [t_a, t_free]. Leaves the engine
   // posed at q_b.
   ContinuousContact verify(double t_a, const robots::JointVector& q_a, double t_b, const robots::JointVector& q_b,
-                           const ContinuousPath& path, int step);
+                           const ContinuousPath& path);
 
   std::uint64_t probes() const { return probes_; }            // poses posed and measured between checked poses
   std::uint64_t distance_queries() const { return queries_; } // Engine::distance calls
-  const std::vector<PairApproach>& approaches() const { return approach_; }
 
  private:
   struct Point {
@@ -100,18 +92,16 @@ class ContinuousChecker {
   };
   void measure(std::size_t pair, Point& p, double upper, bool probe);
   bool solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path, ContinuousContact& out);
-  void note(std::size_t pair, const collision::DistanceResult& r, double t);
 
   collision::Engine& engine_;
   double clearance_;
   double tol_;
   double report_mm_;
-  int step_ = 0;
   double posed_t_ = -1;         // time the engine's bodies are posed at (probes)
   double cache_t_ = -1;         // time of the cached distances (the last checked pose)
   std::vector<double> cache_d_; // per pair: lower bound at cache_t_
   std::vector<char> cache_exact_;
-  std::vector<PairApproach> approach_;
+  std::vector<double> least_;   // per pair: least exact distance met (the report needs only nearer ones)
   std::optional<ContinuousContact> graze_;  // solve: the first unprovable window of the pair
   std::uint64_t probes_ = 0, queries_ = 0;
 };

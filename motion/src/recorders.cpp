@@ -74,6 +74,32 @@ void CountRecorder::on_query(const collision::QueryResult& r, const QueryCost& c
   if (cost.kind == QueryKind::bisection_pose) ++bisection;
 }
 
+void ClearanceRecorder::on_distance(const collision::BodyPair& pair, const collision::DistanceResult& r,
+                                    const DistanceCost& cost) {
+  // A cut-off answer (beyond) is only a lower bound: the pair was not that near.
+  if (r.status == collision::DistanceStatus::beyond || !(r.distance < within_mm)) return;
+  held_.push_back({pair, r.distance, cost.t, cost.step, r.point_a, r.point_b});
+}
+
+void ClearanceRecorder::commit(double until_s) {
+  for (const ClearanceApproach& h : held_) {
+    if (h.time_s > until_s) continue;  // after the contact: never reached
+    const auto same = [&h](const ClearanceApproach& a) { return a.pair.a == h.pair.a && a.pair.b == h.pair.b; };
+    auto it = std::find_if(pairs.begin(), pairs.end(), same);
+    if (it == pairs.end()) pairs.push_back(h);
+    else if (h.distance_mm < it->distance_mm || (h.distance_mm == it->distance_mm && h.time_s < it->time_s))
+      *it = h;  // ties: the earliest (a contact's instant)
+  }
+  held_.clear();
+}
+
+std::vector<ClearanceApproach> ClearanceRecorder::nearest_first() const {
+  std::vector<ClearanceApproach> out = pairs;
+  std::stable_sort(out.begin(), out.end(),
+                   [](const ClearanceApproach& x, const ClearanceApproach& y) { return x.distance_mm < y.distance_mm; });
+  return out;
+}
+
 void TimingRecorder::on_walk_begin(const Trajectory&) {
   t0_ = Clock::now();
   k0_ = cpu_ticks();

@@ -57,8 +57,9 @@ struct Simulator::Impl {
     settings.base = cell.base;
     settings.tool = cell.tool;
     dest = here();
+    rec.clearance.within_mm = std::max(cell.collision.report_within_mm, cell.collision.clearance_mm);
     for (WalkObserver* o : std::initializer_list<WalkObserver*>{&rec.timing, &rec.counts, &rec.trace, &rec.replay,
-                                                              &rec.accuracy, &hook})
+                                                              &rec.accuracy, &rec.clearance, &hook})
       walker.add_observer(*o);
   }
   static World timed_world(const Cell& cell, RunTiming& t) {
@@ -101,6 +102,10 @@ bool Simulator::motion_pending() const { return impl_->pending.has_value(); }
 Recorders& Simulator::recorders() { return impl_->rec; }
 const Recorders& Simulator::recorders() const { return impl_->rec; }
 bool Simulator::collision_engine_used() const { return impl_->world.engine() != nullptr; }
+std::string Simulator::body_name(std::uint32_t id) const {
+  const collision::Engine* e = impl_->world.engine();
+  return e ? e->body_name(id) : std::string();
+}
 int Simulator::motion_step() const { return impl_->pending ? impl_->pending->step : 0; }
 
 MotionResult Simulator::start_joint_move(const robots::JointVector& target, SpeedSettings speed, int step) {
@@ -174,7 +179,11 @@ void Simulator::set_collision_enabled(bool on) {
 }
 
 // The one copy of the clearance: every query carries it (the engine keeps none).
-void Simulator::set_clearance(double clearance_mm) { impl_->cell.collision.clearance_mm = clearance_mm; }
+void Simulator::set_clearance(double clearance_mm) {
+  impl_->cell.collision.clearance_mm = clearance_mm;
+  ClearanceRecorder& r = impl_->rec.clearance;
+  r.within_mm = std::max(r.within_mm, clearance_mm);  // on_clearance warn lists the pairs within it
+}
 
 Hand Simulator::hand() const { return impl_->hand; }
 

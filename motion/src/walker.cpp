@@ -178,7 +178,7 @@ struct Walker::Walk {
   // checking finds a contact in it; then the arm is at the last pose proven free, the clock at
   // the contact.
   bool continuous_contact(double t_a, double t_b, const JointVector& q_b, CollisionReport& report) {
-    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, tr.step);
+    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path);
     if (!c.found) return false;
     checker->reset();
     const collision::BodyPair pair = engine->enabled_pairs()[c.pair];

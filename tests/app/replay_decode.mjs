@@ -106,5 +106,26 @@ for (const [name, r] of [['pick_place', pick], ['crash', crash]]) {
   console.log(`crash: ${F.count} frames, ${crash.page.length} bytes; contact ${rep.collision.bodies.join(' / ')}`);
 }
 
+// The closest approach: the page's mark is the report's closest pair (crash: the contact
+// itself, 0 mm), at the frame of its instant, its witnesses on the two bodies' sides.
+{
+  const rep = V.decodeReplay(crash.data), c = rep.closest, want = crash.report.clearance.closest;
+  check(c && want, 'crash: a closest approach in the page and the report');
+  if (c && want) {
+    check(c.bodies.join('/') === want.bodies.join('/') && c.distance_mm === want.distance_mm && c.time_s === want.time_s,
+          'crash: page and report name the same closest approach');
+    check(c.distance_mm === 0 && [...c.bodies].sort().join('/') === [...rep.collision.bodies].sort().join('/'),
+          `crash: the closest approach is the contact (${c.bodies.join(' / ')} ${c.distance_mm} mm)`);
+    const m = V.closestMark(rep), F = rep.frames;
+    check(F.time[m.frame] <= c.time_s && (m.frame === F.count - 1 || F.time[m.frame + 1] > c.time_s),
+          'crash: the marked frame is the one shown at the closest instant');
+    check(m.slider >= 0 && m.slider <= 10000, 'crash: slider tick in range');
+    const pairs = crash.report.clearance.pairs;
+    check(pairs.every((p, i) => i === 0 || pairs[i - 1].distance_mm <= p.distance_mm), 'crash: clearance pairs nearest first');
+    check(pairs.every((p) => p.distance_mm < crash.report.clearance.report_within_mm), 'crash: pairs within report_within_mm');
+  }
+  check(V.closestMark({ ...V.decodeReplay(pick.data), closest: undefined }) === null, 'no closest: no mark');
+}
+
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed ? 1 : 0);

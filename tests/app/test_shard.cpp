@@ -90,7 +90,8 @@ TEST_CASE("asimov test --shard runs only its cases; the shards' JUnit files merg
     const auto r = run_cli("test " + q(dir) + " --shard " + std::to_string(k) + "/4 --junit " + q(junit));
     INFO(r.out << r.err);
     REQUIRE(r.exit_code == 0);
-    const auto passes = std::count_if(lines_of(r.out).begin(), lines_of(r.out).end(), [](const std::string& l) {
+    const auto out_lines = lines_of(r.out);  // one vector: begin and end of two temporaries would not meet
+    const auto passes = std::count_if(out_lines.begin(), out_lines.end(), [](const std::string& l) {
       return l.rfind("PASS ", 0) == 0;
     });
     ran += static_cast<std::size_t>(passes);

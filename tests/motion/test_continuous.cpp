@@ -3,9 +3,12 @@
 // miss, a graze-free pass, and the earliest of two pairs.
 #include "motion/src/continuous.hpp"
 
+#include "asimov/motion/recorders.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 
 using namespace asimov;
 using namespace asimov::motion;
@@ -73,7 +76,7 @@ TEST_CASE("continuous: a 0.05 mm blade never passes a 0.01 mm plate unseen, what
         const double ta = k * step_mm / s.speed, tb = (k + 1) * step_mm / s.speed;
         path.pose(s.q(tb));
         const bool b_collides = s.engine.check().collided;
-        const ContinuousContact c = checker.verify(ta, s.q(ta), tb, s.q(tb), path, 1);
+        const ContinuousContact c = checker.verify(ta, s.q(ta), tb, s.q(tb), path);
         if (b_collides) REQUIRE(c.found);  // a contact at the checked pose is never lost
         if (!c.found) continue;
         found = true;
@@ -102,19 +105,22 @@ TEST_CASE("continuous: a blade passing 0.001 mm beside the plate is proven free"
   // The blade slides along x past the plate's edge: its near face 0.001 mm beyond y = 100.
   s.offset = Vec3(-100, 100 + 30 + 0.001, 0);
   ContinuousChecker checker(s.engine, 0, 1e-6, 10);
+  collision::DistanceResult least;
+  least.distance = std::numeric_limits<double>::infinity();
+  checker.on_measure = [&least](std::size_t, const collision::DistanceResult& r, double, bool, std::uint64_t) {
+    if (r.status != collision::DistanceStatus::beyond && r.distance < least.distance) least = r;
+  };
   const ContinuousPath path = s.path();
   for (int k = 0; k < 10; ++k) {
     const double ta = k * 0.02, tb = (k + 1) * 0.02;  // 20 mm steps
     path.pose(s.q(tb));
     REQUIRE_FALSE(s.engine.check().collided);
-    CHECK_FALSE(checker.verify(ta, s.q(ta), tb, s.q(tb), path, 7).found);
+    CHECK_FALSE(checker.verify(ta, s.q(ta), tb, s.q(tb), path).found);
   }
-  // The clearance report saw the closest approach (0.001 mm) with its witnesses.
-  const PairApproach& a = checker.approaches().at(0);
-  REQUIRE(a.distance >= 0);
-  CHECK(a.distance == Approx(0.001).margin(1e-9));
-  CHECK(a.step == 7);
-  CHECK((a.point_a - a.point_b).norm() == Approx(0.001).margin(1e-9));
+  // The measurements (what the clearance report records) met the closest approach, 0.001 mm,
+  // with its witnesses.
+  CHECK(least.distance == Approx(0.001).margin(1e-9));
+  CHECK((least.point_a - least.point_b).norm() == Approx(0.001).margin(1e-9));
 }
 
 TEST_CASE("continuous: with a clearance the halt comes at distance c, not at touching", "[continuous]") {
@@ -125,9 +131,36 @@ TEST_CASE("continuous: with a clearance the halt comes at distance c, not at tou
   const ContinuousPath path = s.path();
   const double t_touch = (100 - 0.05 - 0.25) / s.speed, t_clear = t_touch - 2.0 / s.speed;
   path.pose(s.q(0.2));
-  const ContinuousContact c = checker.verify(0, s.q(0), 0.2, s.q(0.2), path, 1);
+  const ContinuousContact c = checker.verify(0, s.q(0), 0.2, s.q(0.2), path);
   REQUIRE(c.found);
   CHECK(c.t_free <= t_clear + 1e-12);
   CHECK(c.t_hit >= t_clear - 1e-12);
   CHECK(c.t_hit - c.t_free <= 1e-6);
+}
+
+TEST_CASE("clearance recorder: per pair the least distance up to the contact, earliest at ties", "[continuous][clearance]") {
+  ClearanceRecorder rec;
+  rec.within_mm = 10;
+  const auto measure = [&rec](collision::BodyPair p, double d, double t) {
+    collision::DistanceResult r;
+    r.status = d == 0 ? collision::DistanceStatus::contact : collision::DistanceStatus::exact;
+    r.distance = d;
+    rec.on_distance(p, r, {.t = t, .probe = true, .step = 3});
+  };
+  const Trajectory tr;
+  measure({0, 1}, 6, 0.5);
+  measure({0, 2}, 12, 0.5);  // beyond within_mm: not reported
+  rec.on_stretch(tr, {});
+  measure({0, 1}, 4, 1.0);
+  measure({0, 1}, 0, 1.2);
+  measure({0, 1}, 0, 1.1);  // a probe nearer the contact instant, met later
+  measure({1, 2}, 2, 1.9);  // measured at the stretch's end, after the contact: never reached
+  CollisionReport contact;
+  contact.time_s = 1.5;
+  rec.on_contact(contact, {}, 0);
+  rec.on_walk_end();
+  REQUIRE(rec.pairs.size() == 1);
+  CHECK(rec.pairs[0].distance_mm == 0);
+  CHECK(rec.pairs[0].time_s == 1.1);
+  CHECK(rec.pairs[0].step == 3);
 }

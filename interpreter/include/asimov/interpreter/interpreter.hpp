@@ -47,6 +47,16 @@ struct MotionStep {
   std::string text;         // the source line, without leading blanks
 };
 
+// The motion instruction that ran at `step`, when exactly one did (programs of a file may
+// share a step number); null otherwise.
+const MotionStep* motion_at_step(const std::vector<MotionStep>& motions, int step);
+
+// "Closest approach: link5 / box 4.830 mm at t = 3.379356 s (crash, line 12)" and a newline:
+// the nearest pair of the run's clearance report (docs/collision.md §12), the step's program
+// line from `motions` where it is unique (else "step n"); empty when no pair came within
+// report_within_mm.
+std::string format_closest(const motion::Simulator& sim, const std::vector<MotionStep>& motions);
+
 // How a run ended. error: a VAL error stopped it; interrupted: Ctrl-C (Limits::interrupt)
 // stopped it between two steps or inside a motion (*Program interrupted*); paused: PAUSE
 // (PROCEED continues with the next step); halted: HALT (cannot be resumed).

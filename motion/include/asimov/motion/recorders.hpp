@@ -5,6 +5,7 @@
 #include "asimov/motion/walk_observer.hpp"
 
 #include <chrono>
+#include <limits>
 #include <vector>
 
 namespace asimov::motion {
@@ -108,6 +109,34 @@ struct CountRecorder final : WalkObserver {
   collision::StepCounts counts;
 };
 
+// Clearance report (docs/collision.md §12): per enabled pair that came nearer than within_mm
+// (the cell's report_within_mm, or clearance_mm when larger), its least distance met by
+// continuous checking at checked poses and probes: when, in which motion, the two witnesses.
+struct ClearanceApproach {
+  collision::BodyPair pair;  // engine ids (World: the scene order)
+  double distance_mm = 0;    // 0: in contact
+  double time_s = 0;
+  int step = 0;              // program step of the motion
+  collision::Vec3 point_a = collision::Vec3::Zero(), point_b = collision::Vec3::Zero();  // on pair.a, pair.b [mm]
+};
+
+// Distances of a stretch are measured before its contact (if any) is known, so they are held
+// until the stretch is over and only those up to the contact instant are kept.
+struct ClearanceRecorder final : WalkObserver {
+  void on_distance(const collision::BodyPair& pair, const collision::DistanceResult& r, const DistanceCost& cost) override;
+  void on_stretch(const Trajectory&, const Stretch&) override { commit(std::numeric_limits<double>::infinity()); }
+  void on_contact(const CollisionReport& report, const robots::JointVector&, double) override { commit(report.time_s); }
+  void on_walk_end() override { commit(std::numeric_limits<double>::infinity()); }
+  double within_mm = 10;
+  std::vector<ClearanceApproach> pairs;  // in the order first met; per pair the least distance, earliest at ties
+  // The pairs nearest first (ties: first met first).
+  std::vector<ClearanceApproach> nearest_first() const;
+
+ private:
+  void commit(double until_s);  // keeps the held distances measured at or before until_s
+  std::vector<ClearanceApproach> held_;
+};
+
 // Wall time per phase. A walk's checked-pose queries go to collision (or preprocessing when
 // they built a lazy grid), converted from ticks with the walk's steady_clock time; its contact
 // search to collision; the rest of it to motion. The facade times planning and engine building
@@ -140,6 +169,7 @@ struct Recorders {
   TraceRecorder trace;
   ReplayRecorder replay;
   AccuracyRecorder accuracy;
+  ClearanceRecorder clearance;
 };
 
 // Adds the wall time of a scope to `acc`.

@@ -112,6 +112,8 @@ class Simulator {
   Recorders& recorders();
   const Recorders& recorders() const;
   bool collision_engine_used() const;  // false when the cell has no enabled pair
+  // Name of a collision body (ClearanceApproach::pair); empty without an engine.
+  std::string body_name(std::uint32_t id) const;  // collision::BodyId
 
  private:
   struct Impl;
