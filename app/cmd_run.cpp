@@ -132,6 +132,11 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       return kExitUsage;
     }
   }
+  // Files are confined to one folder: --files DIR, or the program file's own (dialect §7a).
+  if (std::error_code ec; !opt.files.empty() && !std::filesystem::is_directory(opt.files, ec)) {
+    err << fmt::format("*File not found*  --files {}: not a folder\n", opt.files);
+    return kExitUsage;
+  }
   ReplayAssets replay_assets;  // read before the run: a missing viewer is a usage error, not a late surprise
   if (!opt.replay.empty()) {
     Result<ReplayAssets> assets = load_replay_assets();
@@ -153,6 +158,8 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   if (!opt.replay.empty()) sim.recorders().replay.grid_s = kReplayGridS;
   interpreter::Interpreter interp(sim, out);
   interp.set_input(std::cin, ::isatty(STDIN_FILENO) == 1);  // PROMPT asks again only at a terminal
+  const std::filesystem::path file_folder = std::filesystem::path(opt.file).parent_path();
+  interp.limits().files_root = !opt.files.empty() ? opt.files : file_folder.empty() ? "." : file_folder.string();
   const Clock::time_point parse_start = Clock::now();
   const auto diags = interp.load_file(opt.file);
   sim.recorders().timing.timing.parse_s += since(parse_start);

@@ -13,6 +13,7 @@ struct RunOptions {
   std::string report;       // --report path, optional
   std::string trace;        // --trace path, optional
   std::string replay;       // --replay path (HTML), optional
+  std::string files;        // --files DIR: the folder FOPENR ... names resolve in; default: FILE's folder
 };
 
 struct MonitorOptions {

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--report", run.report, "write a JSON report of the run (- : stdout)");
   run_cmd->add_option("--trace", run.trace, "write every checked pose as JSON (- : stdout)");
   run_cmd->add_option("--replay", run.replay, "write a self-contained HTML page replaying the run in 3D");
+  run_cmd->add_option("--files", run.files, "folder the program's files are read and written in (default: FILE's folder)");
 
   std::string check_file;
   auto* check_cmd = cli.add_subcommand("check", "load and check FILE.v2; nothing runs");

@@ -163,6 +163,11 @@ nlohmann::json trace_document(const std::string& program, const robots::Robot& r
     rows.push_back({{"t", s.time_s},
                     {"joints_deg", joints(s.joints)},
                     {"tool_xyzoat", {x[0], x[1], x[2], x[3], x[4], x[5]}}});
+    if (!s.part.empty()) {  // the carried part (docs/cell-format.md "Collision bodies")
+      const auto p = motion::decompose(s.part_pose);
+      rows.back()["part"] = s.part;
+      rows.back()["part_xyzoat"] = {p[0], p[1], p[2], p[3], p[4], p[5]};
+    }
   }
   return {{"schema_version", kSchemaVersion},
           {"program", program},

@@ -8,6 +8,7 @@
 // alone miss the plate), and a random-motion suite: 40 random joint moves of the PUMA in the
 // default cell from READY, each joint within +-40 deg of it (seeded; a contact ends the run).
 // Writes bench/results/continuous.json (or argv[1]) and prints a table.
+#include "cpu_time.hpp"
 #include "asimov/cell/cell_loader.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include "asimov/motion/simulator.hpp"
@@ -30,11 +31,6 @@ using namespace asimov;
 
 namespace {
 
-double cpu_us() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e6 + static_cast<double>(t.tv_nsec) / 1e3;
-}
 constexpr int kRuns = 15;
 
 struct Outcome {
@@ -51,16 +47,22 @@ struct Case {
   std::function<Outcome(motion::Simulator&)> run;  // timed
 };
 
-Outcome outcome_of(const motion::Simulator& sim, const motion::MotionResult& r, bool ok) {
+// `contact`: the collision that ended the run, null when none did.
+Outcome outcome_of(const motion::Simulator& sim, std::string status, const motion::CollisionReport* contact) {
   Outcome o;
-  o.status = r.status == motion::MotionStatus::collision ? "collision" : ok ? "completed" : "error";
-  if (r.status == motion::MotionStatus::collision) {
-    o.bodies = r.collision.body_a + " / " + r.collision.body_b;
-    o.time_s = r.collision.time_s;
+  o.status = std::move(status);
+  if (contact) {
+    o.bodies = contact->body_a + " / " + contact->body_b;
+    o.time_s = contact->time_s;
   }
   o.poses = sim.recorders().counts.poses;
   o.probes = sim.recorders().counts.bisection;
   return o;
+}
+
+Outcome outcome_of(const motion::Simulator& sim, const motion::MotionResult& r, bool ok) {
+  const bool hit = r.status == motion::MotionStatus::collision;
+  return outcome_of(sim, hit ? "collision" : ok ? "completed" : "error", hit ? &r.collision : nullptr);
 }
 
 Case program_case(const std::string& program, const std::string& cell_file) {
@@ -74,17 +76,9 @@ Case program_case(const std::string& program, const std::string& cell_file) {
             interp.load_file(path);
             const auto names = interp.program_names();
             const interpreter::RunResult r = interp.run(names.front());
-            Outcome o;
-            o.status = r.status == interpreter::RunStatus::completed ? "completed"
-                       : r.status == interpreter::RunStatus::collision ? "collision"
-                                                                       : "error";
-            if (r.status == interpreter::RunStatus::collision) {
-              o.bodies = r.collision.body_a + " / " + r.collision.body_b;
-              o.time_s = r.collision.time_s;
-            }
-            o.poses = sim.recorders().counts.poses;
-            o.probes = sim.recorders().counts.bisection;
-            return o;
+            const bool hit = r.status == interpreter::RunStatus::collision;
+            return outcome_of(sim, r.status == interpreter::RunStatus::completed ? "completed" : hit ? "collision" : "error",
+                              hit ? &r.collision : nullptr);
           }};
 }
 

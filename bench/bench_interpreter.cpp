@@ -10,6 +10,7 @@
 // 2. LOAD (parse + check) of a generated 100,000-line program (programs of 100 lines with
 //    assignments, IF blocks, FOR loops and CALLs): CPU time, median of 3.
 // Writes bench/results/interpreter.json (or argv[1]) and prints a table.
+#include "cpu_time.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include "asimov/robots/puma560.hpp"
 
@@ -31,13 +32,6 @@ using namespace asimov;
 
 namespace {
 
-// CPU time of this thread [us]: Lua's os.clock() is CPU time too, so the ratio does not
-// depend on how busy the machine is.
-double cpu_us() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e6 + static_cast<double>(t.tv_nsec) / 1e3;
-}
 constexpr int kRuns = 11;
 
 constexpr const char* kValProgram = R"(.PROGRAM bench()

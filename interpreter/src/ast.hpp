@@ -152,6 +152,25 @@ struct Unsupported {
   std::string rest;                                   // the rest of the line, as written
 };
 
+// V+ I/O (dialect §7a): KEYWORD [ "(" [expression] { "," [expression] } ")" ] [ items ]
+// ATTACH (lun, 4) "DISK", FOPENR (lun) "f.txt", READ (lun) $s, x, WRITE (lun) $s, /S, FCLOSE (lun)
+struct IoStmt {
+  std::string keyword;                                // as written
+  std::vector<Expr> unit;                             // lun, mode ... (an omitted one: Nil)
+  std::vector<TypeItem> items;                        // device or path, READ's variables, WRITE's items
+};
+
+// EXECUTE [ /C ] [ task ] program [ "(" arguments ")" ] { "," [ expression ] }   (dialect §7b)
+struct ExecuteHead {
+  Expr task;                                          // Nil: task 0
+  std::string program;
+};
+struct ExecuteStmt {
+  ExecuteHead head;
+  std::vector<boost::optional<Expr>> args;
+  std::vector<Expr> rest;                             // cycles, step, priority (ignored)
+};
+
 // TIMER expression "=" expression
 struct TimerStmt {
   Expr number;
@@ -165,7 +184,8 @@ struct ProgramHeader {
 };
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
-                               ProgramHeader, Declaration, TimerStmt, Unsupported> {
+                               ProgramHeader, Declaration, TimerStmt, Unsupported, IoStmt,
+                               ExecuteStmt> {
   using base_type::base_type;
   using base_type::operator=;
 };

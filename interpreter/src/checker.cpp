@@ -2,6 +2,7 @@
 
 #include "data_section.hpp"
 #include "expressions.hpp"
+#include "files.hpp"
 #include "limits.hpp"
 #include "settings.hpp"
 
@@ -352,6 +353,8 @@ class Checker {
       void operator()(const ast::ProgramHeader&) const {}
       void operator()(const ast::Declaration& d) const { c.declaration(d); }
       void operator()(const ast::Unsupported& u) const { c.unsupported(u); }
+      void operator()(const ast::IoStmt& io) const { c.io_statement(io); }
+      void operator()(const ast::ExecuteStmt& e) const { c.execute_statement(e); }
       void operator()(const ast::TimerStmt& t) const {
         Instr& in = c.emit(Code::timer);
         in.args.push_back(c.expression(t.number));
@@ -372,6 +375,113 @@ class Checker {
     const std::string& k = in.target.text;
     in.always = k == "ACCEL" || ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0)
         || (k == "SELECT" && rest == "ROBOT=1");
+  }
+
+  // Dialect §7a. Robot ATTACH () / DETACH () (§7b); FOPEN and FCMND (network) stop with a hint.
+  void io_statement(const ast::IoStmt& io) {
+    std::string k;
+    for (char c : io.keyword) k += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    std::vector<ast::Expr> unit = io.unit;
+    if (unit.size() == 1 && ast::is_omitted(unit[0])) unit.clear();
+    if ((k == "ATTACH" || k == "DETACH") && unit.empty() && io.items.empty()) {  // the robot
+      Instr& in = emit(Code::robot);
+      in.target.text = k;
+      in.always = k == "ATTACH";
+      return;
+    }
+    if (k == "ABORT" || k == "KILL" || k == "CYCLE.END" || k == "RELEASE") return task_statement(k, unit, io.items);
+    if (k == "FOPEN" || k == "FCMND") {
+      Instr& in = emit(Code::unsupported);
+      in.target.text = k + "; " + std::string(kNetworkHint);
+      return;
+    }
+    static const std::pair<const char*, IoOp> kOps[] = {
+        {"ATTACH", IoOp::attach}, {"DETACH", IoOp::detach}, {"FOPENR", IoOp::fopenr}, {"FOPENW", IoOp::fopenw},
+        {"FOPENA", IoOp::fopena}, {"FOPEND", IoOp::fopend}, {"FCLOSE", IoOp::fclose}, {"FEMPTY", IoOp::fempty},
+        {"FDELETE", IoOp::fdelete}, {"READ", IoOp::read}, {"WRITE", IoOp::write}};
+    IoOp op = IoOp::read;
+    for (const auto& [name, o] : kOps)
+      if (k == name) op = o;
+    if (unit.empty() || ast::is_omitted(unit[0])) {
+      error(fmt::format("{} needs a logical unit: {} (lun) ...", k, k));
+      return;
+    }
+    const bool takes_path = op == IoOp::fopenr || op == IoOp::fopenw || op == IoOp::fopena || op == IoOp::fopend
+        || op == IoOp::fempty || op == IoOp::fdelete;
+    const std::size_t want_max = op == IoOp::read || op == IoOp::write ? kMaxIoItems : takes_path || op == IoOp::attach ? 1 : 0;
+    if (io.items.size() > want_max || (takes_path && io.items.empty()) || (op == IoOp::read && io.items.empty())) {
+      error(fmt::format("{} expects {}", k, op == IoOp::read ? "variables after the unit"
+                                                : takes_path ? "a file name after the unit"
+                                                : want_max ? "at most a device name after the unit" : "only the unit"));
+      return;
+    }
+    Instr& in = emit(Code::io);
+    in.io = op;
+    in.target.text = k;
+    for (const ast::Expr& e : unit) in.args.push_back(ast::is_omitted(e) ? Node{} : expression(e));
+    in.temp = static_cast<int>(in.args.size());
+    for (const ast::TypeItem& item : io.items) {
+      if (const auto* f = boost::get<ast::Format>(&item)) {
+        if (op != IoOp::write) {
+          error(fmt::format("{} takes no format", k));
+          return;
+        }
+        ast::Format spec = *f;
+        spec.code = static_cast<char>(std::toupper(static_cast<unsigned char>(spec.code)));
+        if (spec.width > kMaxStringLength || spec.decimals > kMaxStringLength)
+          error(fmt::format("/{}{} is wider than {} characters", spec.code, std::max(spec.width, spec.decimals), kMaxStringLength));
+        in.formats.push_back(spec);
+        continue;
+      }
+      const ast::Expr& e = boost::get<ast::Expr>(item);
+      if (op == IoOp::read) {
+        const ast::VarRef* v = plain_variable(e, true);
+        if (!v || ast::is_whole_array(*v) || v->name[0] == '#') {
+          error("READ expects real or string variables");
+          return;
+        }
+        in.args.push_back(variable(*v, false));
+        continue;
+      }
+      Node value = expression(e);
+      if (op != IoOp::write && static_kind(value) == StaticKind::real) error(fmt::format("{} expects a string", k));
+      in.formats.push_back(ast::Format{0, 0, 0});
+      in.args.push_back(std::move(value));
+    }
+  }
+
+  // ABORT n, KILL n, CYCLE.END n, RELEASE [n] (dialect §7b): the task number as the one item.
+  void task_statement(const std::string& k, const std::vector<ast::Expr>& unit, const std::vector<ast::TypeItem>& items) {
+    const IoOp op = k == "ABORT" ? IoOp::abort : k == "KILL" ? IoOp::kill : k == "CYCLE.END" ? IoOp::cycle_end : IoOp::release;
+    std::vector<const ast::Expr*> args;
+    for (const ast::Expr& e : unit) args.push_back(&e);
+    for (const ast::TypeItem& item : items) {
+      const auto* e = boost::get<ast::Expr>(&item);
+      if (!e) {
+        error(fmt::format("{} takes no format", k));
+        return;
+      }
+      args.push_back(e);
+    }
+    if ((op != IoOp::release && args.empty()) || args.size() > (op == IoOp::cycle_end ? 2u : 1u)) {
+      error(fmt::format("{} expects a task number", k));
+      return;
+    }
+    Instr& in = emit(Code::task);
+    in.io = op;
+    in.target.text = k;
+    for (const ast::Expr* e : args) in.args.push_back(expression(*e));
+  }
+
+  // EXECUTE [task] prog(args): the program slot as for CALL; arguments go by value.
+  void execute_statement(const ast::ExecuteStmt& e) {
+    Instr& in = emit(Code::execute);
+    in.program = symbols_.program(normalize_name(e.head.program));
+    in.target.text = normalize_name(e.head.program);
+    in.args.push_back(ast::is_omitted(e.head.task) ? Node{} : expression(e.head.task));
+    std::size_t count = e.args.size();
+    if (count == 1 && !e.args[0]) count = 0;
+    for (std::size_t i = 0; i < count; ++i) in.args.push_back(e.args[i] ? expression(*e.args[i]) : Node{});
   }
 
   void binding(const ast::Binding& b) {

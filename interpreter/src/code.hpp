@@ -48,6 +48,12 @@ enum class Code : unsigned char {
 // The motion instructions' path (instructions.def): a straight line of the tool or a joint move.
 bool straight_path(Code code);
 
+// The I/O instructions of dialect §7a and the task instructions of §7b (Instr::io).
+enum class IoOp : unsigned char {
+  attach, detach, fopenr, fopenw, fopena, fopend, fclose, fempty, fdelete, read, write,
+  abort, kill, cycle_end, release
+};
+
 struct Instr {
   Code code = Code::jump;
   int line = 0;                    // file line
@@ -60,9 +66,11 @@ struct Instr {
   int temp = -1;                   // FOR: two frame temporaries (limit, step); CASE: one
   bool always = false;             // SPEED ... ALWAYS; unsupported: only warn
   bool monitor = false;            // SPEED ... MONITOR
-  int program = -1;                // CALL: program slot
+  int program = -1;                // CALL, EXECUTE: program slot
   std::vector<bool> by_ref;        // CALL: argument i passed by reference
   ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE; hand: OPEN...
+  IoOp io = IoOp::read;            // io: which; args = the unit arguments (temp of them), then
+                                   //   the items (formats: WRITE's, one per item)
 };
 
 // Instructions that compile to one Instr holding their arguments (the ASIMOV_MOTION and

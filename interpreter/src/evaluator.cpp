@@ -107,6 +107,11 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     ~InterruptWiring() { sim.set_interrupt(nullptr); }
   } wiring{sim_};
   sim_.set_interrupt(limits_.interrupt);
+  files_.set_root(limits_.files_root);
+  struct FileClosing {  // what was written is committed however the run ends
+    FileUnits& files;
+    ~FileClosing() { files.close_all(); }
+  } closing{files_};
   memory_.globals.resize(memory_.symbols.globals.size());
   globals_.resize(memory_.globals.size());  // no global is added while a run goes on
   for (std::size_t i = 0; i < globals_.size(); ++i) globals_[i] = &memory_.globals[i];
@@ -130,10 +135,20 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   };
 
   run_program_ = name;
+  statements_ = 0;
+  budget_ = limits_.max_statements;
+  robot_task_ = 0;
+  struct TaskReset {  // the tasks of this run end with it (a stopped run resumes task 0 only)
+    Evaluator& e;
+    ~TaskReset() {
+      e.tasks_.clear();
+      e.running_ = nullptr;
+    }
+  } task_reset{*this};
   RunStatus status = RunStatus::completed;
   try {
     status = setup();
-    if (status == RunStatus::completed) status = loop();
+    if (status == RunStatus::completed) status = run_tasks();
     if (status == RunStatus::completed) status = finish_motion();  // the last motion completes at the end
   } catch (Fault& e) {  // raise(): a VAL error found while evaluating a statement
     status = stop(std::move(e));
@@ -163,10 +178,19 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   }
   if (result.status == RunStatus::error || result.status == RunStatus::interrupted || result.status == RunStatus::collision)
     memory_.last_error = error_code(result.error.message);  // what ERROR() returns from now on
+  for (const auto& t : tasks_) {  // STATUS lists them (dialect §7b)
+    TaskReport report{t->number, t->program, t->aborted ? "aborted" : "completed"};
+    const Program* at = t.get() == running_ ? current_program_ : t->at_program;
+    const int line = t.get() == running_ ? current_line_ : t->at_line;
+    if (!t->done && at) report.state = fmt::format("stopped at step {} of {}", line - at->line, at->name);
+    else if (!t->done) report.state = "not started";
+    result.tasks.push_back(std::move(report));
+  }
+  if (!tasks_.empty()) stack_.clear();  // with tasks the run cannot be resumed
   if (result.status == RunStatus::completed) {
     result.program = name;
     result.line = result.step = 0;
-  } else if (!stack_.empty() || result.status == RunStatus::collision || halt_) {
+  } else if (!stack_.empty() || (tasks_.empty() && result.status == RunStatus::collision) || halt_) {
     stopped_ = Stopped{stack_.take(), result.status, name, speed_always_, speed_next_, last_motion_,
                        duration_always_, duration_next_, halt_.has_value(), memory_.programs};
   }
@@ -191,7 +215,6 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 RunStatus Evaluator::loop() {
   const std::atomic<bool>* interrupt = limits_.interrupt;
   const std::uint64_t max_statements = limits_.max_statements;
-  std::uint64_t statements = 0;  // this execution's steps (a run or a resumption)
   while (!stack_.empty()) {
     Frame& f = stack_.back();  // valid until a CALL, RETURN or STOP changes the stack
     const Program& program = *f.program;
@@ -209,8 +232,14 @@ RunStatus Evaluator::loop() {
       // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
       if (interrupt && interrupt->load(std::memory_order_relaxed)) return stop(fault(Message::interrupted));
       ++f.pc;
-      if (++statements > max_statements)
-        return stop(fault(Message::too_many_statements, fmt::format("more than {}", max_statements)));
+      if (++statements_ > budget_) {  // this execution's steps (a run or a resumption)
+        if (budget_ >= max_statements)
+          return stop(fault(Message::too_many_statements, fmt::format("more than {}", max_statements)));
+        --f.pc;  // the task's time slice is used up: the step runs when it comes back
+        --statements_;
+        block_until(now_ + kSliceS);
+        return RunStatus::completed;
+      }
       double x;
       switch (in.code) {
         case Code::assign:
@@ -257,6 +286,12 @@ RunStatus Evaluator::loop() {
         default: break;
       }
       if (const RunStatus s = execute(in); s != RunStatus::completed) return s;
+      if (running_) {  // tasks (dialect §7b)
+        // The robot task's statement carried the arm (or the hand) ahead in time: the other
+        // tasks run meanwhile, it goes on at that time.
+        if (!yield_ && robot_task() && sim_.time_s() > now_) block_until(sim_.time_s());
+        if (yield_) return RunStatus::completed;
+      }
       if (in.code == Code::call || in.code == Code::return_ || in.code == Code::stop) break;
     }
   }
@@ -293,6 +328,7 @@ RunStatus Evaluator::hand(const Instr& in) {
   const HandState h = w == ast::Kw::open || w == ast::Kw::openi     ? HandState::open
                       : w == ast::Kw::close || w == ast::Kw::closei ? HandState::closed
                                                                     : HandState::relaxed;
+  require_robot();
   if (w == ast::Kw::open || w == ast::Kw::close || w == ast::Kw::relax) {
     sim_.request_hand(h);
     return RunStatus::completed;
@@ -376,6 +412,10 @@ void Evaluator::statement(const Instr& in) {
     case Code::unsupported:
       if (!in.always) raise(Message::not_supported, in.target.text);
       return warn_once(in.target.text, in);
+    case Code::io: return io(in);
+    case Code::execute: return execute_task(in);
+    case Code::task: return task_instruction(in);
+    case Code::robot: return robot_attach(in.always);
     case Code::prompt: return prompt(in);
     case Code::duration: {
       const double t = to_real(eval(in.args[0]), "DURATION");
@@ -396,11 +436,13 @@ void Evaluator::statement(const Instr& in) {
       return;
     }
     case Code::tool: {
+      require_robot();
       if (in.args.empty()) sim_.settings().tool = motion::Location::Identity();  // TOOL = TOOL NULL
       else sim_.settings().tool = as_transformation(eval(in.args[0]));
       return;
     }
     case Code::base: {
+      require_robot();
       if (in.args.size() == 1 && in.args[0].kind != NodeKind::absent) {
         const Value v = eval(in.args[0]);
         if (kind_of(v) != Kind::real) {
@@ -528,7 +570,10 @@ void Evaluator::pop_frame() {
 }
 
 RunStatus Evaluator::finish_motion() {
-  return sim_.motion_pending() ? check_motion(sim_.finish_motion()) : RunStatus::completed;
+  if (!sim_.motion_pending()) return RunStatus::completed;
+  const RunStatus s = check_motion(sim_.finish_motion());
+  moving_until_ = sim_.time_s();  // for the other tasks the arm moves until then (STATE(2))
+  return s;
 }
 
 // The motion that the simulator finished failed: contact stops the run, an error is reported
@@ -554,6 +599,7 @@ RunStatus Evaluator::check_motion(const motion::MotionResult& r) {
 }
 
 RunStatus Evaluator::motion(const Instr& in) {
+  require_robot();
   // A motion instruction waits for the previous motion to end.
   if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
   const bool straight = straight_path(in.code);
@@ -637,7 +683,13 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   const int step = m.line - m.program->line;
   if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
     motion_sites_.emplace_back(m.program, m.line);
-  const bool hand_pending = sim_.hand().pending.has_value();  // OPEN / CLOSE act as this motion starts
+  // OPEN / CLOSE act as this motion starts: the grasp or release where the previous motion
+  // ended, before this one is planned (a carried part widens its step bounds).
+  const std::optional<motion::HandState> hand_request = sim_.hand().pending;
+  if (hand_request && sim_.cell_runtime()) {
+    if (const RunStatus s = check_motion(sim_.finish_motion()); s != RunStatus::completed) return s;
+    hand_changed(*hand_request, m.line);
+  }
   const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
                                           : sim_.start_move(m.pose, m.straight, m.speed, step);
   if (r.status == motion::MotionStatus::interrupted) return check_motion(r);  // the previous motion's halt
@@ -650,7 +702,6 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
     contact_ = r.collision;
     return RunStatus::collision;
   }
-  if (hand_pending && !sim_.hand().pending.has_value()) hand_changed(sim_.hand().state, m.line);
   return RunStatus::completed;
 }
 
@@ -678,6 +729,7 @@ motion::Location Evaluator::as_transformation(const Value& v) {
 // WAIT cond: the clock advances tick by tick until cond holds (bare WAIT: one tick).
 // WAIT.EVENT , t: t seconds. Both wait for the motion first.
 RunStatus Evaluator::wait(const Instr& in) {
+  if (running_) return task_wait(in);
   if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
   if (in.code == Code::wait_event) {
     const double t = to_real(eval(in.args[1]), "WAIT.EVENT time");
@@ -731,6 +783,312 @@ void Evaluator::settings(const Instr& in) {
     if (!set_switch(n.text, in.code == Code::enable, memory_.settings, sim_))
       warn_once((in.code == Code::enable ? "ENABLE " : "DISABLE ") + n.text, in);
 }
+
+// --- tasks (dialect §7b) --------------------------------------------------------------------
+
+// Runs stack_ (task 0) and, once EXECUTE has started others, every task by cooperative
+// scheduling on the simulated clock: a task runs until it gives way (WAIT, WAIT.EVENT, RELEASE,
+// CYCLE.END, the robot task when its statement carried the arm ahead in time, or the end of
+// its time slice), then the task that may run earliest goes on; at equal times the next one by
+// number after the task that ran. The clock advances only when no task can run now.
+RunStatus Evaluator::run_tasks() {
+  for (;;) {
+    yield_ = false;
+    if (const RunStatus s = loop(); s != RunStatus::completed) return s;
+    if (!running_) return RunStatus::completed;  // task 0 alone, as without tasks
+    Task& ran = *running_;
+    ran.done = !yield_;
+    ran.at_program = current_program_;
+    ran.at_line = current_line_;
+    std::swap(stack_, ran.stack);
+    Task* next = next_task();
+    if (!next) return RunStatus::completed;
+    if (const RunStatus s = advance_clock(next->wake_s); s != RunStatus::completed) return s;
+    switch_to(next);
+  }
+}
+
+Evaluator::Task* Evaluator::next_task() const {
+  Task* best = nullptr;
+  const std::size_t n = tasks_.size();
+  std::size_t start = 0;  // round robin: from the task after the one that ran
+  for (std::size_t i = 0; i < n; ++i)
+    if (tasks_[i].get() == running_) start = i + 1;
+  for (std::size_t k = 0; k < n; ++k) {
+    Task* t = tasks_[(start + k) % n].get();
+    if (!t->done && (!best || t->wake_s < best->wake_s)) best = t;
+  }
+  return best;
+}
+
+// The clock moves to `t`; an idle arm's clock follows it (a pending motion is carried out first).
+RunStatus Evaluator::advance_clock(double t) {
+  if (t <= now_) return RunStatus::completed;
+  now_ = t;
+  if (sim_.time_s() >= now_) return RunStatus::completed;
+  if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
+  if (sim_.time_s() < now_) return check_motion(sim_.wait(now_ - sim_.time_s()));
+  return RunStatus::completed;
+}
+
+void Evaluator::switch_to(Task* t) {
+  running_ = t;
+  std::swap(stack_, t->stack);
+  ctx_.globals = t->globals.data();
+  budget_ = std::min(limits_.max_statements, statements_ + kSliceStatements);
+}
+
+void Evaluator::block_until(double t) {
+  running_->wake_s = t;
+  yield_ = true;
+}
+
+void Evaluator::require_robot() const {
+  if (task_number() != robot_task_)
+    raise_text("*Robot not attached to this program*", fmt::format("task {}", task_number()));
+}
+
+// Robot ATTACH () / DETACH () (dialect §7b): DETACH () gives the robot away; ATTACH () takes it
+// when no other running task holds it.
+void Evaluator::robot_attach(bool attach) {
+  const int n = task_number();
+  if (!attach) {
+    if (robot_task_ == n) robot_task_ = -1;
+    return;
+  }
+  bool owner_running = tasks_.empty() && robot_task_ == 0 && n != 0;
+  for (const auto& t : tasks_) owner_running = owner_running || (t->number == robot_task_ && !t->done);
+  if (robot_task_ != n && robot_task_ >= 0 && owner_running)
+    raise(Message::illegal_value, fmt::format("the robot is attached to task {}", robot_task_));
+  robot_task_ = n;
+}
+
+// WAIT, WAIT.EVENT with tasks: the task gives way to the others until its time or condition.
+// The robot task first lets its motion end (the step runs again at the motion's end).
+RunStatus Evaluator::task_wait(const Instr& in) {
+  if (robot_task()) {
+    if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
+    if (sim_.time_s() > now_) {
+      --stack_.back().pc;
+      block_until(sim_.time_s());
+      return RunStatus::completed;
+    }
+  }
+  Task& t = *running_;
+  if (in.code == Code::wait_event) {
+    const double s = to_real(eval(in.args[1]), "WAIT.EVENT time");
+    if (!(s >= 0)) raise(Message::illegal_value, fmt::format("WAIT.EVENT {}", format_number(s)));
+    block_until(now_ + s);
+    return RunStatus::completed;
+  }
+  if (in.args.empty()) {
+    block_until(now_ + limits_.tick_s);
+    return RunStatus::completed;
+  }
+  if (t.wait_since < 0) waited_.clear();
+  if (to_real(eval(in.args[0]), "WAIT condition") != 0) {
+    t.wait_since = -1;
+    return RunStatus::completed;
+  }
+  if (t.wait_since < 0) t.wait_since = now_;
+  if (now_ - t.wait_since >= limits_.max_wait_s) {
+    t.wait_since = -1;
+    return stop(fault(Message::wait_limit,
+                      fmt::format("still false after {} s{}", format_number(limits_.max_wait_s), undriven_signals())));
+  }
+  --stack_.back().pc;  // the condition is tested again when the task comes back
+  block_until(now_ + limits_.tick_s);
+  return RunStatus::completed;
+}
+
+// EXECUTE [n] prog(args): task n runs prog from now on; this task goes on. Arguments go by value.
+void Evaluator::execute_task(const Instr& in) {
+  const int n = in.args[0].kind == NodeKind::absent ? 0 : to_index(to_real(eval(in.args[0]), "task number"));
+  if (n < 0 || n > kMaxTask) raise(Message::illegal_value, fmt::format("task {}", n));
+  const auto& program = memory_.programs[static_cast<std::size_t>(in.program)];
+  if (!program) raise(Message::undefined_name, in.target.text);
+  if (in.args.size() - 1 > program->params.size())
+    raise(Message::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
+  if (!running_) {  // the first EXECUTE: the running execution becomes task 0
+    auto first = std::make_unique<Task>();
+    first->program = run_program_;
+    first->globals = globals_;
+    running_ = first.get();
+    tasks_.push_back(std::move(first));
+    now_ = sim_.time_s();
+  }
+  for (auto it = tasks_.begin(); it != tasks_.end(); ++it) {
+    if ((*it)->number != n) continue;
+    if (!(*it)->done) raise(Message::illegal_value, fmt::format("task {} is executing", n));
+    tasks_.erase(it);  // a task that ended starts again
+    break;
+  }
+  auto t = std::make_unique<Task>();
+  t->number = n;
+  t->program = program->name;
+  t->wake_s = now_;
+  Frame& top = t->stack.next();
+  top.program = program.get();
+  top.owned.clear();
+  top.owned.resize(program->params.size() + program->autos.size());
+  for (std::size_t i = 1; i < in.args.size(); ++i)
+    if (in.args[i].kind != NodeKind::absent) top.owned[i - 1].scalar = eval(in.args[i]);
+  for (Variable& v : top.owned) top.params.push_back(&v);
+  top.temps.resize(static_cast<std::size_t>(program->temps));
+  t->stack.commit();
+  t->globals = globals_;
+  for (std::size_t slot = 0; slot < memory_.symbols.globals.size(); ++slot)  // its own LOCAL variables
+    if (memory_.symbols.globals[slot].find('@') != std::string::npos) t->globals[slot] = &t->locals.emplace_back();
+  auto at = std::find_if(tasks_.begin(), tasks_.end(), [&](const auto& other) { return other->number > n; });
+  tasks_.insert(at, std::move(t));
+  budget_ = std::min(limits_.max_statements, statements_ + kSliceStatements);
+}
+
+// ABORT n / KILL n end task n (its next step does not run); CYCLE.END n waits for its end;
+// RELEASE gives way to the other tasks.
+void Evaluator::task_instruction(const Instr& in) {
+  const int n = in.args.empty() ? -1 : to_index(to_real(eval(in.args[0]), "task number"));
+  Task* task = nullptr;
+  for (const auto& t : tasks_)
+    if (t->number == n) task = t.get();
+  switch (in.io) {
+    case IoOp::abort:
+    case IoOp::kill:
+      if (n == task_number()) {
+        if (running_) running_->aborted = true;
+        return stack_.clear();
+      }
+      if (task) {
+        task->done = task->aborted = true;
+        task->stack.clear();
+      }
+      return;
+    case IoOp::cycle_end:
+      if (!task || task->done || task == running_) return;
+      --stack_.back().pc;
+      return block_until(now_ + limits_.tick_s);
+    case IoOp::release:
+      if (running_) block_until(now_);
+      return;
+    default: return;
+  }
+}
+
+// --- files (dialect §7a) --------------------------------------------------------------------
+
+int Evaluator::unit_number(const Instr& in) {
+  const int lun = to_index(to_real(eval(in.args[0]), "logical unit"));
+  if (lun < 0 || lun > FileUnits::kLastUnit) raise(Message::illegal_value, fmt::format("logical unit {}", lun));
+  return lun;
+}
+
+// ATTACH / DETACH / FOPENR ... / READ / WRITE on a disk unit. As on V+, what the program is
+// expected to handle (end of file, a missing file) only sets IOSTAT; a path leaving the folder,
+// a unit used wrongly and a device that is not simulated stop the program.
+void Evaluator::io(const Instr& in) {
+  const std::size_t first_item = static_cast<std::size_t>(in.temp);
+  auto text_item = [&]() -> std::string {
+    return first_item < in.args.size() ? to_string_value(eval(in.args[first_item])) : std::string();
+  };
+  std::string error;
+  auto check = [&] {
+    if (!error.empty()) raise(Message::illegal_value, fmt::format("{}: {}", in.target.text, error));
+  };
+  if (in.io == IoOp::attach) {
+    std::string device;
+    for (char c : text_item()) device += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (!device.empty() && device != "DISK" && device != "NFS") {
+      bool network = false;
+      for (std::string_view d : kNetworkDevices) network = network || device.rfind(d, 0) == 0;
+      raise(Message::not_supported, fmt::format("ATTACH \"{}\"{}", device, network ? "; " + std::string(kNetworkHint) : ""));
+    }
+    const double mode = in.args.size() > 1 && first_item > 1 && in.args[1].kind != NodeKind::absent
+        ? to_real(eval(in.args[1]), "ATTACH mode") : 0;
+    int lun = 0;
+    if (static_cast<int>(mode) & 4) {  // allocate the next free unit, returned in the variable
+      if (in.args[0].kind != NodeKind::variable) raise(Message::illegal_value, "ATTACH mode 4 needs a variable for the unit");
+      lun = files_.free_unit();
+      if (lun < 0) raise(Message::illegal_value, "ATTACH: no logical unit left");
+      store(in.args[0], static_cast<double>(lun));
+    } else {
+      lun = unit_number(in);
+    }
+    if (!files_.attach(lun)) raise(Message::illegal_value, fmt::format("ATTACH: logical unit {} is attached already", lun));
+    files_.set_iostat(lun, kIoOk);
+    return;
+  }
+  const int lun = unit_number(in);
+  switch (in.io) {
+    case IoOp::detach:
+      if (!files_.detach(lun, error) && error.empty()) error = fmt::format("logical unit {} is not attached", lun);
+      return check();
+    case IoOp::fopenr: case IoOp::fopenw: case IoOp::fopena: case IoOp::fopend: {
+      const FileUnits::Open mode = in.io == IoOp::fopenr ? FileUnits::Open::read
+                                 : in.io == IoOp::fopenw ? FileUnits::Open::write
+                                 : in.io == IoOp::fopena ? FileUnits::Open::append : FileUnits::Open::directory;
+      files_.open(lun, mode, text_item(), error);
+      return check();
+    }
+    case IoOp::fclose: files_.close(lun, error); return check();
+    case IoOp::fempty: files_.empty(lun, text_item(), error); return check();
+    case IoOp::fdelete: {
+      const auto target = resolve_inside(files_.root(), text_item(), error);
+      check();
+      if (!files_.attached(lun)) raise(Message::illegal_value, fmt::format("FDELETE: logical unit {} is not attached", lun));
+      std::error_code ec;
+      files_.set_iostat(lun, std::filesystem::remove(*target, ec) ? kIoOk : kIoFileNotFound);
+      return;
+    }
+    case IoOp::read: {
+      if (in.args.size() > 1 && first_item > 1 && in.args[1].kind != NodeKind::absent
+          && to_real(eval(in.args[1]), "record number") != 0)
+        raise(Message::not_supported, "READ of a numbered record");
+      const auto record = files_.read_record(lun, error);
+      check();
+      if (!record) return;  // end of file: IOSTAT says so, the variables are unchanged
+      const std::size_t count = in.args.size() - first_item;
+      if (count == 1 && in.args[first_item].text[0] == '$') {  // the whole record
+        if (record->size() > kMaxStringLength) raise(Message::illegal_value, "READ: record longer than 128 characters");
+        return store(in.args[first_item], *record);
+      }
+      // Several variables (or a real): the record's fields, separated by blanks, tabs or commas.
+      std::vector<std::string> fields;
+      std::string field;
+      for (char c : *record + ' ') {
+        if (c == ' ' || c == '\t' || c == ',') {
+          if (!field.empty()) fields.push_back(field);
+          field.clear();
+        } else {
+          field += c;
+        }
+      }
+      for (std::size_t k = 0; k < count; ++k) {
+        const Node& target = in.args[first_item + k];
+        if (k >= fields.size())
+          raise(Message::illegal_value, fmt::format("READ: the record has {} fields for {} variables", fields.size(), count));
+        if (target.text[0] == '$') {
+          store(target, fields[k]);
+          continue;
+        }
+        const auto v = parse_reply_number(fields[k]);
+        if (!v) raise(Message::illegal_value, fmt::format("READ: \"{}\" is not a number", fields[k]));
+        store(target, *v);
+      }
+      return;
+    }
+    case IoOp::write: {
+      bool record_end = true;
+      std::vector<Value> values;
+      for (std::size_t k = first_item; k < in.args.size(); ++k) values.push_back(eval(in.args[k]));
+      std::string text = format_items(in.formats, values, record_end);
+      if (record_end) text += "\r\n";  // V+ records end with CR LF; /S leaves the record open
+      files_.write(lun, text, error);
+      return check();
+    }
+    case IoOp::attach: break;
+  }
+}
+
 
 // A V+ construct that the simulation ignores (dialect §7): one warning per execution.
 void Evaluator::warn_once(const std::string& keyword, const Instr& in) {

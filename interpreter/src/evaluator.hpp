@@ -3,6 +3,7 @@
 #pragma once
 #include "checker.hpp"
 #include "code.hpp"
+#include "files.hpp"
 #include "errors.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include "settings.hpp"
@@ -57,6 +58,8 @@ class Evaluator {
   motion::CellRuntime* cell_runtime();
   // The same for reports, never raising (a logic loop leaves the state before it).
   const motion::CellRuntime* cell_state();
+  // DO SIGNAL at the monitor: memory and devices; the message of a logic loop, if any.
+  std::optional<std::string> monitor_signal(int k);
 
  private:
   struct Frame {
@@ -129,6 +132,21 @@ class Evaluator {
     std::vector<std::shared_ptr<const Program>> pinned;  // the frames' programs, even if reloaded
   };
 
+  // A task of dialect §7b: its own call stack and LOCAL variables, and when it may run again.
+  struct Task {
+    int number = 0;
+    FrameStack stack;                 // while it does not run (the running task's is stack_)
+    std::string program;              // the program it was started with
+    double wake_s = 0;                // it may run again from this simulated time on
+    double wait_since = -1;           // WAIT with a condition: when the wait began; < 0: none
+    bool done = false;
+    bool aborted = false;             // ended by ABORT / KILL
+    const Program* at_program = nullptr;  // where it stopped or gave way
+    int at_line = 0;
+    std::vector<Variable*> globals;   // globals_ with this task's LOCAL slots redirected
+    std::deque<Variable> locals;      // its LOCAL variables (every task but the first)
+  };
+
   // The one protected boundary: runs `setup` then the loop and turns the status they return
   // (or a raised Fault) into the result.
   //
@@ -139,7 +157,20 @@ class Evaluator {
   RunStatus start_motion(const MotionRequest& m);
   RunStatus execute(const Instr& in);  // the statements that can end a run, else statement()
   void statement(const Instr& in);
-  RunStatus loop();  // runs stack_ until it is empty
+  RunStatus loop();  // runs stack_ until it is empty, or until its task gives way
+  // --- tasks (dialect §7b) ---
+  RunStatus run_tasks();              // runs stack_, and every task EXECUTE starts, to their end
+  Task* next_task() const;
+  RunStatus advance_clock(double t);
+  void switch_to(Task* t);
+  void block_until(double t);         // the running task gives way until `t`
+  RunStatus task_wait(const Instr& in);
+  void execute_task(const Instr& in);
+  void task_instruction(const Instr& in);
+  void robot_attach(bool attach);
+  void require_robot() const;         // only the robot task moves the arm, sets TOOL and BASE
+  int task_number() const { return running_ ? running_->number : 0; }
+  bool robot_task() const { return task_number() == robot_task_; }
   void call(const Instr& in);
   void pop_frame();
   RunStatus motion(const Instr& in);
@@ -154,12 +185,16 @@ class Evaluator {
   void prompt(const Instr& in);
   void settings(const Instr& in);
   void warn_once(const std::string& keyword, const Instr& in);
+  void io(const Instr& in);  // dialect §7a
+  int unit_number(const Instr& in);
 
   motion::Location as_transformation(const Value& v);
   Value eval(const Node& n);
   Value function(const Node& n);
   double state(int select) const;  // STATE(select)
-  double clock() const { return sim_.time_s(); }  // the simulated clock (TIMER)
+  // A motion under way: pending, or (with tasks) carried out ahead and not ended at the clock.
+  bool moving() const { return sim_.motion_pending() || (running_ && now_ < moving_until_); }
+  double clock() const { return running_ ? now_ : sim_.time_s(); }  // the simulated clock (TIMER)
   int signal_number(const Node& n, bool output);
   Variable& variable(const Node& n) {
     if (n.ref.scope == Scope::global) return *ctx_.globals[n.ref.slot];
@@ -226,7 +261,15 @@ class Evaluator {
   motion::CollisionReport contact_;           // what ended the run (status collision)
   std::vector<Variable*> globals_;            // &memory_.globals[slot], set when a run starts
   FastCtx ctx_;                               // globals_ and the running frame's slots
-  std::unique_ptr<motion::CellRuntime> cell_;  // parts and devices (cell_runtime())
+  FileUnits files_;                           // logical units; all closed at the end of a run
+  std::vector<std::unique_ptr<Task>> tasks_;  // by number; empty: task 0 alone (no EXECUTE yet)
+  Task* running_ = nullptr;                   // the task in stack_ (null: task 0 alone)
+  bool yield_ = false;                        // the running task gave way (WAIT, motion, RELEASE ...)
+  double now_ = 0;                            // the scheduler's simulated clock (tasks only)
+  double moving_until_ = 0;                   // the arm's last motion, carried out, ends here
+  int robot_task_ = 0;                        // the task that moves the arm; -1: DETACHed
+  std::uint64_t statements_ = 0;              // executed in this execution
+  std::uint64_t budget_ = 0;                  // at this count the task yields, or the run stops
   std::set<int> waited_;                      // signals SIG() read during the current WAIT
 };
 

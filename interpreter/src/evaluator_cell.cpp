@@ -13,14 +13,14 @@
 namespace asimov::interpreter {
 
 motion::CellRuntime* Evaluator::cell_runtime() {
-  if (!cell_ && !sim_.cell().workcell.empty()) cell_ = std::make_unique<motion::CellRuntime>(sim_.cell());
-  if (!cell_) return nullptr;
+  motion::CellRuntime* c = sim_.cell_runtime();
+  if (!c) return nullptr;
   try {
-    cell_->clock().advance_to(sim_.time_s());
+    c->clock().advance_to(sim_.time_s());
   } catch (const motion::DeviceError& e) {
     raise_text("*Device logic loop*", e.what());
   }
-  return cell_.get();
+  return c;
 }
 
 void Evaluator::set_signal(int k) {
@@ -65,19 +65,33 @@ void Evaluator::hand_changed(motion::HandState h, int line) {
   if (const auto why = c->open(flange, line)) raise_text("*No support below the part*", *why);
 }
 
+std::optional<std::string> Evaluator::monitor_signal(int k) {
+  if (k > 0) memory_.signals.insert(k);
+  if (k < 0) memory_.signals.erase(-k);
+  motion::CellRuntime* c = sim_.cell_runtime();
+  if (!c || k == 0) return std::nullopt;
+  try {
+    c->clock().advance_to(sim_.time_s());
+    c->clock().set_signal(std::abs(k), k > 0, 0);
+  } catch (const motion::DeviceError& e) {
+    return std::string(e.what());
+  }
+  return std::nullopt;
+}
+
 }  // namespace asimov::interpreter
 
 namespace asimov::interpreter {
 
 const motion::CellRuntime* Evaluator::cell_state() {
-  if (!cell_ && !sim_.cell().workcell.empty()) cell_ = std::make_unique<motion::CellRuntime>(sim_.cell());
-  if (!cell_) return nullptr;
+  motion::CellRuntime* c = sim_.cell_runtime();
+  if (!c) return nullptr;
   try {
-    cell_->clock().advance_to(sim_.time_s());
+    c->clock().advance_to(sim_.time_s());
   } catch (const motion::DeviceError&) {
     // the run already stopped on it (*Device logic loop*); the state is the one before
   }
-  return cell_.get();
+  return c;
 }
 
 }  // namespace asimov::interpreter

@@ -152,12 +152,15 @@ Value Evaluator::function(const Node& n) {
   }
   if (n.func == Func::state) return state(to_index(to_real(eval(n.kids[0]), "STATE selector")));
   if (n.func == Func::task) {  // TASK(): this task; TASK(1, n): 4 while task n executes, else 0
-    if (n.kids.empty()) return 0.0;
+    if (n.kids.empty()) return static_cast<double>(task_number());
     const int select = to_index(to_real(eval(n.kids[0]), "TASK selector"));
     const int task = n.kids.size() > 1 && n.kids[1].kind != NodeKind::absent
         ? to_index(to_real(eval(n.kids[1]), "task number")) : 0;
     if (select != 1) raise(Message::not_supported, fmt::format("TASK({}, ...)", select));
-    return task == 0 ? 4.0 : 0.0;  // task 0 is the one executing
+    if (tasks_.empty()) return task == 0 ? 4.0 : 0.0;  // task 0 alone
+    for (const auto& t : tasks_)
+      if (t->number == task) return t->done ? 0.0 : 4.0;
+    return 0.0;
   }
   if (n.func == Func::error) {  // ERROR(task [, select]): the last error's code, 0 when none
     for (const Node& k : n.kids)
@@ -171,7 +174,26 @@ Value Evaluator::function(const Node& n) {
     const auto slot = memory_.symbols.program_slots.find(name);
     if (slot == memory_.symbols.program_slots.end() || !memory_.programs[static_cast<std::size_t>(slot->second)])
       return 0.0;
-    return run_program_ == name ? 2.0 : 1.0;
+    bool executing = tasks_.empty() && run_program_ == name;
+    for (const auto& t : tasks_) executing = executing || (!t->done && t->program == name);
+    return executing ? 2.0 : 1.0;
+  }
+  if (n.func == Func::iostat || n.func == Func::getc) {  // dialect §7a
+    const int lun = to_index(to_real(eval(n.kids[0]), "logical unit"));
+    const double mode = n.kids.size() > 1 && n.kids[1].kind != NodeKind::absent ? to_real(eval(n.kids[1]), "mode") : 0;
+    if (n.func == Func::iostat) {
+      if (mode != 0) raise(Message::not_supported, fmt::format("IOSTAT(lun, {})", format_number(mode)));
+      return static_cast<double>(files_.iostat(lun));
+    }
+    std::string error;
+    const int c = files_.get_byte(lun, error);
+    if (!error.empty()) raise(Message::illegal_value, "GETC: " + error);
+    return static_cast<double>(c);
+  }
+  if (n.func == Func::tas) {  // the old value (0 when undefined), then the new one is set
+    const double old = defined(n.kids[0]) ? to_real(read(n.kids[0]), "TAS variable") : 0.0;
+    store(n.kids[0], to_real(eval(n.kids[1]), "TAS value"));
+    return old;
   }
   if (n.func == Func::timer) {  // TIMER(0) and negative: the simulated clock [assumption]
     const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
@@ -194,10 +216,10 @@ Value Evaluator::function(const Node& n) {
 double Evaluator::state(int select) const {
   switch (select) {
     case 1: return 7;  // robot under program control
-    case 2: return sim_.motion_pending() ? 1 : motion_program_ ? 2 : 0;  // moving / at its target / no motion yet
+    case 2: return moving() ? 1 : motion_program_ ? 2 : 0;  // moving / at its target / no motion yet
     case 4: return 0;  // no front-panel or hardware flag (the E-stop bit 4 is clear)
     case 5: return 1;  // automatic mode
-    case 9: return sim_.motion_pending() ? 1 : 0;  // a motion under way
+    case 9: return moving() ? 1 : 0;  // a motion under way
     default: raise(Message::not_supported, fmt::format("STATE({})", select));
   }
 }

@@ -160,6 +160,13 @@ Node ExpressionCompiler::function(const ast::Call& call) {
       if (*f == Func::select && setting != "ROBOT") error("SELECT() knows ROBOT only");
       if (*f == Func::parameter && !known_parameter(setting)) error(fmt::format("unknown parameter {}", setting));
       if (*f == Func::switch_ && !known_switch(setting)) error(fmt::format("unknown switch {}", setting));
+    } else if (*f == Func::tas && i == 0) {  // TAS(variable, value): test and set
+      const ast::VarRef* v = plain_variable(*call.args[i], true);
+      if (!v || v->name[0] == '$' || v->name[0] == '#' || ast::is_whole_array(*v)) {
+        error("TAS needs a real variable");
+        return n;
+      }
+      n.kids.push_back(variable(*v, false));
     } else if (*f == Func::defined || *f == Func::last) {
       const ast::VarRef* v = plain_variable(*call.args[i], true);
       if (!v || (*f == Func::last && !ast::is_whole_array(*v))) {

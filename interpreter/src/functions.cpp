@@ -12,7 +12,7 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<FunctionInfo, 55> kFunctions = {{
+constexpr std::array<FunctionInfo, 58> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -26,12 +26,13 @@ constexpr std::array<FunctionInfo, 55> kFunctions = {{
     {"sig", 1, -1},     {"timer", 1, 1},    {"$mid", 3, 3},    {"last", 1, 1},
     {"frame", 4, 4},    {"parameter", 1, 1}, {"switch", 1, 1},  {"inrange", 1, 1},
     {"state", 1, 1},    {"task", 0, 2},     {"error", 1, 2},   {"$error", 1, 1},
-    {"select", 1, 1},   {"status", 1, 1},   {"", 0, -1},
+    {"select", 1, 1},   {"status", 1, 1},   {"getc", 1, 2},    {"iostat", 1, 2},
+    {"tas", 2, 2},      {"", 0, -1},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
 // Dialect §7: functions that load, and stop the program with *Not supported in simulation*.
-constexpr std::string_view kVplusFunctions[] = {"getc", "iostat", "$lngb", "lngb", "$fltb", "fltb",
+constexpr std::string_view kVplusFunctions[] = {"$lngb", "lngb", "$fltb", "fltb",
                                                 "$intb", "intb", "$decode"};
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -230,6 +231,9 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::error_text:
     case Func::select:
     case Func::status:
+    case Func::getc:
+    case Func::iostat:
+    case Func::tas:
     case Func::count: break;
   }
   raise(Message::illegal_value, "bad function");

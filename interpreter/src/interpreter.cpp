@@ -125,7 +125,8 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   for (int slot : installed) {
     const auto& p = m.programs[static_cast<std::size_t>(slot)];
     for (const Instr& in : p->code) {
-      if (in.code != Code::call || m.programs[static_cast<std::size_t>(in.program)]) continue;
+      if ((in.code != Code::call && in.code != Code::execute) || m.programs[static_cast<std::size_t>(in.program)])
+        continue;
       Diagnostic d;
       d.message = "*Undefined program or variable name*";
       d.detail = m.symbols.programs[static_cast<std::size_t>(in.program)];
@@ -163,6 +164,8 @@ bool Interpreter::has_program(const std::string& name) const {
   return it != m.symbols.program_slots.end() && static_cast<std::size_t>(it->second) < m.programs.size()
       && m.programs[static_cast<std::size_t>(it->second)];
 }
+
+std::optional<std::string> Interpreter::set_signal(int k) { return impl_->eval().monitor_signal(k); }
 
 RunResult Interpreter::run(const std::string& name) {
   Memory& m = impl_->memory;

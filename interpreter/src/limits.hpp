@@ -1,6 +1,7 @@
 // Named limits of the dialect and of this implementation (dialect §1, §2, §6).
 #pragma once
 #include <cstddef>
+#include <cstdint>
 
 namespace asimov::interpreter {
 
@@ -9,7 +10,13 @@ constexpr std::size_t kMaxStringLength = 128;  // characters in a string value
 constexpr int kMaxArrayIndex = 65535;          // highest array index
 constexpr unsigned kMaxLabel = 65535;          // highest statement label
 constexpr int kMaxSubscripts = 3;              // a[i,j,k]
+constexpr std::size_t kMaxIoItems = 1000;      // items of one READ or WRITE
 constexpr std::size_t kMaxLoadErrors = 20;     // syntax errors reported per LOAD
+// Tasks (dialect §7b): numbers 0 ... 27 (V+ with its extensions); a task that does not give way
+// runs one time slice of kSliceStatements steps, which lasts kSliceS on the simulated clock.
+constexpr int kMaxTask = 27;
+constexpr std::uint64_t kSliceStatements = 1000;
+constexpr double kSliceS = 0.001;
 // Array data of all programs of a process (values.hpp, docs/limits.md): ~1 million elements,
 // far above a controller's few MB, far below the machine; reached in about a second.
 constexpr std::size_t kMaxDataBytes = std::size_t{256} << 20;

@@ -338,6 +338,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
                                                   : ExecState::error;
     state_step_ = r.step;
     state_program_ = r.program;
+    tasks_ = r.tasks;
     halted_ = r.interrupt;
   }
   switch (r.status) {
@@ -415,10 +416,8 @@ CommandStatus Monitor::cmd_do(Args rest) {
       numbers.push_back(static_cast<int>(k));
     }
     if (!numbers.empty()) {
-      for (int k : numbers) {
-        if (k > 0) interp_.memory().signals.insert(k);
-        if (k < 0) interp_.memory().signals.erase(-k);
-      }
+      for (int k : numbers)  // memory and the cell's devices (a conveyor, a logic rule)
+        if (const auto loop = interp_.set_signal(k)) return fail("*Device logic loop*", *loop);
       return CommandStatus::ok;
     }
   }
@@ -712,6 +711,10 @@ CommandStatus Monitor::cmd_status() {
        << "Collision checking: " << (sim_.cell().collision.enabled ? "on" : "off") << '\n'
        << "Clearance: " << format_number(sim_.cell().collision.clearance_mm) << " mm\n"
        << fmt::format("Simulated time: {:.3f} s\n", sim_.time_s()) << accuracy_line(sim_) << closest_line(sim_);
+  if (!tasks_.empty()) {  // dialect §7b
+    out_ << "Tasks:\n";
+    for (const TaskReport& t : tasks_) out_ << fmt::format("  {:>2}  {:<15}  {}\n", t.number, t.program, t.state);
+  }
   return CommandStatus::ok;
 }
 
@@ -731,6 +734,7 @@ CommandStatus Monitor::cmd_zero() {
   state_ = ExecState::idle;
   state_step_ = 0;
   state_program_.clear();
+  tasks_.clear();
   halted_.reset();
   return CommandStatus::ok;
 }

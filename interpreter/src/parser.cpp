@@ -37,6 +37,9 @@ BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ProgramHeader, name, params)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Declaration, kw, names)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::TimerStmt, number, value)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Unsupported, keyword, rest)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::IoStmt, keyword, unit, items)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ExecuteHead, task, program)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ExecuteStmt, head, args, rest)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::DataLine, name, indices, values, text)
 
 namespace asimov::interpreter {
@@ -130,13 +133,22 @@ struct type_word_table : x3::symbols<x3::unused_type> {
 // Dialect §7: V+ constructs that load but stop the program (or warn) when they run.
 struct unsupported_table : x3::symbols<x3::unused_type> {
   unsupported_table() {
-    for (const char* w : {"attach", "detach", "fopen", "fclose", "fcmnd", "read", "write", "select",
-                          "set.event", "clear.event", "execute", "abort", "kill",
-                          "cycle.end", "lock", "priority", "react", "reacti", "reacte", "ignore",
+    for (const char* w : {"select",
+                          "set.event", "clear.event", "lock", "priority", "react", "reacti", "reacte", "ignore",
                           "teach", "calls", "accel"})
       add(w);
   }
 } const unsupported_words;
+
+// Dialect §7a, §7b: the I/O instructions (disk files simulated; network and serial stop) and
+// the task instructions ABORT, KILL, CYCLE.END, RELEASE, which share their form.
+struct io_table : x3::symbols<x3::unused_type> {
+  io_table() {
+    for (const char* w : {"attach", "detach", "fopen", "fopenr", "fopenw", "fopena", "fopend", "fclose", "fempty",
+                          "fdelete", "fcmnd", "read", "write", "abort", "kill", "cycle.end", "release"})
+      add(w);
+  }
+} const io_words;
 
 // Function words that need no parentheses.
 struct bare_function_table : x3::symbols<std::string> {
@@ -190,6 +202,10 @@ x3::rule<class optional_expression_class, ast::Expr> const optional_expression =
 x3::rule<class declaration_class, ast::Declaration> const declaration = "declaration";
 x3::rule<class timer_class, ast::TimerStmt> const timer_stmt = "TIMER";
 x3::rule<class unsupported_class, ast::Unsupported> const unsupported = "statement";
+x3::rule<class io_class, ast::IoStmt> const io_stmt = "statement";
+x3::rule<class unit_class, std::vector<ast::Expr>> const unit_args = "arguments";
+x3::rule<class execute_class, ast::ExecuteStmt> const execute_stmt = "EXECUTE";
+x3::rule<class execute_head_class, ast::ExecuteHead> const execute_head = "program";
 x3::rule<class to_class> const to_keyword = "TO";
 
 // name = letter { letter | digit | "." | "_" }
@@ -256,9 +272,9 @@ const auto for_stmt_def = kw("for") > variable > '=' > expression > to_keyword >
 const auto if_stmt_def = kw("if") > expression > -(kw("goto") > label) > -kw("then");
 // call = CALL name [ "(" arguments ")" ]
 const auto call_stmt_def = kw("call") > word > -('(' > arguments > ')');
-// format = "/D" | "/S" | "/F" w "." d | "/I" w | "/X" [n] | "/C" [n]
+// format = "/D" | "/S" | "/N" | "/F" w "." d | "/I" w | "/X" [n] | "/C" [n]   (/N: no wait, no effect)
 const auto format_def = x3::lexeme['/' >> (
-    (x3::no_case[x3::char_("ds")] >> x3::attr(0u) >> x3::attr(0u))
+    (x3::no_case[x3::char_("dsn")] >> x3::attr(0u) >> x3::attr(0u))
     | (x3::no_case[x3::char_('f')] >> x3::uint_ >> '.' >> x3::uint_)
     | (x3::no_case[x3::char_('i')] >> x3::uint_ >> x3::attr(0u))
     | (x3::no_case[x3::char_("xc")] >> (x3::uint_ | x3::attr(1u)) >> x3::attr(0u)))];
@@ -278,10 +294,20 @@ const auto timer_stmt_def = kw("timer") > expression > '=' > expression;
 // unsupported = V+_KEYWORD { any }     (not followed by "=": `read = 1` is an assignment)
 const auto unsupported_def = x3::raw[word_of(unsupported_words)] >> !x3::lit('=')
     >> x3::raw[x3::lexeme[*x3::char_]];
+// io = IO_KEYWORD [ "(" optional_expression { "," optional_expression } ")" ] [ type_item { "," type_item } ]
+const auto unit_args_def = '(' > (optional_expression % ',') > ')';
+const auto io_stmt_def = x3::raw[word_of(io_words)] >> !x3::lit('=') >> -unit_args >> -(type_item % ',');
+// execute = EXECUTE [ "/C" ] ( expression name | name ) [ "(" arguments ")" ] { "," optional_expression }
+//   (`EXECUTE 1 ros.srv.fdb()`; without a number: task 0. An expression is tried first: `prog()`
+//   alone then parses as the program, since no name follows it.)
+const auto execute_head_def = (expression >> word) | (x3::attr(ast::Expr()) >> word);
+const auto execute_stmt_def = kw("execute") >> x3::omit[-x3::lexeme[x3::no_case[x3::lit("/c")] >> !name_char]]
+    >> execute_head >> -('(' > arguments > ')') >> *(',' >> optional_expression);
 // statement = assignment (when the line reads `name [subscript] =`) | program_header
-//           | declaration | type | for | if | call | timer | instruction | unsupported | binding
+//           | declaration | type | for | if | call | timer | io | execute | instruction | unsupported
+//           | binding
 const auto statement_def = (assignment_ahead >> assignment) | program_header | declaration | type_stmt
-    | for_stmt | if_stmt | call_stmt | timer_stmt | instruction | unsupported | binding;
+    | for_stmt | if_stmt | call_stmt | timer_stmt | io_stmt | execute_stmt | instruction | unsupported | binding;
 
 // data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
 const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
@@ -292,7 +318,7 @@ const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
 BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, assignment, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
-                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported, encode)
+                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported, encode, io_stmt, unit_args, execute_stmt, execute_head)
 
 // skipper = blank | ";" { any }
 const auto skipper = x3::blank | (';' >> *x3::char_);

@@ -34,7 +34,7 @@ ContinuousChecker::ContinuousChecker(collision::Engine& engine, double clearance
     : engine_(engine), clearance_(clearance_mm), tol_(tol_s), report_mm_(report_mm) {}
 
 void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool probe) {
-  const collision::BodyPair bp = engine_.enabled_pairs()[pair];
+  const collision::BodyPair bp = pairs_[pair];
   const std::uint64_t k0 = cpu_ticks();
   const collision::DistanceResult r = engine_.distance(bp.a, bp.b, {.upper_mm = upper});
   if (on_measure) on_measure(pair, r, p.t, probe, cpu_ticks() - k0);
@@ -76,7 +76,7 @@ bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, 
   Point m;
   m.t = m_t;
   m.q = path.at(m_t, l.q);
-  path.pose(m.q);
+  path.pose(m.q, m.t);
   posed_t_ = m_t;
   ++probes_;
   measure(pair, m, mu + 2 * c, true);
@@ -87,7 +87,8 @@ bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, 
 ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVector& q_a, double t_b,
                                             const robots::JointVector& q_b, const ContinuousPath& path) {
   posed_t_ = t_b;
-  const auto pairs = engine_.enabled_pairs();
+  pairs_ = path.pairs ? *path.pairs : engine_.enabled_pairs();
+  const auto pairs = pairs_;
   const std::size_t n = pairs.size();
   least_.resize(n, std::numeric_limits<double>::infinity());
   const double c = clearance_;
@@ -116,7 +117,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
       if (best.t_hit < r.t) {
         r.t = best.t_hit;
         r.q = best.q_hit;
-        path.pose(r.q);
+        path.pose(r.q, r.t);
         posed_t_ = r.t;
         measure(i, r, path.motion(i, t_a, q_a, r.t, r.q) + 2 * c, true);
       }
@@ -128,7 +129,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     }
     if (!r.hit && cached && (l.d - c) + (r.d - c) > m) continue;  // free from both ends' bounds
     if (!cached || !l.exact) {  // the last checked pose's cut-off was too low: measure there
-      path.pose(q_a);
+      path.pose(q_a, t_a);
       posed_t_ = t_a;
       measure(i, l, m + 2 * c, false);
       l.hit = false;  // a was checked free (only a rounding at the clearance could say otherwise)
@@ -159,7 +160,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     cache_exact_[i] = end[i].exact;
   }
   if (posed_t_ != t_b) {
-    path.pose(q_b);
+    path.pose(q_b, t_b);
     posed_t_ = t_b;
   }
   return best;

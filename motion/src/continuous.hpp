@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace asimov::motion {
@@ -33,7 +34,9 @@ struct ContinuousPath {
                        const robots::JointVector& q2)>
       motion;
   // Poses every moving engine body at joints q.
-  std::function<void(const robots::JointVector& q)> pose;
+  std::function<void(const robots::JointVector& q, double t)> pose;  // at time t (parts move with it)
+  // The pairs checked (pair indices refer to it); nullopt: Engine::enabled_pairs().
+  std::optional<std::span<const collision::BodyPair>> pairs;
 };
 
 struct ContinuousContact {
@@ -98,6 +101,7 @@ class ContinuousChecker {
   double tol_;
   double report_mm_;
   double posed_t_ = -1;         // time the engine's bodies are posed at (probes)
+  std::span<const collision::BodyPair> pairs_;  // of the current verify (ContinuousPath::pairs)
   double cache_t_ = -1;         // time of the cached distances (the last checked pose)
   std::vector<double> cache_d_; // per pair: lower bound at cache_t_
   std::vector<char> cache_exact_;

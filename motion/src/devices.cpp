@@ -99,6 +99,7 @@ DeviceClock::DeviceClock(const Workcell& cell)
     : cell_(&cell), timed_done_(cell.logic.size(), false), fed_(cell.feeders.size(), 0) {
   for (const auto& d : cell.parts) {
     parts_.push_back(PartState{d});
+    parts_.back().ordinal = static_cast<int>(parts_.size() - 1);
     place(parts_.size() - 1, d.pose);
   }
   settle();
@@ -110,6 +111,7 @@ bool DeviceClock::running(int c) const {
 }
 
 void DeviceClock::place(std::size_t i, const Location& pose) {
+  ++revision_;
   PartState& p = parts_[i];
   p.holder = Holder::world, p.conveyor = -1, p.anchor = pose, p.anchor_s = now_;
   p.velocity.setZero(), p.end_s = kInf;
@@ -169,6 +171,8 @@ void DeviceClock::feed(std::size_t f, int line) {
   if (!fd.colours.empty()) d.colour = fd.colours[static_cast<std::size_t>(fed_[f]) % fd.colours.size()];
   ++fed_[f];
   parts_.push_back(PartState{std::move(d)});
+  parts_.back().feeder = static_cast<int>(f);
+  parts_.back().ordinal = fed_[f] - 1;
   place(parts_.size() - 1, fd.part.pose);
   events_.push_back({now_, "feeder", parts_.back().def.name, fd.name, line});
 }
@@ -232,6 +236,7 @@ void DeviceClock::settle() {
         if (inside(p, s.region)) {
           p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
           p.holder = Holder::removed;
+          ++revision_;
           events_.push_back({now_, "sink", p.def.name, s.name, 0});
           changed = true;
         }
@@ -277,8 +282,15 @@ double DeviceClock::next_change() const {
 }
 
 void DeviceClock::advance_to(double t) {
+  // Between changes nothing can happen (the state is settled after each), so the clock just
+  // moves: the collision world advances it at every checked pose.
   while (now_ < t) {
-    now_ = std::min(t, next_change());
+    const double next = next_change();
+    if (next > t) {
+      now_ = t;
+      return;
+    }
+    now_ = next;
     settle();
   }
 }
@@ -287,8 +299,13 @@ void DeviceClock::carry(std::size_t i, int line) {
   PartState& p = parts_[i];
   p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
   p.holder = Holder::carried, p.conveyor = -1;
+  ++revision_;
   events_.push_back({now_, "grasp", p.def.name, "", line});
   settle();
+}
+
+void DeviceClock::move_carried(std::size_t i, const Location& pose) {
+  if (parts_[i].holder == Holder::carried) parts_[i].anchor = pose, parts_[i].anchor_s = now_;
 }
 
 void DeviceClock::put_down(std::size_t i, const Location& pose, int line) {

@@ -1,13 +1,18 @@
 // Recorders of a walk (motion/README.md: trace, replay, accuracy and timing).
 #include "asimov/motion/recorders.hpp"
 
+#include "asimov/motion/world.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace asimov::motion {
 
 void TraceRecorder::on_checked_pose(double t, const robots::JointVector& q, bool) {
-  if (on) samples.push_back({t, q, base * robots::flange_pose(robot, q) * tool});
+  if (!on) return;
+  samples.push_back({t, q, base * robots::flange_pose(robot, q) * tool, {}, Location::Identity()});
+  if (world)
+    if (auto c = world->carried(q)) samples.back().part = std::move(c->name), samples.back().part_pose = c->pose;
 }
 
 void ReplayRecorder::push(double t, const robots::JointVector& q, bool checked) {

@@ -38,6 +38,7 @@ struct Simulator::Impl {
   Hand hand;
   Recorders rec{cell.robot, settings.base, settings.tool};  // before world: it times the preprocessing
   World world;
+  std::optional<CellRuntime> runtime;  // parts and devices; absent for a static cell
   PoseHook hook;
   Walker walker{cell.robot, world, cell.collision};
   std::optional<Trajectory> pending;
@@ -58,6 +59,11 @@ struct Simulator::Impl {
     settings.tool = cell.tool;
     dest = here();
     rec.clearance.within_mm = std::max(cell.collision.report_within_mm, cell.collision.clearance_mm);
+    if (!cell.workcell.empty()) {
+      runtime.emplace(cell);
+      world.attach(*runtime);
+    }
+    rec.trace.world = &world;
     for (WalkObserver* o : std::initializer_list<WalkObserver*>{&rec.timing, &rec.counts, &rec.trace, &rec.replay,
                                                               &rec.accuracy, &rec.clearance, &hook})
       walker.add_observer(*o);
@@ -127,7 +133,15 @@ MotionResult Simulator::finish_motion() {
   if (!s.pending) return {};
   const Trajectory tr = std::move(*s.pending);
   s.pending.reset();
-  MotionResult r = s.walker.walk(tr, s.state);
+  MotionResult r;
+  try {
+    r = s.walker.walk(tr, s.state);
+  } catch (const DeviceError& e) {  // the devices' clock advanced with the walk
+    r.status = MotionStatus::error;
+    r.error = {.message = "*Device logic loop*", .detail = e.what()};
+  }
+  if (s.runtime && s.runtime->carried())  // the part in the gripper is where the flange took it
+    s.runtime->clock().move_carried(*s.runtime->carried(), s.runtime->carried_pose(s.cell.base * robots::flange_pose(s.cell.robot, s.state.joints)));
   if (r.status == MotionStatus::interrupted) {
     s.rest = Impl::Rest{tr.to, tr.kind == PathKind::line, s.dest, tr.speed, r.interrupt.time_s - tr.t0};
     s.halted = r.interrupt;
@@ -158,6 +172,8 @@ MotionResult Simulator::resume_motion(std::optional<double> monitor_speed) {
 }
 
 void Simulator::request_hand(HandState state) { impl_->hand.pending = state; }
+CellRuntime* Simulator::cell_runtime() { return impl_->runtime ? &*impl_->runtime : nullptr; }
+const CellRuntime* Simulator::cell_runtime() const { return impl_->runtime ? &*impl_->runtime : nullptr; }
 
 MotionResult Simulator::hand_immediate(HandState state, double hand_time_s) {
   if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;

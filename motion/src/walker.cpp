@@ -36,6 +36,7 @@ struct Walker::Walk {
   double clearance;
   ContinuousChecker* checker;  // null: continuous checking off
   ContinuousPath path;         // the trajectory as continuous checking sees it (continuous_path)
+  std::uint64_t pairs_verified = ~std::uint64_t{0};  // World::pairs_revision() the checker's cache is of
   std::size_t line_i = 0, line_j = 0;  // lines: the checked samples of the current stretch
 
   template <class F>
@@ -47,8 +48,8 @@ struct Walker::Walk {
   bool record(const collision::QueryResult& r, QueryCost cost, const JointVector& q, CollisionReport& report) {
     tell([&](WalkObserver& o) { o.on_query(r, cost); });
     if (!r.collided) return false;
-    report.body_a = engine->body_name(r.contact.body_a);
-    report.body_b = engine->body_name(r.contact.body_b);
+    report.body_a = w.world_.body_name(r.contact.body_a);
+    report.body_b = w.world_.body_name(r.contact.body_b);
     report.point = r.contact.point;
     report.face_a = r.contact.face_a;
     report.face_b = r.contact.face_b;
@@ -56,11 +57,11 @@ struct Walker::Walk {
     return true;
   }
 
-  // The engine at q, on `pairs` (nullopt: every enabled pair).
-  const collision::QueryResult& query(const JointVector& q,
+  // The world at q and time t, on `pairs` (nullopt: every pair tested now).
+  const collision::QueryResult& query(const JointVector& q, double t,
                                       std::optional<std::span<const collision::BodyPair>> pairs = std::nullopt) {
-    w.world_.pose(q);
-    engine->query({.clearance_mm = clearance, .pairs = pairs}, w.result_);
+    w.world_.pose(q, t);
+    w.world_.query({.clearance_mm = clearance, .pairs = pairs}, w.result_);
     return w.result_;
   }
 
@@ -68,9 +69,9 @@ struct Walker::Walk {
   bool visit(const JointVector& q, double t, CollisionReport& report) {
     bool contact = false;
     if (engine) {
-      w.world_.pose(q);
+      w.world_.pose(q, t);
       const std::uint64_t k0 = cpu_ticks();
-      engine->query({.clearance_mm = clearance}, w.result_);
+      w.world_.query({.clearance_mm = clearance}, w.result_);
       const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
       contact = record(w.result_, cost, q, report);
     }
@@ -85,10 +86,10 @@ struct Walker::Walk {
 
   // Allowance of every enabled pair at the current engine poses (the last checked pose).
   void update_gaps() {
-    engine->query({.clearance_mm = clearance, .contact = false, .gaps = true}, w.result_);
+    w.world_.query({.clearance_mm = clearance, .contact = false, .gaps = true}, w.result_);
     const double c = w.settings_.clearance_mm, step = step_mm(w.settings_);
-    for (std::size_t i = 0; i < w.gap_pairs_.size(); ++i)
-      w.gap_pairs_[i].allow_mm = gap_allowance(w.result_.gaps[i], c, step);
+    const std::span<GapPair> gaps = w.world_.gap_pairs();
+    for (std::size_t i = 0; i < gaps.size(); ++i) gaps[i].allow_mm = gap_allowance(w.result_.gaps[i], c, step);
   }
 
   // Contact time (docs/collision-method.md §6.4). `report` holds the contact at the checked
@@ -107,11 +108,12 @@ struct Walker::Walk {
     const double tol = toc_tolerance(w.settings_);
     std::vector<collision::BodyPair>& hit_pairs = w.hit_pairs_;
     for (int round = 0; round < kMaxBisectionRounds; ++round) {
-      w.world_.pose(report.joints);
+      w.world_.pose(report.joints, report.time_s);
       hit_pairs.clear();
       CollisionReport probe;
-      for (const collision::BodyPair& pair : engine->enabled_pairs()) {
-        engine->query({.clearance_mm = clearance, .pairs = std::span(&pair, 1)}, w.result_);
+      w.probe_pairs_.assign(w.world_.pairs().begin(), w.world_.pairs().end());
+      for (const collision::BodyPair& pair : w.probe_pairs_) {
+        w.world_.query({.clearance_mm = clearance, .pairs = std::span(&pair, 1)}, w.result_);
         if (record(w.result_, {QueryKind::probe}, report.joints, probe)) hit_pairs.push_back(pair);
       }
       if (hit_pairs.empty()) break;  // cannot happen (the full query found one)
@@ -120,7 +122,7 @@ struct Walker::Walk {
         const double t = t_free + (t_hit - t_free) / 2;
         if (!(t > t_free && t < t_hit)) break;  // the bracket is one ulp wide
         const JointVector q = at(t, q_free);
-        if (record(query(q, hit_pairs), {QueryKind::bisection_pose}, q, report)) {
+        if (record(query(q, t, hit_pairs), {QueryKind::bisection_pose}, q, report)) {
           t_hit = t;
         } else {
           t_free = t;
@@ -131,7 +133,7 @@ struct Walker::Walk {
       report.time_free_s = t_free;
       if (t_free == t_start) return true;  // q_start: checked against every pair already
       CollisionReport other;
-      if (!record(query(q_free), {QueryKind::bisection_pose}, q_free, other)) return true;
+      if (!record(query(q_free, t_free), {QueryKind::bisection_pose}, q_free, other)) return true;
       other.time_s = t_free;  // an earlier contact of another pair: bisect it from the start
       report = std::move(other);
       t_free = t_start;
@@ -156,19 +158,21 @@ struct Walker::Walk {
   }
   double motion_bound(std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) const {
     const GapPair& p = w.world_.gap_pairs()[pair];
-    if (tr.kind != PathKind::line) return joint_motion(w.world_.reach(), p, q1, q2);
+    // Parts on a running conveyor (0 * inf would be NaN on a 1e308 s motion: no belt, no term).
+    const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
+    if (tr.kind != PathKind::line) return joint_motion(w.world_.reach(), p, q1, q2) + belt;
     return line_motion(w.world_.reach(), p, tr.line.samples, tr.profile.sigma(t1 - tr.t0), q1,
-                       tr.profile.sigma(t2 - tr.t0), q2);
+                       tr.profile.sigma(t2 - tr.t0), q2) + belt;
   }
   void continuous_path() {
     path.at = [this](double t, const JointVector& seed) { return joints_at(t, seed); };
     path.motion = [this](std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) {
       return motion_bound(pair, t1, q1, t2, q2);
     };
-    path.pose = [this](const JointVector& q) { w.world_.pose(q); };
+    path.pose = [this](const JointVector& q, double t) { w.world_.pose(q, t); };
     checker->on_measure = [this](std::size_t pair, const collision::DistanceResult& r, double t, bool probe,
                                  std::uint64_t ticks) {
-      const collision::BodyPair bp = engine->enabled_pairs()[pair];
+      const collision::BodyPair bp = w.world_.pairs()[pair];
       tell([&](WalkObserver& o) { o.on_distance(bp, r, {t, probe, tr.step, ticks}); });
     };
   }
@@ -178,17 +182,20 @@ struct Walker::Walk {
   // checking finds a contact in it; then the arm is at the last pose proven free, the clock at
   // the contact.
   bool continuous_contact(double t_a, double t_b, const JointVector& q_b, CollisionReport& report) {
+    // The pairs tested now (they change as parts appear, leave, are grasped or released).
+    if (w.world_.pairs_revision() != pairs_verified) checker->reset(), pairs_verified = w.world_.pairs_revision();
+    path.pairs = w.world_.pairs();
     const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path);
     if (!c.found) return false;
     checker->reset();
-    const collision::BodyPair pair = engine->enabled_pairs()[c.pair];
+    const collision::BodyPair pair = w.world_.pairs()[c.pair];
     CollisionReport r;
-    if (!record(query(c.q_hit, std::span(&pair, 1)), {QueryKind::probe}, c.q_hit, r)) {
+    if (!record(query(c.q_hit, c.t_hit, std::span(&pair, 1)), {QueryKind::probe}, c.q_hit, r)) {
       // A graze (no probe in contact, docs/collision.md §12): the pair, the point halfway
       // between its witnesses.
       const collision::DistanceResult d = engine->distance(pair.a, pair.b);
-      r.body_a = engine->body_name(pair.a);
-      r.body_b = engine->body_name(pair.b);
+      r.body_a = w.world_.body_name(pair.a);
+      r.body_b = w.world_.body_name(pair.b);
       r.point = 0.5 * (d.point_a + d.point_b);
       r.face_a = d.face_a;
       r.face_b = d.face_b;
@@ -251,7 +258,7 @@ struct Walker::Walk {
       double bound = samples[j].bound_mm;
       if (gap) {
         update_gaps();
-        j = gap_next_sample(w.world_.reach(), samples, i, w.gap_pairs_, w.sums_, bound);
+        j = gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.sums_, bound);
       }
       const LineSample &a = samples[i], &b = samples[j];
       const double t = tr.t0 + tr.profile.time_at(b.s);
@@ -277,6 +284,7 @@ struct Walker::Walk {
         return halt(std::move(report), t_prev, was_free, at);
       }
       st.joints = b.joints;
+      if (engine) w.world_.free_pose_seen();  // after the stretch's continuous check: excused there
       t_prev = t;
       i = j;
     }
@@ -289,11 +297,16 @@ struct Walker::Walk {
     const JointVector step = (tr.to - tr.from) / tr.intervals;
     double body_max = 0;
     for (const robots::BodyReach& r : w.world_.reach()) body_max = std::max(body_max, robots::max_displacement(r, step));
-    if (gap) {
-      w.pair_mm_.resize(w.gap_pairs_.size());
-      for (std::size_t k = 0; k < w.gap_pairs_.size(); ++k)
-        w.pair_mm_[k] = pair_displacement(w.world_.reach(), w.gap_pairs_[k], step);
-    }
+    // Per pair of the world: what one grid interval can change its distance by (again when
+    // the pairs change: parts appear, leave, are grasped or released).
+    std::uint64_t pairs_seen = ~std::uint64_t{0};
+    const auto pair_bounds = [&] {
+      if (w.world_.pairs_revision() == pairs_seen) return;
+      pairs_seen = w.world_.pairs_revision();
+      const std::span<const GapPair> gaps = w.world_.gap_pairs();
+      w.pair_mm_.resize(gaps.size());
+      for (std::size_t k = 0; k < gaps.size(); ++k) w.pair_mm_[k] = pair_displacement(w.world_.reach(), gaps[k], step);
+    };
     double t_prev = st.time_s;
     JointVector q(st.joints.size());
     CollisionReport report;
@@ -301,8 +314,9 @@ struct Walker::Walk {
       if (interrupt_requested()) return interrupt_halt(t_prev, static_cast<double>(i) / tr.intervals);
       int k = 1;
       if (gap) {
+        pair_bounds();
         update_gaps();
-        k = gap_intervals(w.pair_mm_, w.gap_pairs_, tr.intervals - i);
+        k = gap_intervals(w.pair_mm_, w.world_.gap_pairs(), tr.intervals - i);
       }
       const double sigma_from = static_cast<double>(i) / tr.intervals;
       i += k;
@@ -315,6 +329,7 @@ struct Walker::Walk {
       if (checker && was_free && continuous_contact(t_prev, t, q, report)) return collision_result(std::move(report), 0);
       if (hit) return halt(std::move(report), t_prev, was_free, at);
       st.joints = q;
+      if (engine) w.world_.free_pose_seen();
       t_prev = t;
     }
     return {};
@@ -328,11 +343,8 @@ struct Walker::Walk {
     }
     // Gap stepping needs the engine: the gaps are its containers' (at the current pose).
     const bool gap = engine && w.settings_.stepping == Stepping::gap;
+    if (engine) w.world_.pose(st.joints, st.time_s);  // parts grasped or released since: their pairs
     if (checker) continuous_path();
-    if (gap) {
-      w.gap_pairs_.assign(w.world_.gap_pairs().begin(), w.world_.gap_pairs().end());
-      w.world_.pose(st.joints);
-    }
     MotionResult r = tr.kind == PathKind::line ? line(gap) : joint(gap);
     if (r.status != MotionStatus::ok) return r;
     st.joints = tr.to;
@@ -351,7 +363,7 @@ MotionResult Walker::walk(const Trajectory& tr, WalkState& state) {
     continuous_->reset();  // between walks the hand, the parts or the settings may have changed
     checker = continuous_.get();
   }
-  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker, {}};
+  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker, {}, ~std::uint64_t{0}};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
   MotionResult r = walk.run();
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });

@@ -3,13 +3,27 @@
 
 #include "asimov/motion/scene.hpp"
 
+#include <algorithm>
+
 namespace asimov::motion {
+namespace {
+// A grasped or released part "touches" a body this close [mm]: the grip's rounding (flange^-1 .
+// pose) can lift a part lying on the table by 1e-13 mm, which is no clearance to speak of.
+constexpr double kTouchMm = 1e-6;
+
+collision::BodyPair ordered(collision::BodyId a, collision::BodyId b) { return {std::min(a, b), std::max(a, b)}; }
+}  // namespace
 
 World::World(const Cell& cell) : robot_(&cell.robot), base_(cell.base) {
   const auto& robot = cell.robot;
   frames_.reserve(static_cast<std::size_t>(robot.joint_count()) + 1);
   for (const auto& b : robot.bodies) reach_.push_back(robots::body_reach(robot, b.mesh, b.link));
   if (cell.tool_shape) reach_.push_back(robots::body_reach(robot, *cell.tool_shape, robot.joint_count()));
+  arm_bodies_ = reach_.size();
+  flange_ = robot.joint_count();
+  const Workcell& w = cell.workcell;
+  has_parts_ = !w.parts.empty() || !w.feeders.empty();
+  if (has_parts_) reach_.emplace_back();  // the carried part's slot
   if (cell.collision.enabled) build_engine(cell);
 }
 
@@ -30,9 +44,11 @@ void World::build_engine(const Cell& cell) {
     }
   }
   std::vector<BodyMount> mounts;
+  std::vector<std::string> object_names;
   for (SceneBody& b : scene.bodies) {  // ids are the scene indices (a fresh engine)
     const bool moves = b.object < 0 && b.link > 0;  // robot bodies past the base, the tool
     mounts.push_back({moves ? b.link : -1});
+    if (b.object >= 0) object_names.push_back(b.name);
     const collision::BodyId id = e.add_body({.name = std::move(b.name), .mesh = std::move(b.mesh), .group = b.group,
                                              .is_static = b.is_static, .halvings = cell.collision.halvings});
     if (!moves) e.set_pose(id, b.object >= 0 ? cell.objects[static_cast<std::size_t>(b.object)].pose : cell.base);
@@ -43,14 +59,42 @@ void World::build_engine(const Cell& cell) {
     for (const collision::BodyPair& p : scene.adjacent) e.set_pair_enabled(p.a, p.b, false);
     for (const collision::BodyPair& p : scene.ignored) e.set_pair_enabled(p.a, p.b, false);
   }
-  if (!e.has_enabled_pairs()) return;  // never call the engine
+  const std::vector<collision::BodyPair> cell_pairs(e.enabled_pairs().begin(), e.enabled_pairs().end());
+  if (has_parts_) {
+    // Every part a body of its own group, placed by refresh(); one body per part a feeder can
+    // ever place, so a part's grid is built once whatever happens to it.
+    first_part_ = static_cast<collision::BodyId>(e.body_count());
+    const Workcell& w = cell.workcell;
+    const auto add_part = [&](const PartDef& d, const std::string& name) {
+      mounts.push_back({-1});
+      e.add_body({.name = "part:" + name, .mesh = d.mesh, .halvings = cell.collision.halvings});
+      slots_.emplace_back();
+    };
+    for (const PartDef& d : w.parts) add_part(d, d.name);
+    for (const Feeder& f : w.feeders) {
+      feeder_first_.push_back(static_cast<collision::BodyId>(e.body_count()));
+      for (int k = 1; k <= f.count; ++k) add_part(f.part, f.prefix + std::to_string(k));
+    }
+    const std::size_t first_object = scene.bodies.size() - cell.objects.size();
+    for (const Conveyor& c : w.conveyors) {
+      const auto it = std::find(object_names.begin(), object_names.end(), c.name);
+      object_of_conveyor_.push_back(it == object_names.end() ? -1
+                                                              : static_cast<int>(first_object + (it - object_names.begin())));
+    }
+    absent_.assign(slots_.size(), 0);
+    to_excuse_.assign(slots_.size(), 0);
+    if (slots_.empty()) has_parts_ = false, reach_.pop_back();
+  }
+  if (cell_pairs.empty() && !has_parts_) return;  // never call the engine
   mounts_ = std::move(mounts);
-  for (const collision::BodyPair& p : e.enabled_pairs()) {
+  for (const collision::BodyPair& p : cell_pairs) {
     const BodyMount &a = mounts_[p.a], &b = mounts_[p.b];
-    if (a.frame >= 0 && b.frame >= 0) moving_pairs_.push_back(p);
+    if (a.frame >= 0 && b.frame >= 0) arm_moving_pairs_.push_back(p);
     gap_pairs_.push_back({a.frame >= 0 ? static_cast<int>(p.a) : -1, b.frame >= 0 ? static_cast<int>(p.b) : -1,
                           std::max(a.frame, 0), std::max(b.frame, 0), 0});
   }
+  moving_pairs_ = arm_moving_pairs_;
+  if (has_parts_) cell_pairs_ = cell_pairs, cell_gaps_ = gap_pairs_, part_pairs_ = cell_pairs_, part_gaps_ = cell_gaps_;
   for (collision::BodyId id = 0; id < mounts_.size(); ++id) {
     if (mounts_[id].frame >= 0) moving_.push_back(id);
     unprepared_.push_back(id);
@@ -58,10 +102,209 @@ void World::build_engine(const Cell& cell) {
   engine_.emplace(std::move(e));
 }
 
-void World::pose(const robots::JointVector& q) {
+std::span<const collision::BodyPair> World::pairs() const {
+  if (has_parts_) return part_pairs_;
+  return engine_ ? engine_->enabled_pairs() : std::span<const collision::BodyPair>();
+}
+
+int World::link_of(collision::BodyId id) const {
+  if (id < mounts_.size() && mounts_[id].frame >= 0) return mounts_[id].frame;
+  return 0;
+}
+
+collision::BodyId World::part_body(const PartState& p) const {
+  return p.feeder < 0 ? first_part_ + static_cast<collision::BodyId>(p.ordinal)
+                      : feeder_first_[static_cast<std::size_t>(p.feeder)] + static_cast<collision::BodyId>(p.ordinal);
+}
+
+void World::pose(const robots::JointVector& q, double t) {
   robots::link_frames(*robot_, q, frames_);
   for (const collision::BodyId id : moving_)
     engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(mounts_[id].frame)]);
+  if (!has_parts_ || !runtime_) return;
+  DeviceClock& clock = runtime_->clock();
+  if (t >= clock.time_s()) {
+    any_absent_ = false;
+    // Keep the state before a change, for the poses bisection may ask between the two.
+    if (clock.next_change() <= t) saved_ = clock;
+    else saved_.reset();
+    clock.advance_to(t);
+    const bool changed = clock.revision() != seen_revision_;
+    if (changed) refresh(clock);
+    pose_parts(clock, t, changed);
+    if (changed)
+      for (std::size_t s = 0; s < slots_.size(); ++s)
+        if (to_excuse_[s]) {
+          to_excuse_[s] = 0;
+          if (slots_[s].holder != Holder::removed) excuse_touching(first_part_ + static_cast<collision::BodyId>(s));
+        }
+    return;
+  }
+  // Earlier than the clock: the state then is the one before the last advance (or the current
+  // one when nothing changed in between), advanced to t on a copy.
+  if (!saved_ || saved_->time_s() > t) {
+    pose_parts(clock, t, false);
+    return;
+  }
+  scratch_ = *saved_;
+  scratch_->advance_to(t);
+  pose_parts(*scratch_, t, true);
+  any_absent_ = false;
+  std::vector<char> present(slots_.size(), 0);
+  for (const PartState& p : scratch_->parts())
+    if (p.holder != Holder::removed) present[part_body(p) - first_part_] = 1;
+  for (std::size_t s = 0; s < slots_.size(); ++s)
+    if (slots_[s].clock >= 0 && slots_[s].holder != Holder::removed && !present[s]) any_absent_ = true;
+  if (any_absent_)
+    for (std::size_t s = 0; s < slots_.size(); ++s) absent_[s] = !present[s];
+}
+
+void World::pose_parts(const DeviceClock& clock, double t, bool all) {
+  const auto& parts = clock.parts();
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const PartState& p = parts[i];
+    const collision::BodyId id = part_body(p);
+    if (p.holder == Holder::carried) {
+      engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(flange_)] * grip_);
+    } else if (p.holder != Holder::removed && (all || !p.velocity.isZero())) {
+      engine_->set_pose(id, p.pose_at(t));
+    }
+  }
+}
+
+// The parts' holders changed: new pairs, and the grasped or released part's contacts excused.
+void World::refresh(const DeviceClock& clock) {
+  seen_revision_ = clock.revision();
+  carried_.reset();
+  for (std::size_t i = 0; i < clock.parts().size(); ++i) {
+    const PartState& p = clock.parts()[i];
+    const collision::BodyId id = part_body(p);
+    Slot& s = slots_[id - first_part_];
+    const bool was_carried = s.holder == Holder::carried, placed = s.clock >= 0;
+    s.clock = static_cast<int>(i);
+    s.conveyor = p.holder == Holder::conveyor ? p.conveyor : -1;
+    s.speed_mm_s = p.velocity.norm();
+    // A grasp or a release: the pairs that touch then are excused (marked here, tested once posed).
+    if (placed && was_carried != (p.holder == Holder::carried)) to_excuse_[id - first_part_] = 1;
+    if (placed && p.holder == Holder::removed && s.holder != Holder::removed)
+      std::erase_if(excused_, [id](const collision::BodyPair& x) { return x.a == id || x.b == id; });
+    s.holder = p.holder;
+    if (p.holder == Holder::carried) carried_ = id;
+  }
+  reach_.back() = robots::BodyReach{};
+  if (carried_ && runtime_->carried()) {
+    grip_ = runtime_->grip();
+    // The flange link's radii with the part's mesh in the flange frame: its reach from the flange.
+    collision::Polyhedron in_flange = clock.parts()[static_cast<std::size_t>(slots_[*carried_ - first_part_].clock)].def.mesh;
+    for (auto& v : in_flange.vertices) v = grip_ * v;
+    reach_.back() = robots::body_reach(*robot_, in_flange, flange_);
+  }
+  rebuild_pairs();
+}
+
+void World::rebuild_pairs() {
+  ++pairs_revision_;
+  part_pairs_ = cell_pairs_;
+  part_gaps_ = cell_gaps_;
+  moving_pairs_ = arm_moving_pairs_;
+  const int slot = static_cast<int>(reach_.size() - 1);
+  const collision::BodyId parts_end = first_part_ + static_cast<collision::BodyId>(slots_.size());
+  const auto present = [&](collision::BodyId id) { return slots_[id - first_part_].clock >= 0 && slots_[id - first_part_].holder != Holder::removed; };
+  const auto excused = [&](const collision::BodyPair& p) { return std::find(excused_.begin(), excused_.end(), p) != excused_.end(); };
+  // Reach index and link of body `id` in a pair (the carried part: its slot on the flange).
+  const auto mover = [&](collision::BodyId id) -> std::pair<int, int> {
+    if (id < arm_bodies_) return mounts_[id].frame >= 0 ? std::pair{static_cast<int>(id), mounts_[id].frame} : std::pair{-1, 0};
+    if (carried_ && id == *carried_) return {slot, flange_};
+    return {-1, 0};
+  };
+  const auto add = [&](collision::BodyId a, collision::BodyId b) {
+    const collision::BodyPair p = ordered(a, b);
+    if (excused(p)) return;
+    const auto [ra, la] = mover(p.a);
+    const auto [rb, lb] = mover(p.b);
+    double speed = 0;
+    for (const collision::BodyId id : {p.a, p.b})
+      if (part(id)) speed += slots_[id - first_part_].speed_mm_s;
+    part_pairs_.push_back(p);
+    part_gaps_.push_back({ra, rb, la, lb, 0, speed});
+    if (ra >= 0 && rb >= 0) moving_pairs_.push_back({static_cast<std::uint32_t>(ra), static_cast<std::uint32_t>(rb)});
+  };
+  for (collision::BodyId p = first_part_; p < parts_end; ++p) {
+    if (!present(p)) continue;
+    const Slot& s = slots_[p - first_part_];
+    const bool carried = s.holder == Holder::carried, belt = s.holder == Holder::conveyor;
+    for (collision::BodyId b = 0; b < arm_bodies_; ++b)  // the gripper (rigid with the flange) holds it
+      if (!(carried && mounts_[b].frame == flange_)) add(b, p);
+    if (carried || belt) {
+      const int own = belt ? object_of_conveyor_[static_cast<std::size_t>(s.conveyor)] : -1;
+      for (collision::BodyId o = static_cast<collision::BodyId>(arm_bodies_); o < first_part_; ++o)
+        if (static_cast<int>(o) != own) add(o, p);
+    }
+    for (collision::BodyId q = p + 1; q < parts_end; ++q) {
+      if (!present(q)) continue;
+      const Slot& r = slots_[q - first_part_];
+      const bool q_carried = r.holder == Holder::carried, q_belt = r.holder == Holder::conveyor;
+      // Resting parts keep their distance; parts on one conveyor move together.
+      if (carried || q_carried || (belt != q_belt) || (belt && q_belt && s.conveyor != r.conveyor)) add(p, q);
+    }
+  }
+}
+
+void World::excuse_touching(collision::BodyId id) {
+  for (std::size_t i = 0; i < part_pairs_.size();) {
+    const collision::BodyPair p = part_pairs_[i];
+    if (p.a != id && p.b != id) {
+      ++i;
+      continue;
+    }
+    engine_->query({.clearance_mm = kTouchMm, .pairs = std::span(&p, 1)}, scratch_result_);
+    if (!scratch_result_.collided) {
+      ++i;
+      continue;
+    }
+    excused_.push_back(p);
+    part_pairs_.erase(part_pairs_.begin() + static_cast<std::ptrdiff_t>(i));
+    part_gaps_.erase(part_gaps_.begin() + static_cast<std::ptrdiff_t>(i));
+    ++pairs_revision_;
+  }
+}
+
+void World::free_pose_seen() {
+  if (excused_.empty()) return;
+  const std::size_t before = excused_.size();
+  std::erase_if(excused_, [this](const collision::BodyPair& p) {
+    engine_->query({.clearance_mm = kTouchMm, .pairs = std::span(&p, 1)}, scratch_result_);
+    return !scratch_result_.collided;
+  });
+  if (excused_.size() != before) rebuild_pairs();
+}
+
+void World::query(const collision::QueryRequest& request, collision::QueryResult& out) {
+  if (!has_parts_) return engine_->query(request, out);
+  collision::QueryRequest r = request;
+  const auto gone = [this](const collision::BodyPair& p) {
+    return (part(p.a) && absent_[p.a - first_part_]) || (part(p.b) && absent_[p.b - first_part_]);
+  };
+  if (!r.pairs) r.pairs = std::span<const collision::BodyPair>(part_pairs_);
+  if (any_absent_) {
+    filtered_.clear();
+    for (const collision::BodyPair& p : *r.pairs)
+      if (!gone(p)) filtered_.push_back(p);
+    r.pairs = std::span<const collision::BodyPair>(filtered_);
+  }
+  engine_->query(r, out);
+}
+
+std::string World::body_name(collision::BodyId id) const {
+  const std::string& name = engine_->body_name(id);
+  return carried_ && id == *carried_ ? "carried " + name : name;
+}
+
+std::optional<CarriedPose> World::carried(const robots::JointVector& q) const {
+  if (!runtime_ || !runtime_->carried()) return std::nullopt;
+  const std::size_t i = *runtime_->carried();
+  return CarriedPose{runtime_->clock().parts()[i].def.name,
+                     base_ * robots::flange_pose(*robot_, q) * runtime_->grip()};
 }
 
 bool World::grids_built(const collision::QueryResult& r) {

@@ -1,20 +1,36 @@
+// The built-in arms by name: the ASIMOV_BUILTIN_ARM rows of arm_families.def.
 #include "asimov/robots/builtin.hpp"
 
-#include "asimov/robots/cobra_s600.hpp"
-#include "asimov/robots/puma560.hpp"
-#include "asimov/robots/viper_s650.hpp"
+#include <string>
 
 namespace asimov::robots {
 
+#define ASIMOV_BUILTIN_ARM(NAME) Robot NAME();
+#include "arm_families.def"
+
+namespace {
+struct BuiltinArm {
+  std::string_view name;
+  Robot (*make)();
+};
+#define ASIMOV_BUILTIN_ARM(NAME) {#NAME, &NAME},
+constexpr BuiltinArm kArms[] = {
+#include "arm_families.def"
+};
+}  // namespace
+
 std::optional<Robot> builtin_robot(std::string_view name) {
-  if (name == "puma560") return puma560();
-  if (name == "viper_s650") return viper_s650();
-  if (name == "cobra_s600") return cobra_s600();
+  for (const BuiltinArm& a : kArms)
+    if (a.name == name) return a.make();
   return std::nullopt;
 }
 
 const std::string& builtin_robot_names() {
-  static const std::string names = "puma560, viper_s650, cobra_s600";
+  static const std::string names = [] {
+    std::string s;
+    for (const BuiltinArm& a : kArms) s += (s.empty() ? "" : ", ") + std::string(a.name);
+    return s;
+  }();
   return names;
 }
 

@@ -4,6 +4,7 @@
 #include "asimov/robots/ik_scara.hpp"
 #include "asimov/robots/ik_spherical.hpp"
 #include "asimov/robots/ik_viper.hpp"
+#include "ik_family.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -88,26 +89,17 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
   res.joints = pick;
   return true;
 }
-// scara_model of the arm of the previous call on this thread (the simulator solves for one arm
-// again and again; building the model costs as much as the solve), the chain compared by value.
-bool cached_scara_model(const Robot& robot, ScaraModel& out) {
-  if (!robot.is_chain() || robot.joint_count() != 4) return false;
-  thread_local std::vector<ChainJoint> key;
-  thread_local Pose key_flange = Pose::Identity();
-  thread_local bool key_is_scara = false;
-  thread_local ScaraModel model;
-  bool same = key.size() == robot.chain.size() && key_flange.matrix() == robot.flange_offset.matrix();
-  for (std::size_t k = 0; same && k < key.size(); ++k)
-    same = key[k].type == robot.chain[k].type && key[k].axis == robot.chain[k].axis &&
-           key[k].origin.matrix() == robot.chain[k].origin.matrix();
-  if (!same) {
-    key = robot.chain, key_flange = robot.flange_offset;
-    key_is_scara = scara_model(robot, model);
-  }
-  if (key_is_scara) out = model;
-  return key_is_scara;
-}
 }  // namespace
+
+const IkFamily* ik_family_of(const Robot& robot) {
+#define ASIMOV_IK_FAMILY(NAME) &NAME##_family,
+  static constexpr const IkFamily* kFamilies[] = {
+#include "arm_families.def"
+  };
+  for (const IkFamily* f : kFamilies)
+    if (f->matches(robot)) return f;
+  return nullptr;
+}
 
 int last_revolute_joint(const Robot& robot) {
   for (int i = robot.joint_count() - 1; i >= 0; --i)
@@ -117,10 +109,7 @@ int last_revolute_joint(const Robot& robot) {
 
 IkResult solve_ik(const Robot& robot, const Pose& flange, const JointVector& current, const Configuration& want,
                   bool single, const NumericIkOptions& options) {
-  if (is_puma_type(robot)) return solve_puma(robot, flange, current, want, single);
-  if (is_viper_type(robot)) return solve_viper(robot, flange, current, want, single);
-  ScaraModel scara;
-  if (cached_scara_model(robot, scara)) return solve_scara(robot, scara, flange, current, want, single);
+  if (const IkFamily* f = ik_family_of(robot)) return f->solve(robot, flange, current, want, single);
   IkResult res;
   if (solve_spherical(robot, flange, current, want, single, res)) return res;
   const NumericIkResult num = solve_numeric(robot, flange, current, options);

@@ -8,12 +8,14 @@
 // no heap. The FK acceptance check reuses the same pairs. Branches on per-pose data (arm
 // branch, flip, octant) are arithmetic: mispredictions cost as much as the arithmetic.
 #include "asimov/robots/ik_puma.hpp"
+#include "ik_family.hpp"
 
 #include "ik_pairs.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 namespace asimov::robots {
 namespace {
@@ -168,5 +170,27 @@ IkResult solve_puma(const Robot& robot, const Pose& flange, const JointVector& c
   res.joints = sol;
   return res;
 }
+
+namespace {
+// RIGHTY: the wrist centre in front of J1's axis; ABOVE: the elbow above the shoulder-wrist line
+// on that side; NOFLIP: J5 >= 0 (docs/kinematics.md §6).
+Configuration puma_configuration(const Robot& robot, const JointVector& display) {
+  const JointVector q = display_to_dh(robot, display);
+  std::vector<Pose> frames;
+  frames.reserve(robot.dh.size() + 1);
+  link_frames(robot, display, frames);
+  const Vec3 p = frames[4].translation();  // wrist centre
+  const double V = p.x() * std::cos(q[0]) + p.y() * std::sin(q[0]);
+  Configuration c;
+  c.righty = V >= 0;
+  const double sigma_s = c.righty ? 1 : -1;
+  const double diff = std::remainder(q[1] - std::atan2(p.z(), V), 2 * std::numbers::pi);
+  c.above = sigma_s * diff >= 0;
+  c.noflip = display[4] >= 0;
+  return c;
+}
+}  // namespace
+
+const IkFamily puma_family{"puma", is_puma_type, solve_puma, puma_configuration, every_word_applies};
 
 }  // namespace asimov::robots

@@ -5,12 +5,14 @@
 // (well conditioned at full stretch), beta = psi2 + gamma the elbow angle, RIGHTY = beta in [0, pi].
 // Angles are carried as unit (cos, sin) pairs and read off once (ik_pairs.hpp), no libm trigonometry.
 #include "asimov/robots/ik_scara.hpp"
+#include "ik_family.hpp"
 
 #include "ik_pairs.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace asimov::robots {
 namespace {
@@ -144,5 +146,47 @@ Configuration scara_configuration(const Robot& robot, const ScaraModel& m, const
   c.righty = std::sin(m.sign[1] * q[1] + gamma) >= 0;
   return c;
 }
+
+namespace {
+// scara_model of the arm of the previous call on this thread (the simulator solves for one arm
+// again and again; building the model costs as much as the solve), the chain compared by value.
+bool cached_scara_model(const Robot& robot, ScaraModel& out) {
+  if (!robot.is_chain() || robot.joint_count() != 4) return false;
+  thread_local std::vector<ChainJoint> key;
+  thread_local Pose key_flange = Pose::Identity();
+  thread_local bool key_is_scara = false;
+  thread_local ScaraModel model;
+  bool same = key.size() == robot.chain.size() && key_flange.matrix() == robot.flange_offset.matrix();
+  for (std::size_t k = 0; same && k < key.size(); ++k)
+    same = key[k].type == robot.chain[k].type && key[k].axis == robot.chain[k].axis &&
+           key[k].origin.matrix() == robot.chain[k].origin.matrix();
+  if (!same) {
+    key = robot.chain, key_flange = robot.flange_offset;
+    key_is_scara = scara_model(robot, model);
+  }
+  if (key_is_scara) out = model;
+  return key_is_scara;
+}
+
+bool is_scara(const Robot& robot) {
+  ScaraModel m;
+  return cached_scara_model(robot, m);
+}
+IkResult solve_scara_family(const Robot& robot, const Pose& flange, const JointVector& current, const Configuration& want,
+                            bool single) {
+  ScaraModel m;
+  cached_scara_model(robot, m);
+  return solve_scara(robot, m, flange, current, want, single);
+}
+Configuration scara_family_configuration(const Robot& robot, const JointVector& display) {
+  ScaraModel m;
+  cached_scara_model(robot, m);
+  return scara_configuration(robot, m, display);
+}
+// LEFTY / RIGHTY is the elbow of a SCARA; ABOVE / BELOW and FLIP / NOFLIP mean nothing there.
+bool scara_word_applies(ConfigurationWord word) { return word == ConfigurationWord::arm; }
+}  // namespace
+
+const IkFamily scara_family{"scara", is_scara, solve_scara_family, scara_family_configuration, scara_word_applies};
 
 }  // namespace asimov::robots

@@ -7,6 +7,7 @@
 // the sign of V alone. The wrist is the PUMA's (R36 = Rz(t4) Ry(-t5) Rz(t6)); every angle comes
 // from a unit (cos, sin) pair (ik_pairs.hpp), trigonometry only at the singularities.
 #include "asimov/robots/ik_viper.hpp"
+#include "ik_family.hpp"
 
 #include "ik_pairs.hpp"
 
@@ -174,5 +175,7 @@ Configuration viper_configuration(const Robot& robot, const JointVector& display
   c.noflip = display[4] >= 0;
   return c;
 }
+
+const IkFamily viper_family{"viper", is_viper_type, solve_viper, viper_configuration, every_word_applies};
 
 }  // namespace asimov::robots

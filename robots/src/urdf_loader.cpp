@@ -369,7 +369,7 @@ Result<Robot> load_urdf(const std::string& path, const UrdfOptions& options) {
     return as_error(e);
   }
   Result<std::string> xml = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
-  if (!xml) return Error{path + ":0: " + xml.error().message, "", path};
+  if (!xml) return as_error(UrdfError(path, 0, xml.error().message));  // one "file:line: message" form
   return load_urdf_text(*xml, path, base_dir, options);
 }
 

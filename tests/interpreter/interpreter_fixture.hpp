@@ -43,6 +43,16 @@ struct InterpreterFixture {
   std::string load_report;
 };
 
+// Runs `text`'s main: its TYPE output, then "ERROR message detail" when an error stopped it.
+inline std::string outcome_of(InterpreterFixture& f, const std::string& text) {
+  const auto r = f.run(text);
+  INFO(f.load_report);
+  REQUIRE(f.loaded);
+  if (r.status == interpreter::RunStatus::error) return f.out.str() + "ERROR " + r.error.message + " " + r.error.detail;
+  REQUIRE(r.status == interpreter::RunStatus::completed);
+  return f.out.str();
+}
+
 // The same with a monitor over it; run() executes one command line and returns its output.
 struct MonitorFixture : InterpreterFixture {
   interpreter::Monitor monitor{interp, sim, out};

@@ -380,10 +380,10 @@ TEST_CASE("V+ constructs that load but are not simulated", "[evaluator][vplus]")
   INFO(f.load_report);
   REQUIRE(r.status == RunStatus::error);
   CHECK(r.error.message == "*Not supported in simulation*");
-  CHECK(r.error.detail == "ATTACH");
+  CHECK(r.error.detail.rfind("ATTACH \"SERIAL:1\"; network and serial I/O are not simulated", 0) == 0);
   CHECK(r.error.step == 6);
   CHECK(f.out.str() == "still running\n");
-  REQUIRE(r.warnings.size() == 3);  // ACCEL once, ATTACH (), SELECT
+  REQUIRE(r.warnings.size() == 2);  // ACCEL once, SELECT; the robot's ATTACH () is simulated (§7b)
   CHECK(r.warnings[0].detail == "ACCEL");
   CHECK(r.warnings[0].warning);
   CHECK(r.warnings[0].step == 1);

@@ -35,7 +35,7 @@ struct Slide {
     p.motion = [](std::size_t, double, const robots::JointVector& a, double, const robots::JointVector& b) {
       return std::abs(b[0] - a[0]);
     };
-    p.pose = [this](const robots::JointVector& q) { engine.set_pose(moving, pose_at(q[0])); };
+    p.pose = [this](const robots::JointVector& q, double) { engine.set_pose(moving, pose_at(q[0])); };
     return p;
   }
   Pose pose_at(double x) const {
@@ -74,7 +74,7 @@ TEST_CASE("continuous: a 0.05 mm blade never passes a 0.01 mm plate unseen, what
       bool found = false;
       for (int k = 0; !found && k * step_mm < start + 50; ++k) {
         const double ta = k * step_mm / s.speed, tb = (k + 1) * step_mm / s.speed;
-        path.pose(s.q(tb));
+        path.pose(s.q(tb), tb);
         const bool b_collides = s.engine.check().collided;
         const ContinuousContact c = checker.verify(ta, s.q(ta), tb, s.q(tb), path);
         if (b_collides) REQUIRE(c.found);  // a contact at the checked pose is never lost
@@ -87,9 +87,9 @@ TEST_CASE("continuous: a 0.05 mm blade never passes a 0.01 mm plate unseen, what
         CHECK(c.t_free <= t_touch + 1e-12);
         CHECK(c.t_hit >= t_touch - 1e-12);
         // The halting pose is free, the contact pose is not.
-        path.pose(c.q_free);
+        path.pose(c.q_free, c.t_free);
         CHECK_FALSE(s.engine.check().collided);
-        path.pose(c.q_hit);
+        path.pose(c.q_hit, c.t_hit);
         CHECK(s.engine.check().collided);
       }
       CHECK(found);
@@ -113,7 +113,7 @@ TEST_CASE("continuous: a blade passing 0.001 mm beside the plate is proven free"
   const ContinuousPath path = s.path();
   for (int k = 0; k < 10; ++k) {
     const double ta = k * 0.02, tb = (k + 1) * 0.02;  // 20 mm steps
-    path.pose(s.q(tb));
+    path.pose(s.q(tb), tb);
     REQUIRE_FALSE(s.engine.check().collided);
     CHECK_FALSE(checker.verify(ta, s.q(ta), tb, s.q(tb), path).found);
   }
@@ -130,7 +130,7 @@ TEST_CASE("continuous: with a clearance the halt comes at distance c, not at tou
   s.engine.set_default_clearance(2.0);
   const ContinuousPath path = s.path();
   const double t_touch = (100 - 0.05 - 0.25) / s.speed, t_clear = t_touch - 2.0 / s.speed;
-  path.pose(s.q(0.2));
+  path.pose(s.q(0.2), 0.2);
   const ContinuousContact c = checker.verify(0, s.q(0), 0.2, s.q(0.2), path);
   REQUIRE(c.found);
   CHECK(c.t_free <= t_clear + 1e-12);

@@ -47,6 +47,13 @@ struct MotionStep {
   std::string text;         // the source line, without leading blanks
 };
 
+// A task of a run that EXECUTEd others (dialect §7b), as the monitor's STATUS lists it.
+struct TaskReport {
+  int number = 0;
+  std::string program;            // the program it was started with
+  std::string state;              // "completed", "aborted", or where it was when the run ended
+};
+
 // The motion instruction that ran at `step`, when exactly one did (programs of a file may
 // share a step number); null otherwise.
 const MotionStep* motion_at_step(const std::vector<MotionStep>& motions, int step);
@@ -74,6 +81,7 @@ struct RunResult {
   std::optional<motion::InterruptReport> interrupt;
   std::vector<Diagnostic> warnings;   // V+ constructs ignored with a warning (dialect §7), once each
   std::vector<MotionStep> motions;    // the motion instructions started, once each, in first-run order
+  std::vector<TaskReport> tasks;      // every task when the run EXECUTEd others (dialect §7b); else empty
 };
 
 struct Limits {
@@ -83,7 +91,10 @@ struct Limits {
   // its next checked pose (the simulator reads the flag while a run goes on).
   const std::atomic<bool>* interrupt = nullptr;
   double tick_s = 0.016;          // WAIT: the clock advances by ticks [s]
-  double max_wait_s = 3600;       // WAIT: simulated seconds before *Wait limit exceeded*
+  double max_wait_s = 3600;
+  // Files (dialect §7a): every path FOPENR ... names is resolved inside this folder (the
+  // program file's folder, or `asimov run --files DIR`), never outside it.
+  std::string files_root = ".";       // WAIT: simulated seconds before *Wait limit exceeded*
 };
 
 class Interpreter {
@@ -126,6 +137,10 @@ class Interpreter {
   // The cell's parts and devices at the simulator's time (events, part poses); null for a cell
   // without parts or devices.
   const motion::CellRuntime* cell_state();
+  // The monitor's DO SIGNAL k (negative: off), inputs included: the signal memory and the
+  // cell's devices (outputs run conveyors, feeders and logic rules; an input a sensor or rule
+  // drives is theirs again at their next change). Returns the message of a logic loop.
+  std::optional<std::string> set_signal(int k);
   // Runs `name` for a monitor DO: a stop there is not resumable, and the execution stopped
   // before (if any) stays resumable.
   RunResult run_detached(const std::string& name);

@@ -103,6 +103,7 @@ class Monitor {
   ExecState state_ = ExecState::idle; // of the last EXECUTE
   int state_step_ = 0;                // where it stopped
   std::string state_program_;         // in which program (a CALLed one, when it differs)
+  std::vector<TaskReport> tasks_;     // the tasks of the last execution, when it had several
   std::optional<motion::InterruptReport> halted_;  // the motion Ctrl-C halted in it
 };
 

@@ -26,6 +26,7 @@ class CellRuntime {
   std::optional<std::size_t> carried() const { return carried_; }
   // The carried part's pose for the flange at `flange`.
   Location carried_pose(const Location& flange) const { return flange * grip_; }
+  const Location& grip() const { return grip_; }  // part frame in the flange frame while carried
   bool close_on_air_error() const { return cell_->workcell.gripper.close_on_air_error; }
 
  private:

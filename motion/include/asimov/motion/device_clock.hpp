@@ -4,6 +4,7 @@
 // not at the next tick); advance_to(t) processes all changes up to t in time order.
 #pragma once
 #include "asimov/motion/devices.hpp"
+#include <cstdint>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -24,6 +25,8 @@ struct PartState {
   double anchor_s = 0;
   collision::Vec3 velocity = collision::Vec3::Zero();  // mm/s, world
   double end_s = std::numeric_limits<double>::infinity();  // reaches the conveyor end then
+  int feeder = -1;   // the feeder that placed it (-1: declared in the cell)
+  int ordinal = 0;   // declared: index among the cell's parts; fed: 0 for the feeder's first part
   Location pose_at(double t) const;
 };
 
@@ -67,6 +70,11 @@ class DeviceClock {
   void carry(std::size_t part, int line);
   void put_down(std::size_t part, const Location& pose, int line);
   void note(CellEvent e) { events_.push_back(std::move(e)); }
+  // The carried part follows the flange: its pose now (kept for sensors' and the report's sake).
+  void move_carried(std::size_t part, const Location& pose);
+  // Counts every change of a part's holder, motion or presence (the collision world re-reads
+  // the parts when it moved on).
+  std::uint64_t revision() const { return revision_; }
 
  private:
   struct Timer {
@@ -95,6 +103,7 @@ class DeviceClock {
   std::vector<bool> timed_done_;   // per logic rule with at_s
   std::vector<int> fed_;           // parts placed per feeder
   long seq_ = 0;
+  std::uint64_t revision_ = 0;
 };
 
 // The time interval [t_in, t_out) in which the point p0 + v (t - t0) lies in region r (closed box

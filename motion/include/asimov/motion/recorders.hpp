@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace asimov::motion {
@@ -14,7 +15,11 @@ struct TraceSample {
   double time_s = 0;
   robots::JointVector joints;   // display [deg]
   Location tool;                // world pose of the tool point (BASE . FK . TOOL)
+  std::string part;             // the carried part's name ("" when the gripper holds none)
+  Location part_pose = Location::Identity();  // its world pose
 };
+
+class World;
 
 // One pose of the replay recording (app/replay.*): the arm's joints at a simulated instant,
 // on the path the simulator carries out.
@@ -57,6 +62,7 @@ struct TraceRecorder final : WalkObserver {
   void on_checked_pose(double t, const robots::JointVector& q, bool contact) override;
   bool on = false;
   std::vector<TraceSample> samples;
+  const World* world = nullptr;  // the carried part's pose comes from it (null: none)
 
  private:
   const robots::Robot& robot;

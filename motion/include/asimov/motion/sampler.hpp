@@ -47,6 +47,7 @@ struct GapPair {
   int a = -1, b = -1;
   int link_a = 0, link_b = 0;
   double allow_mm = 0;
+  double speed_mm_s = 0;  // conveyor-borne parts: the most their motion adds per second
 };
 double gap_allowance(double gap_mm, double clearance_mm, double step_mm);
 

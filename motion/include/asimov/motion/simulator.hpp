@@ -13,6 +13,7 @@
 #pragma once
 #include "asimov/collision/query.hpp"
 #include "asimov/motion/cell.hpp"
+#include "asimov/motion/cell_runtime.hpp"
 #include "asimov/motion/motion_result.hpp"
 #include "asimov/motion/recorders.hpp"
 #include "asimov/motion/trajectory.hpp"
@@ -92,6 +93,10 @@ class Simulator {
   void request_hand(HandState state);
   MotionResult hand_immediate(HandState state, double hand_time_s = kDefaultHandTime);
   Hand hand() const;
+  // Parts and devices of the cell (null for a cell without any): the collision world poses
+  // the parts from it at every checked pose and advances its clock with the walk.
+  CellRuntime* cell_runtime();
+  const CellRuntime* cell_runtime() const;
   // WAIT / WAIT.EVENT: finishes the pending motion (its failure or interruption is returned,
   // the clock then where the motion stopped), then advances the clock by `seconds` (negative:
   // 0) without motion.

@@ -54,9 +54,8 @@ class Walker {
   const std::atomic<bool>* interrupt_ = nullptr;
   std::vector<WalkObserver*> observers_;
   // Scratch, reused across walks (no allocation per checked pose).
-  std::vector<GapPair> gap_pairs_;
   std::vector<double> pair_mm_, sums_;
-  std::vector<collision::BodyPair> hit_pairs_;
+  std::vector<collision::BodyPair> hit_pairs_, probe_pairs_;
   collision::QueryResult result_;
   // Continuous checking between checked poses (docs/collision.md §12), once the engine exists.
   std::unique_ptr<ContinuousChecker> continuous_;

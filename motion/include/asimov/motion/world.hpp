@@ -1,25 +1,42 @@
 // The cell's collision world as the motion layer drives it: one collision::Engine (the only
 // copy of the bodies, their poses and their step-2 containers) and, per body, how it moves.
 //
-// One body-id space: the scene order of scene_bodies (robot bodies, "tool", objects) is the
-// engine's BodyId and, for the arm's parts (robot bodies and tool), the index into reach().
-// One pair type: collision::BodyPair over those ids.
+// One body-id space: the scene order of scene_bodies (robot bodies, "tool", objects), then the
+// movable parts (declared, then each feeder's parts in feeding order), is the engine's BodyId
+// and, for the arm's parts (robot bodies and tool), the index into reach(). One pair type:
+// collision::BodyPair over those ids.
+//
+// Parts (docs/cell-format.md "Parts and devices") are bodies "part:NAME" whose pairs follow
+// their state: the pairs tested (pairs()) are the cell's enabled pairs plus, per present part,
+// those that can change distance: a resting part against the arm; a part on a conveyor against
+// the arm, the objects but its conveyor and the parts not on its conveyor; the carried part
+// against everything but the bodies rigid with the flange (the gripper). A carried part moves
+// with the flange: its displacement bound is a reach() entry of its own (the flange link's radii
+// plus its reach from the flange), so step rules and gap stepping include it.
 #pragma once
 #include "asimov/collision/engine.hpp"
 #include "asimov/motion/cell.hpp"
+#include "asimov/motion/cell_runtime.hpp"
 #include "asimov/motion/sampler.hpp"
 #include "asimov/robots/displacement_bound.hpp"
 
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace asimov::motion {
 
-// How one body moves. Today a body is fixed (objects, base-link bodies) or rides on an arm
-// frame (links, the tool on the flange); carried parts and conveyors (#12) add kinds here.
+// How one body moves: fixed (objects, base-link bodies) or on an arm frame (links, the tool on
+// the flange). Parts move as their state says (World: carried, on a running conveyor, resting).
 struct BodyMount {
   int frame = -1;  // index into robots::link_frames (the tool: joint_count()); -1: fixed pose
+};
+
+// The carried part at a pose of the arm (trace, replay).
+struct CarriedPose {
+  std::string name;  // the part's name (without "part:")
+  Location pose;     // world
 };
 
 class World {
@@ -35,34 +52,93 @@ class World {
   collision::Engine* engine() { return engine_ ? &*engine_ : nullptr; }
   const collision::Engine* engine() const { return engine_ ? &*engine_ : nullptr; }
 
-  // Displacement bounds of the arm's parts, indexed by BodyId (robot bodies, then the tool).
+  // The parts' states come from `runtime` (the simulator's; it must outlive the world).
+  void attach(CellRuntime& runtime) { runtime_ = &runtime; }
+
+  // Displacement bounds of the arm's parts, indexed by BodyId (robot bodies, then the tool),
+  // then, in a cell with parts, the carried part's (zero radii while nothing is carried).
   std::span<const robots::BodyReach> reach() const { return reach_; }
-  // Enabled pairs of two moving bodies (their relative motion bounds the step, §6.3).
+  // Enabled pairs of two moving bodies (their relative motion bounds the step, §6.3), as reach()
+  // indices: arm bodies, and the carried part against the arm.
   std::span<const collision::BodyPair> moving_pairs() const { return moving_pairs_; }
-  // Gap stepping: per enabled pair (Engine::enabled_pairs() order) its moving bodies and links;
-  // allow_mm is left 0 for the walker to fill from the engine's gaps.
-  std::span<const GapPair> gap_pairs() const { return gap_pairs_; }
+  // The pairs tested at the current state (the engine's enabled pairs in a cell without parts).
+  std::span<const collision::BodyPair> pairs() const;
+  // Gap stepping: per pair of pairs() (same order) its moving bodies (reach() indices), links
+  // and the speed of its conveyor-borne parts; allow_mm is for the walker to fill from the gaps.
+  std::span<GapPair> gap_pairs() { return has_parts_ ? std::span<GapPair>(part_gaps_) : std::span<GapPair>(gap_pairs_); }
+  // Changes whenever pairs() changes (parts appear, leave, are grasped or released).
+  std::uint64_t pairs_revision() const { return pairs_revision_; }
 
   // Poses every moving body in the engine for the arm at display joints q (cell.base . frame;
-  // BASE moves neither robot nor cell). Needs the engine.
-  void pose(const robots::JointVector& q);
+  // BASE moves neither robot nor cell) and, with parts, the parts at simulated time t (the
+  // devices' clock is advanced to t; earlier times, as contact-time bisection asks, are posed
+  // from the state before the last advance). Needs the engine.
+  void pose(const robots::JointVector& q, double t = 0);
+  // The engine's query on pairs(): request.pairs nullopt means pairs(); a given list loses the
+  // pairs of parts absent at the posed time.
+  void query(const collision::QueryRequest& request, collision::QueryResult& out);
+  // After a pose found free: pairs excused at a grasp or release (touching then) that are
+  // apart now are tested again (docs/cell-format.md "Gripping").
+  void free_pose_seen();
+  // Reported body name: "part:NAME", "carried part:NAME" for the part in the gripper.
+  std::string body_name(collision::BodyId id) const;
+  // The carried part's pose for the arm at q (nullopt: none carried).
+  std::optional<CarriedPose> carried(const robots::JointVector& q) const;
 
   // True when the engine built a lazy voxel grid since the last call that returned true
   // (timing: that query was preprocessing, not collision). Cheap unless `r` reached step 3.
   bool grids_built(const collision::QueryResult& r);
 
  private:
+  struct Slot {  // one part body
+    int clock = -1;  // index into the clock's parts; -1: not placed yet
+    Holder holder = Holder::removed;
+    int conveyor = -1;
+    double speed_mm_s = 0;  // on a running conveyor
+  };
+  void refresh(const DeviceClock& clock);
+  void rebuild_pairs();
+  void excuse_touching(collision::BodyId part);
+  void pose_parts(const DeviceClock& clock, double t, bool all);
+  collision::BodyId part_body(const PartState& p) const;
+  bool part(collision::BodyId id) const { return has_parts_ && id >= first_part_; }
+  int link_of(collision::BodyId id) const;  // arm bodies: frame; others 0
+
   const robots::Robot* robot_;
   collision::Pose base_;
   std::vector<BodyMount> mounts_;  // per BodyId, once the engine is built
   std::vector<robots::BodyReach> reach_;
-  std::vector<collision::BodyPair> moving_pairs_;
+  std::vector<collision::BodyPair> moving_pairs_, arm_moving_pairs_;
   std::vector<GapPair> gap_pairs_;
   std::vector<collision::Pose> frames_;           // link_frames scratch
   std::vector<collision::BodyId> moving_;         // ids with a frame (posed by pose())
   std::vector<collision::BodyId> unprepared_;     // bodies whose voxel grid is not built yet
   std::optional<collision::Engine> engine_;
   bool built_ = false;
+
+  // Parts (has_parts_ only).
+  bool has_parts_ = false;
+  CellRuntime* runtime_ = nullptr;
+  collision::BodyId first_part_ = 0;
+  std::size_t arm_bodies_ = 0;                   // robot bodies and tool: BodyIds below it
+  int flange_ = 0;                               // joint_count(): the flange frame
+  std::vector<collision::BodyId> feeder_first_;  // per feeder, the BodyId of its first part
+  std::vector<int> object_of_conveyor_;          // per conveyor, the BodyId of its body (-1: none)
+  std::vector<Slot> slots_;                      // per part body
+  std::vector<collision::BodyPair> cell_pairs_;  // enabled pairs without parts
+  std::vector<GapPair> cell_gaps_;
+  std::vector<collision::BodyPair> part_pairs_;  // pairs(): cell_pairs_ then the parts'
+  std::vector<GapPair> part_gaps_;
+  std::vector<collision::BodyPair> excused_, filtered_;
+  std::vector<char> absent_;                     // per slot, at a pose earlier than the clock
+  std::vector<char> to_excuse_;                  // per slot: grasped or released since the last pose
+  bool any_absent_ = false;
+  std::optional<collision::BodyId> carried_;
+  Location grip_ = Location::Identity();
+  std::uint64_t seen_revision_ = ~std::uint64_t{0};
+  std::uint64_t pairs_revision_ = 0;
+  std::optional<DeviceClock> saved_, scratch_;   // the clock before the last advance; a copy at t
+  collision::QueryResult scratch_result_;
 };
 
 }  // namespace asimov::motion
