@@ -237,9 +237,10 @@ class Reader : public Fields {
   // 1e-16 of their size: at 1e18 mm a whole link rounds away) and overflow its products near
   // 1e150 mm (an arm inside a 1e150 mm box went unseen): a cell error (docs/stiff-cases.md).
   static constexpr double kMaxCoordinateMm = 1e9;
-  // Objects in one cell (docs/limits.md): far above a real cell; loading and the pair set-up
-  // of 20,000 take about a second, and the engine's participation matrix is n^2 bits (50 MB).
-  static constexpr std::size_t kMaxObjects = 20000;
+  // Objects in one cell (docs/limits.md): far above a real cell (hundreds). The pair set-up is
+  // linear (static objects pair only with the bodies that move, the matrix is sparse); what
+  // bounds it is the memory of the objects' meshes and pairs, and the YAML parse.
+  static constexpr std::size_t kMaxObjects = 100000;
   void within_extent(const YAML::Node& node, const collision::Polyhedron& mesh, const collision::Pose& pose,
                      const std::string& what) const {
     double far = pose.translation().cwiseAbs().maxCoeff();
