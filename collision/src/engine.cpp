@@ -521,7 +521,18 @@ struct Engine::Impl {
     const double spheres =
         (world_sphere_centre(a) - world_sphere_centre(b)).norm() - a.container.radius - b.container.radius;
     const double boxes = std::sqrt(box_distance2(world_box(a).lo, world_box(a).hi, world_box(b).lo, world_box(b).hi));
-    const double lb = std::max(spheres, boxes) - 2 * margin;
+    double lb = std::max(spheres, boxes) - 2 * margin;
+    if (lb >= upper) {
+      res.distance = lb;
+      return res;
+    }
+    // The oriented containers, each mapped into the other's frame as an axis-aligned box (the
+    // bound of the descent's root node pair, without the voxel grids): tighter than the world
+    // boxes for rotated bodies, so a pair that is apart by its containers builds no grid.
+    const Pose a_from_b = relative_pose(a.pose, b.pose);
+    const DistanceNodeTest nt(a_from_b, 2 * margin);
+    const Vec3 ha = 0.5 * a.container.size, hb = 0.5 * b.container.size;
+    lb = std::max(lb, nt.lower_bound(a.container.origin + ha, ha, b.container.origin + hb, hb));
     if (lb >= upper) {
       res.distance = lb;
       return res;
@@ -546,7 +557,6 @@ struct Engine::Impl {
     preprocess(b);
     double best = upper;
     measured.next_body_pair();
-    const DistanceNodeTest nt(relative_pose(a.pose, b.pose), 2 * margin);
     descend_distance(*a.grid, *b.grid, nt, best, heap,
                      [&](std::uint32_t va, std::uint32_t vb) { distance_voxel_pair(ia, ib, va, vb, best, res); });
     if (res.status != DistanceStatus::exact) res.distance = upper;  // nothing nearer than the cut-off

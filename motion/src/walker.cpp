@@ -38,6 +38,17 @@ struct Walker::Walk {
   ContinuousPath path;         // the trajectory as continuous checking sees it (continuous_path)
   std::uint64_t pairs_verified = ~std::uint64_t{0};  // World::pairs_revision() the checker's cache is of
   std::size_t line_i = 0, line_j = 0;  // lines: the checked samples of the current stretch
+  // Container gaps (QueryResult::gaps, per pair of pairs()) at the last checked pose found free
+  // (`here`: gap stepping's allowances, continuous checking's lower bounds at a window's start)
+  // and at the pose just visited (`next`: at the window's end). Kept in w.gaps_here_ and
+  // w.gaps_next_, valid for the World::pairs_revision() they were computed at.
+  bool want_gaps = false;  // gap stepping or continuous checking: visit's query computes them
+  bool here_ok = false, next_ok = false;
+  std::uint64_t here_rev = 0, next_rev = 0;
+  // Gap stepping's per-pair motion bound over the current stretch (w.window_mu_), valid for the
+  // pairs of revision mu_rev (continuous checking's window bound, without recomputing it).
+  bool mu_ok = false;
+  std::uint64_t mu_rev = 0;
 
   template <class F>
   void tell(F&& f) {
@@ -71,8 +82,15 @@ struct Walker::Walk {
     if (engine) {
       w.world_.pose(q, t);
       const std::uint64_t k0 = cpu_ticks();
-      w.world_.query({.clearance_mm = clearance}, w.result_);
+      // The gaps come with the contact test (one pass over the pairs; the next stretch's
+      // allowances and the window's lower bounds at its end).
+      w.world_.query({.clearance_mm = clearance, .gaps = want_gaps}, w.result_);
       const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
+      if (want_gaps) {
+        w.gaps_next_.assign(w.result_.gaps.begin(), w.result_.gaps.end());
+        next_ok = true;
+        next_rev = w.world_.pairs_revision();
+      }
       contact = record(w.result_, cost, q, report);
     }
     tell([&](WalkObserver& o) { o.on_checked_pose(t, q, contact); });
@@ -84,12 +102,36 @@ struct Walker::Walk {
     return true;
   }
 
+  bool gaps_valid(bool ok, std::uint64_t rev, const std::vector<double>& g) const {
+    return ok && rev == w.world_.pairs_revision() && g.size() == w.world_.pairs().size();
+  }
+  // The gaps at the current engine poses (the last checked pose): visit's when the pairs have
+  // not changed since (a grasp, a release, a part excused no more), else queried now.
+  void gaps_here() {
+    if (gaps_valid(here_ok, here_rev, w.gaps_here_)) return;
+    w.world_.query({.clearance_mm = clearance, .contact = false, .gaps = true}, w.result_);
+    w.gaps_here_.assign(w.result_.gaps.begin(), w.result_.gaps.end());
+    here_ok = true;
+    here_rev = w.world_.pairs_revision();
+  }
+  void window_mu_ready() {
+    mu_ok = true;
+    mu_rev = w.world_.pairs_revision();
+  }
+  // The stretch to the pose just visited is done: its gaps are the next stretch's start.
+  void advance_gaps() {
+    if (next_ok) std::swap(w.gaps_here_, w.gaps_next_);
+    here_ok = next_ok;
+    here_rev = next_rev;
+    next_ok = false;
+  }
+
   // Allowance of every enabled pair at the current engine poses (the last checked pose).
   void update_gaps() {
-    w.world_.query({.clearance_mm = clearance, .contact = false, .gaps = true}, w.result_);
+    gaps_here();
     const double c = w.settings_.clearance_mm, step = step_mm(w.settings_);
     const std::span<GapPair> gaps = w.world_.gap_pairs();
-    for (std::size_t i = 0; i < gaps.size(); ++i) gaps[i].allow_mm = gap_allowance(w.result_.gaps[i], c, step);
+    for (std::size_t i = 0; i < gaps.size(); ++i) gaps[i].allow_mm = gap_allowance(w.gaps_here_[i], c, step);
   }
 
   // Contact time (docs/collision-method.md §6.4). `report` holds the contact at the checked
@@ -169,6 +211,11 @@ struct Walker::Walk {
     path.motion = [this](std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) {
       return motion_bound(pair, t1, q1, t2, q2);
     };
+    path.jump = [this](std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) {
+      const GapPair& p = w.world_.gap_pairs()[pair];
+      const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
+      return joint_motion(w.world_.reach(), p, q1, q2) + belt;
+    };
     path.pose = [this](const JointVector& q, double t) { w.world_.pose(q, t); };
     checker->on_measure = [this](std::size_t pair, const collision::DistanceResult& r, double t, bool probe,
                                  std::uint64_t ticks) {
@@ -185,7 +232,17 @@ struct Walker::Walk {
     // The pairs tested now (they change as parts appear, leave, are grasped or released).
     if (w.world_.pairs_revision() != pairs_verified) checker->reset(), pairs_verified = w.world_.pairs_revision();
     path.pairs = w.world_.pairs();
-    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path);
+    ContinuousChecker::WindowBounds known;
+    if (gaps_valid(here_ok, here_rev, w.gaps_here_)) known.lower_a = w.gaps_here_;
+    if (gaps_valid(next_ok, next_rev, w.gaps_next_)) known.lower_b = w.gaps_next_;
+    if (gaps_valid(mu_ok, mu_rev, w.window_mu_)) {
+      const std::span<const GapPair> gaps = w.world_.gap_pairs();
+      for (std::size_t i = 0; i < gaps.size(); ++i)  // parts on a running conveyor (as motion_bound)
+        if (gaps[i].speed_mm_s > 0) w.window_mu_[i] += gaps[i].speed_mm_s * std::abs(t_b - t_a);
+      known.mu = w.window_mu_;
+    }
+    mu_ok = false;
+    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, known);
     if (!c.found) return false;
     checker->reset();
     const collision::BodyPair pair = w.world_.pairs()[c.pair];
@@ -259,6 +316,13 @@ struct Walker::Walk {
       if (gap) {
         update_gaps();
         j = gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.sums_, bound);
+        if (checker) {  // its per-pair sums: the stretch's motion bounds (line_motion's)
+          const std::size_t n = w.world_.reach().size();
+          w.window_mu_.assign(w.sums_.begin() + n, w.sums_.begin() + n + w.world_.gap_pairs().size());
+          window_mu_ready();
+        }
+      } else if (checker) {
+        gaps_here();
       }
       const LineSample &a = samples[i], &b = samples[j];
       const double t = tr.t0 + tr.profile.time_at(b.s);
@@ -284,6 +348,7 @@ struct Walker::Walk {
         return halt(std::move(report), t_prev, was_free, at);
       }
       st.joints = b.joints;
+      advance_gaps();
       if (engine) w.world_.free_pose_seen();  // after the stretch's continuous check: excused there
       t_prev = t;
       i = j;
@@ -317,6 +382,13 @@ struct Walker::Walk {
         pair_bounds();
         update_gaps();
         k = gap_intervals(w.pair_mm_, w.world_.gap_pairs(), tr.intervals - i);
+        if (checker) {  // k intervals of pair_mm_ each: the stretch's motion bounds (joint_motion's)
+          w.window_mu_.resize(w.pair_mm_.size());
+          for (std::size_t p = 0; p < w.pair_mm_.size(); ++p) w.window_mu_[p] = k * w.pair_mm_[p];
+          window_mu_ready();
+        }
+      } else if (checker) {
+        gaps_here();
       }
       const double sigma_from = static_cast<double>(i) / tr.intervals;
       i += k;
@@ -329,6 +401,7 @@ struct Walker::Walk {
       if (checker && was_free && continuous_contact(t_prev, t, q, report)) return collision_result(std::move(report), 0);
       if (hit) return halt(std::move(report), t_prev, was_free, at);
       st.joints = q;
+      advance_gaps();
       if (engine) w.world_.free_pose_seen();
       t_prev = t;
     }
@@ -345,6 +418,7 @@ struct Walker::Walk {
     const bool gap = engine && w.settings_.stepping == Stepping::gap;
     if (engine) w.world_.pose(st.joints, st.time_s);  // parts grasped or released since: their pairs
     if (checker) continuous_path();
+    want_gaps = gap || checker != nullptr;
     MotionResult r = tr.kind == PathKind::line ? line(gap) : joint(gap);
     if (r.status != MotionStatus::ok) return r;
     st.joints = tr.to;
