@@ -117,6 +117,13 @@ constexpr std::size_t kEagerFaces = 65536;
 
 // Vertices per shell tried by voxel class before the exact point-in-solid test (contained).
 constexpr std::size_t kShellSamples = 16;
+// Distance: bodies with at most this many vertices get the hull bound (hull_gap) before the
+// voxel descent, with at most this many directions.
+constexpr std::size_t kHullGapVertices = 2048;
+constexpr int kHullGapIterations = 24;
+// ... and it goes on up to this multiple of the cut-off: a caller keeping the answer "beyond" as
+// a lower bound for later poses (continuous checking's anchors) gets a better one for little.
+constexpr double kHullGapEnough = 2;
 
 }  // namespace
 
@@ -533,6 +540,13 @@ struct Engine::Impl {
     const DistanceNodeTest nt(a_from_b, 2 * margin);
     const Vec3 ha = 0.5 * a.container.size, hb = 0.5 * b.container.size;
     lb = std::max(lb, nt.lower_bound(a.container.origin + ha, ha, b.container.origin + hb, hb));
+    // Then the convex hulls' separating-plane bound (small bodies: a pass over the vertices per
+    // direction), still without grids: interlocked links whose containers overlap are usually
+    // apart by their hulls.
+    if (lb < upper && std::isfinite(upper) && a.def.mesh.vertices.size() <= kHullGapVertices &&
+        b.def.mesh.vertices.size() <= kHullGapVertices)
+      lb = std::max(lb, hull_gap(a.def.mesh.vertices, b.def.mesh.vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
+                                 kHullGapIterations, upper));
     if (lb >= upper) {
       res.distance = lb;
       return res;

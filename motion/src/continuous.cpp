@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace asimov::motion {
@@ -12,7 +13,7 @@ namespace {
 // threshold above what the window needs: the answer "beyond" (a lower bound) then proves the
 // following windows too while the arm moves less than that from there (Anchor). Measured on
 // bench_continuous: queries with a higher cut-off cost more than the ones they save.
-constexpr double kBudget = 0.5;
+double budget_ = std::getenv("KB") ? std::atof(std::getenv("KB")) : 0.5;
 // A lower bound at the far end of a motion bound mu from a lower bound d (with room for the
 // rounding of both).
 double less(double d, double mu) { return d - mu * (1 + 1e-9) - 1e-9; }
@@ -138,7 +139,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     }
     Point e;
     e.t = t_b;
-    measure(i, e, std::max({(m + 2 * c - la) * (1 + 1e-9) + 1e-9, report * (1 + kBudget), c}), false);
+    measure(i, e, std::max({(m + 2 * c - la) * (1 + 1e-9) + 1e-9, report * (1 + budget_), c}), false);
     if (!e.hit && !e.exact) e.d = std::max(e.d, lb);  // "beyond": the better of the two bounds
     end_d_[i] = e.d;
     end_flags_[i] = (e.hit ? kHit : 0) | (e.exact ? kExact : 0) |
