@@ -20,6 +20,7 @@
 // analytic first contact (the blade's inner leading edge meeting the plate's face). us per
 // query: wall time of each window's query, median over all windows of all runs.
 // Writes bench/results/continuous_peers.json (or argv[1]).
+#include "bench/fcl_mesh.hpp"
 #include "asimov/collision/engine.hpp"
 #include "asimov/collision/polyhedron.hpp"
 #include "motion/src/continuous.hpp"
@@ -87,15 +88,7 @@ double median(std::vector<double> v) {
 }
 
 std::shared_ptr<fcl::BVHModel<fcl::RSSd>> fcl_box(const Vec3& size) {
-  const collision::Polyhedron m = collision::make_box(size);
-  auto model = std::make_shared<fcl::BVHModel<fcl::RSSd>>();
-  std::vector<fcl::Vector3d> v(m.vertices.begin(), m.vertices.end());
-  std::vector<fcl::Triangle> t;
-  for (const auto& f : m.triangles) t.emplace_back(f[0], f[1], f[2]);
-  model->beginModel();
-  model->addSubModel(v, t);
-  model->endModel();
-  return model;
+  return bench::fcl_mesh<fcl::RSSd>(collision::make_box(size));
 }
 
 btTransform bt(const Pose& p) {
