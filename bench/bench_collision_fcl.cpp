@@ -4,6 +4,7 @@
 // broadphase). Prints median / p95 / mean us per query, ratio ours/FCL (of medians; of means too) and
 // agreement, classifies every disagreement (touching, containment, other) and writes
 // bench/results/collision_fcl.json. Run: bench_collision_fcl [--quick] [--out FILE].
+#include "bench/fcl_mesh.hpp"
 #include "bench/scenes.hpp"
 #include "asimov/collision/engine.hpp"
 #include "asimov/collision/distance.hpp"
@@ -63,16 +64,7 @@ void measure_timer_overhead() {
   timer_overhead_us = t[5000];
 }
 
-std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const Polyhedron& m) {
-  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-  std::vector<fcl::Vector3d> v(m.vertices.begin(), m.vertices.end());
-  std::vector<fcl::Triangle> t;
-  for (const auto& f : m.triangles) t.emplace_back(f[0], f[1], f[2]);
-  model->beginModel();
-  model->addSubModel(v, t);
-  model->endModel();
-  return model;
-}
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const Polyhedron& m) { return bench::fcl_mesh<fcl::OBBRSSd>(m); }
 
 struct Row;
 void profile(const std::vector<collision::QueryResult>& results, const std::vector<double>& t, Row& row);

@@ -12,9 +12,9 @@ packages=(
   # document asimov writes against docs/schema/.
   pybind11-dev python3-dev python3-numpy python3-pytest python3-jsonschema
 )
-# Peers for bench/ only (FCL, KDL, Lua 5.4); the peer benchmarks are skipped without them.
+# Peers for bench/ only (FCL, Bullet, KDL, Lua 5.4); the peer benchmarks are skipped without them.
 if [ "${ASIMOV_WITH_PEERS:-1}" = 1 ]; then
-  packages+=(libfcl-dev liborocos-kdl-dev lua5.4)
+  packages+=(libfcl-dev libbullet-dev liborocos-kdl-dev lua5.4)
 fi
 # The sanitizer lane and the fuzz targets of scripts/test.sh (issue 17): clang 14 with its
 # sanitizer and libFuzzer runtimes.

@@ -1,6 +1,7 @@
 #include "container_gap.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 namespace asimov::collision {
@@ -25,6 +26,53 @@ double container_gap(const PlacedContainer& a, const PlacedContainer& b, double 
 
 double container_gap(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b) {
   return container_gap(place(a, pose_a), place(b, pose_b), relative_margin(a, pose_a, b, pose_b));
+}
+
+}  // namespace asimov::collision
+
+namespace asimov::collision {
+
+double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_from_b, double slack, double enough,
+                int iterations, double stop) {
+  if (a.empty() || b.empty()) return 0;
+  const Mat3 r = a_from_b.linear();
+  const Vec3 t = a_from_b.translation();
+  double mag_a = 0, mag_b = 0;
+  for (const Vec3& p : a) mag_a = std::max(mag_a, p.cwiseAbs().maxCoeff());
+  for (const Vec3& p : b) mag_b = std::max(mag_b, p.cwiseAbs().maxCoeff());
+  // Each projection n.p carries a few ulps of |p| (|n| = 1 up to an ulp), B's also of the
+  // mapping (within `slack`, the pair's margin, as for the containers).
+  const double room = slack + 16 * DBL_EPSILON * (mag_a + mag_b + t.cwiseAbs().maxCoeff());
+  // v: a point of the difference set A - B (its norm bounds the hull distance from above).
+  Vec3 v = a[0] - (r * b[0] + t);
+  double best = -INFINITY;
+  for (int it = 0; it < iterations; ++it) {
+    const double vn = v.norm();
+    if (!(vn > 0)) break;
+    const Vec3 n = v / vn;
+    // The support point of A - B in direction -n: A's vertex least along n, B's farthest.
+    const Vec3 nb = r.transpose() * n;  // n in B's frame
+    std::size_t ia = 0, ib = 0;
+    double min_a = INFINITY, max_b = -INFINITY;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (const double p = n.dot(a[i]); p < min_a) min_a = p, ia = i;
+    for (std::size_t i = 0; i < b.size(); ++i)
+      if (const double p = nb.dot(b[i]); p > max_b) max_b = p, ib = i;
+    const double bound = min_a - (max_b + n.dot(t)) - room;
+    best = std::max(best, bound);
+    // Done: the bound is enough, or near the hull distance (which is <= |v|), or cannot get
+    // to `enough` any more.
+    if (best >= enough || vn - bound <= 1e-3 * vn || vn < stop) break;
+    // Gilbert's step: the point of the segment [v, w] nearest the origin.
+    const Vec3 w = a[ia] - (r * b[ib] + t);
+    const Vec3 d = w - v;
+    const double dd = d.squaredNorm();
+    if (!(dd > 0)) break;
+    const double s = std::clamp(-v.dot(d) / dd, 0.0, 1.0);
+    if (s == 0) break;  // no progress: v is the nearest point the iteration finds
+    v += s * d;
+  }
+  return best;
 }
 
 }  // namespace asimov::collision

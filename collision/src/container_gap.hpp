@@ -4,6 +4,8 @@
 #pragma once
 #include "minimax.hpp"
 
+#include <span>
+
 namespace asimov::collision {
 
 // Euclidean distance [mm] between two axis-aligned boxes (0 when they overlap or touch).
@@ -26,5 +28,21 @@ double container_gap(const PlacedContainer& a, const PlacedContainer& b, double 
 
 // The same from the containers and their poses.
 double container_gap(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b);
+
+}  // namespace asimov::collision
+
+namespace asimov::collision {
+
+// [ours] Lower bound [mm] on the distance between the convex hulls of two vertex sets, hence
+// between the two bodies (each lies in its hull; a positive bound also rules out one inside the
+// other): A's vertices in A's frame, B's mapped by a_from_b (B's frame into A's). For any unit
+// direction n, min_a n.a - max_b n.b is such a bound (the separating-plane bound); Gilbert's
+// iteration on the difference set A - B chooses the directions, at most `iterations` of them,
+// stopping once the bound reaches `enough`, is within 1e-3 of the hull distance, or the hull
+// distance is known to be below `stop` (a point of A - B nearer than that). Rounding:
+// `slack` (the pair's mapping margin) and a few ulps of the coordinates are subtracted. Each
+// iteration is one pass over both vertex sets. Returns the best bound (<= 0: the hulls may meet).
+double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_from_b, double slack, double enough,
+                int iterations, double stop = 0);
 
 }  // namespace asimov::collision

@@ -117,6 +117,13 @@ constexpr std::size_t kEagerFaces = 65536;
 
 // Vertices per shell tried by voxel class before the exact point-in-solid test (contained).
 constexpr std::size_t kShellSamples = 16;
+// Distance: bodies with at most this many vertices get the hull bound (hull_gap) before the
+// voxel descent, with at most this many directions.
+constexpr std::size_t kHullGapVertices = 2048;
+constexpr int kHullGapIterations = 24;
+// ... and it goes on up to this multiple of the cut-off: a caller keeping the answer "beyond" as
+// a lower bound for later poses (continuous checking's anchors) gets a better one for little.
+constexpr double kHullGapEnough = 2;
 
 }  // namespace
 
@@ -522,7 +529,25 @@ struct Engine::Impl {
     const double spheres =
         (world_sphere_centre(a) - world_sphere_centre(b)).norm() - a.container.radius - b.container.radius;
     const double boxes = std::sqrt(box_distance2(world_box(a).lo, world_box(a).hi, world_box(b).lo, world_box(b).hi));
-    const double lb = std::max(spheres, boxes) - 2 * margin;
+    double lb = std::max(spheres, boxes) - 2 * margin;
+    if (lb >= upper) {
+      res.distance = lb;
+      return res;
+    }
+    // The oriented containers, each mapped into the other's frame as an axis-aligned box (the
+    // bound of the descent's root node pair, without the voxel grids): tighter than the world
+    // boxes for rotated bodies, so a pair that is apart by its containers builds no grid.
+    const Pose a_from_b = relative_pose(a.pose, b.pose);
+    const DistanceNodeTest nt(a_from_b, 2 * margin);
+    const Vec3 ha = 0.5 * a.container.size, hb = 0.5 * b.container.size;
+    lb = std::max(lb, nt.lower_bound(a.container.origin + ha, ha, b.container.origin + hb, hb));
+    // Then the convex hulls' separating-plane bound (small bodies: a pass over the vertices per
+    // direction), still without grids: interlocked links whose containers overlap are usually
+    // apart by their hulls.
+    if (lb < upper && std::isfinite(upper) && a.def.mesh.vertices.size() <= kHullGapVertices &&
+        b.def.mesh.vertices.size() <= kHullGapVertices)
+      lb = std::max(lb, hull_gap(a.def.mesh.vertices, b.def.mesh.vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
+                                 kHullGapIterations, upper));
     if (lb >= upper) {
       res.distance = lb;
       return res;
@@ -547,7 +572,6 @@ struct Engine::Impl {
     preprocess(b);
     double best = upper;
     measured.next_body_pair();
-    const DistanceNodeTest nt(relative_pose(a.pose, b.pose), 2 * margin);
     descend_distance(*a.grid, *b.grid, nt, best, heap,
                      [&](std::uint32_t va, std::uint32_t vb) { distance_voxel_pair(ia, ib, va, vb, best, res); });
     if (res.status != DistanceStatus::exact) res.distance = upper;  // nothing nearer than the cut-off

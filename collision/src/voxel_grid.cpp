@@ -3,6 +3,9 @@
 #include "containment.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <limits>
 #include <cfloat>
 #include <cmath>
 #include <utility>
@@ -115,14 +118,25 @@ bool add_subtree(const VoxelGrid& g, const std::vector<int>& axes, const CellRan
   return true;
 }
 
+// The next float below / above a float (libm's nextafterf is a call per coordinate; a grid of
+// a million faces rounds some ten million of them).
+float float_down(float x) {
+  if (x == 0) return -std::numeric_limits<float>::denorm_min();
+  return std::bit_cast<float>(std::bit_cast<std::uint32_t>(x) + (x > 0 ? 0xffffffffu : 1u));
+}
+float float_up(float x) {
+  if (x == 0) return std::numeric_limits<float>::denorm_min();
+  return std::bit_cast<float>(std::bit_cast<std::uint32_t>(x) + (x > 0 ? 1u : 0xffffffffu));
+}
+
 // A box (the double box lo, hi) as float centre and half sides that hold it.
 void float_box(const Vec3& lo, const Vec3& hi, float* centre, float* half) {
   for (int k = 0; k < 3; ++k) {
     float l = static_cast<float>(lo[k]), h = static_cast<float>(hi[k]);
-    if (static_cast<double>(l) > lo[k]) l = std::nextafter(l, -INFINITY);
-    if (static_cast<double>(h) < hi[k]) h = std::nextafter(h, INFINITY);
+    if (static_cast<double>(l) > lo[k]) l = float_down(l);
+    if (static_cast<double>(h) < hi[k]) h = float_up(h);
     centre[k] = 0.5f * (l + h);
-    half[k] = std::nextafter(std::max(centre[k] - l, h - centre[k]), INFINITY);  // covers their rounding
+    half[k] = float_up(std::max(centre[k] - l, h - centre[k]));  // covers their rounding
   }
 }
 
@@ -190,8 +204,8 @@ FloatBox outward(const Box& b) {
   for (int k = 0; k < 3; ++k) {
     f.lo[k] = static_cast<float>(b.lo[k]);
     f.hi[k] = static_cast<float>(b.hi[k]);
-    if (static_cast<double>(f.lo[k]) > b.lo[k]) f.lo[k] = std::nextafter(f.lo[k], -INFINITY);
-    if (static_cast<double>(f.hi[k]) < b.hi[k]) f.hi[k] = std::nextafter(f.hi[k], INFINITY);
+    if (static_cast<double>(f.lo[k]) > b.lo[k]) f.lo[k] = float_down(f.lo[k]);
+    if (static_cast<double>(f.hi[k]) < b.hi[k]) f.hi[k] = float_up(f.hi[k]);
   }
   return f;
 }
@@ -254,16 +268,21 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings, bool closed) {
   // (voxel, face) incidences in face order, then a counting sort into CSR.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> hits;
   const Vec3 half = 0.5 * g.cell + Vec3::Constant(g.margin);
+  const double magnitude = g.container.scale + g.container.size.maxCoeff();
   for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
     const Triangle& tri = mesh.triangles[f];
     const TriangleVerts t{mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]};
     const Box tb{t[0].cwiseMin(t[1]).cwiseMin(t[2]), t[0].cwiseMax(t[1]).cwiseMax(t[2])};
     const CellRange r = cell_range(g, grown(tb, 2 * g.margin));
+    if (r.empty()) continue;
+    // One voxel: the test would only repeat what cell_range found (the face's grown box meets it).
+    const bool single = r.lo == r.hi;
+    const TriangleBoxTest test(t, half, magnitude);
     for (int k = r.lo[2]; k <= r.hi[2]; ++k)
       for (int j = r.lo[1]; j <= r.hi[1]; ++j)
         for (int i = r.lo[0]; i <= r.hi[0]; ++i) {
           const Box vb = g.voxel_box(i, j, k);
-          if (triangle_box_overlap(0.5 * (vb.lo + vb.hi), half, t))
+          if (single || test.overlaps(0.5 * (vb.lo + vb.hi)))
             hits.emplace_back(static_cast<std::uint32_t>(g.index(i, j, k)), f);
         }
   }
@@ -335,6 +354,25 @@ CellRange intersect(const CellRange& a, const CellRange& b) {
     r.hi[k] = std::min(a.hi[k], b.hi[k]);
   }
   return r;
+}
+
+TriangleBoxTest::TriangleBoxTest(const TriangleVerts& t, const Vec3& half, double magnitude)
+    : lo_(t[0].cwiseMin(t[1]).cwiseMin(t[2])), hi_(t[0].cwiseMax(t[1]).cwiseMax(t[2])), half_(half) {
+  const Vec3 e[3] = {t[1] - t[0], t[2] - t[1], t[0] - t[2]};
+  axis_[0] = e[0].cross(e[1]);
+  for (int j = 0; j < 3; ++j)
+    for (int k = 0; k < 3; ++k) axis_[1 + 3 * j + k] = Vec3::Unit(k).cross(e[j]);
+  for (std::size_t i = 0; i < kAxes; ++i) {
+    const Vec3& a = axis_[i];
+    const double p0 = a.dot(t[0]), p1 = a.dot(t[1]), p2 = a.dot(t[2]);
+    min_[i] = std::min({p0, p1, p2});
+    max_[i] = std::max({p0, p1, p2});
+    // Projections of points up to `magnitude` carry a few ulps of |a|_1 * magnitude (and the
+    // axes' own rounding as much again): widened by that, with room.
+    const double a1 = std::fabs(a.x()) + std::fabs(a.y()) + std::fabs(a.z());
+    rad_[i] = half.x() * std::fabs(a.x()) + half.y() * std::fabs(a.y()) + half.z() * std::fabs(a.z()) +
+              32 * DBL_EPSILON * a1 * (magnitude + half.maxCoeff());
+  }
 }
 
 bool triangle_box_overlap(const Vec3& centre, const Vec3& half, const TriangleVerts& t) {

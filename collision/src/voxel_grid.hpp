@@ -113,4 +113,29 @@ CellRange intersect(const CellRange& a, const CellRange& b);
 // Conservative: it can only err toward "overlap" (callers grow the box for rounding).
 bool triangle_box_overlap(const Vec3& centre, const Vec3& half, const TriangleVerts& t);
 
+// The same test for one triangle against many boxes of one half size (a grid's voxels): the
+// thirteen axes, the triangle's extent along each and the boxes' radius are computed once, so a
+// box costs one projection of its centre per axis (the voxelisation's inner loop). Rounding:
+// every radius is widened by a few ulps of `magnitude` (the largest coordinate of triangle and
+// centres), so it errs only toward "overlap", at least as far as triangle_box_overlap does.
+class TriangleBoxTest {
+ public:
+  TriangleBoxTest(const TriangleVerts& t, const Vec3& half, double magnitude);
+  bool overlaps(const Vec3& centre) const {
+    for (int k = 0; k < 3; ++k)
+      if (lo_[k] - centre[k] > half_[k] || hi_[k] - centre[k] < -half_[k]) return false;
+    for (std::size_t i = 0; i < kAxes; ++i) {
+      const double p = axis_[i].dot(centre);
+      if (min_[i] - p > rad_[i] || max_[i] - p < -rad_[i]) return false;
+    }
+    return true;
+  }
+
+ private:
+  static constexpr std::size_t kAxes = 10;  // the triangle's normal, then edge x box axis
+  Vec3 lo_, hi_, half_;
+  std::array<Vec3, kAxes> axis_;
+  std::array<double, kAxes> min_, max_, rad_;
+};
+
 }  // namespace asimov::collision

@@ -4,10 +4,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace asimov::motion {
 namespace {
+// A pair measured at a checked pose gets a cut-off this fraction of the clearance report's
+// threshold above what the window needs: the answer "beyond" (a lower bound) then proves the
+// following windows too while the arm moves less than that from there (Anchor). Measured on
+// bench_continuous: queries with a higher cut-off cost more than the ones they save.
+double budget_ = std::getenv("KB") ? std::atof(std::getenv("KB")) : 0.5;
+// A lower bound at the far end of a motion bound mu from a lower bound d (with room for the
+// rounding of both).
+double less(double d, double mu) { return d - mu * (1 + 1e-9) - 1e-9; }
 constexpr double kGrazeS = 1e-6;  // [s] finest unprovable window before a graze halt (docs/collision.md §12)
 }  // namespace
 
@@ -85,50 +94,82 @@ bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, 
 }
 
 ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVector& q_a, double t_b,
-                                            const robots::JointVector& q_b, const ContinuousPath& path) {
+                                            const robots::JointVector& q_b, const ContinuousPath& path,
+                                            const WindowBounds& known) {
   posed_t_ = t_b;
   pairs_ = path.pairs ? *path.pairs : engine_.enabled_pairs();
-  const auto pairs = pairs_;
-  const std::size_t n = pairs.size();
+  const std::size_t n = pairs_.size();
   least_.resize(n, std::numeric_limits<double>::infinity());
+  if (anchors_.size() != n) anchors_.assign(n, {});
   const double c = clearance_;
   const bool cached = cache_t_ == t_a && cache_d_.size() == n;
-  std::vector<double> mu(n);
-  std::vector<Point> end(n);
-  // At b (the engine is posed there): every pair, with the cut-off the two-sided bound needs
-  // given the distance cached at a (gap stepping chose b so that most pairs need next to
-  // nothing: their step-2 bound decides), and the one the clearance report needs (only
-  // distances below the pair's least one so far). The values are the next window's start.
+  const bool have_a = known.lower_a.size() == n, have_b = known.lower_b.size() == n, have_mu = known.mu.size() == n;
+  // Per pair what is known at a: the distance cached from the last window (exact, or a lower
+  // bound) and the container gap there; the larger is the lower bound.
+  const auto at_a = [&](std::size_t i) {
+    const double d = cached ? cache_d_[i] : 0.0;
+    return have_a && known.lower_a[i] > d ? known.lower_a[i] : d;
+  };
+  mu_.resize(n);
+  end_d_.resize(n);
+  end_flags_.assign(n, 0);
+  // At b (the engine is posed there) a lower bound on each pair's distance comes for free: its
+  // container gap there, what is known at a less the window's motion, and the distance at the
+  // pair's anchor (the last checked pose it was measured at) less the net motion since (d is
+  // 1-Lipschitz in the motion). A pair whose bounds satisfy the two-sided inequality, and whose
+  // bound at b is no nearer than the clearance report asks, needs no distance query: gap
+  // stepping chose b so that this holds for every pair not near its allowance's floor. Every
+  // other pair is measured at b with the cut-off the two-sided bound needs given what is known
+  // at a and the one the clearance report needs (only distances below the pair's least one so
+  // far), raised by a budget so that the answer "beyond" stays a proof while the arm moves
+  // less than that budget from here (its anchor). The values are the next window's start.
   for (std::size_t i = 0; i < n; ++i) {
-    mu[i] = path.motion(i, t_a, q_a, t_b, q_b);
-    end[i].t = t_b;
-    end[i].q = q_b;
-    const double need = mu[i] + 2 * c - (cached ? cache_d_[i] : 0.0);
+    const double m = have_mu ? known.mu[i] : path.motion(i, t_a, q_a, t_b, q_b);
+    mu_[i] = m;
+    const double la = at_a(i);
     const double report = std::min(report_mm_, least_[i]);
-    measure(i, end[i], std::max({need * (1 + 1e-9) + 1e-9, report, c}), false);
+    double lb = std::max(have_b ? known.lower_b[i] : 0.0, less(la, m));
+    const auto proven = [&] { return lb >= report && (la - c) + (lb - c) > m * (1 + 1e-9) + 1e-9; };
+    Anchor& an = anchors_[i];
+    if (!proven() && an.set) lb = std::max(lb, less(an.d, path.jump(i, an.t, an.q, t_b, q_b)));
+    if (proven()) {
+      end_d_[i] = lb;
+      end_flags_[i] = kFree;
+      continue;
+    }
+    Point e;
+    e.t = t_b;
+    measure(i, e, std::max({(m + 2 * c - la) * (1 + 1e-9) + 1e-9, report * (1 + budget_), c}), false);
+    if (!e.hit && !e.exact) e.d = std::max(e.d, lb);  // "beyond": the better of the two bounds
+    end_d_[i] = e.d;
+    end_flags_[i] = (e.hit ? kHit : 0) | (e.exact ? kExact : 0) |
+                    (!e.hit && (la - c) + (e.d - c) > m ? kFree : 0);
+    if (path.jump && !e.hit) an = {true, t_b, e.d, q_b};
   }
   ContinuousContact best;
-  Point start;
-  start.t = t_a;
-  start.q = q_a;
   for (std::size_t i = 0; i < n; ++i) {
-    Point l = start, r = end[i];
-    if (best.found) {  // the earliest contact so far bounds the window of the other pairs
-      if (best.t_hit < r.t) {
-        r.t = best.t_hit;
-        r.q = best.q_hit;
-        path.pose(r.q, r.t);
-        posed_t_ = r.t;
-        measure(i, r, path.motion(i, t_a, q_a, r.t, r.q) + 2 * c, true);
-      }
+    if (end_flags_[i] & kFree) continue;  // free from both ends' bounds on [t_a, t_b]
+    Point l, r;
+    l.t = t_a;
+    l.q = q_a;
+    r.t = t_b;
+    r.q = q_b;
+    r.d = end_d_[i];
+    r.hit = (end_flags_[i] & kHit) != 0;
+    r.exact = (end_flags_[i] & kExact) != 0;
+    double m = mu_[i];
+    if (best.found && best.t_hit < r.t) {  // the earliest contact so far bounds the window of the other pairs
+      r.t = best.t_hit;
+      r.q = best.q_hit;
+      path.pose(r.q, r.t);
+      posed_t_ = r.t;
+      m = path.motion(i, t_a, q_a, r.t, r.q);
+      measure(i, r, m + 2 * c, true);
     }
-    const double m = path.motion(i, l.t, l.q, r.t, r.q);
-    if (cached) {
-      l.d = cache_d_[i];
-      l.exact = cache_exact_[i] != 0;
-    }
-    if (!r.hit && cached && (l.d - c) + (r.d - c) > m) continue;  // free from both ends' bounds
-    if (!cached || !l.exact) {  // the last checked pose's cut-off was too low: measure there
+    l.d = at_a(i);
+    l.exact = cached && cache_exact_[i] != 0 && l.d == cache_d_[i];
+    if (!r.hit && (l.d - c) + (r.d - c) > m) continue;  // free from both ends' bounds
+    if (!l.exact) {  // the last checked pose's cut-off was too low: measure there
       path.pose(q_a, t_a);
       posed_t_ = t_a;
       measure(i, l, m + 2 * c, false);
@@ -156,8 +197,9 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
   cache_d_.resize(n);
   cache_exact_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    cache_d_[i] = end[i].hit ? 0.0 : end[i].d;
-    cache_exact_[i] = end[i].exact;
+    const bool hit = (end_flags_[i] & kHit) != 0;
+    cache_d_[i] = hit ? 0.0 : end_d_[i];
+    cache_exact_[i] = (end_flags_[i] & kExact) != 0;
   }
   if (posed_t_ != t_b) {
     path.pose(q_b, t_b);

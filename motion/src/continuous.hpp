@@ -33,6 +33,14 @@ struct ContinuousPath {
   std::function<double(std::size_t pair, double t1, const robots::JointVector& q1, double t2,
                        const robots::JointVector& q2)>
       motion;
+  // Optional: a bound [mm] on how much pair `pair`'s distance can differ between the poses
+  // (t1, q1) and (t2, q2), whatever the path between them (joint moves: the motion bound of the
+  // straight joint path; lines: the same, which is not their path's). Lets a distance measured
+  // at an earlier checked pose bound the distance now by the net motion since, not the path
+  // length (an arm going back and forth stays proven).
+  std::function<double(std::size_t pair, double t1, const robots::JointVector& q1, double t2,
+                       const robots::JointVector& q2)>
+      jump;
   // Poses every moving engine body at joints q.
   std::function<void(const robots::JointVector& q, double t)> pose;  // at time t (parts move with it)
   // The pairs checked (pair indices refer to it); nullopt: Engine::enabled_pairs().
@@ -73,14 +81,23 @@ class ContinuousChecker {
   std::function<void(std::size_t pair, const collision::DistanceResult&, double t, bool probe, std::uint64_t ticks)>
       on_measure;
   // Forget the cached distances (the bodies were posed elsewhere than the last checked pose).
-  void reset() { cache_t_ = -1; }
+  void reset() {
+    cache_t_ = -1;
+    anchors_.clear();
+  }
 
+  // What the walker already knows of a window, per pair (each span empty, or one per pair).
+  struct WindowBounds {
+    std::span<const double> lower_a, lower_b;  // lower bounds on the distance at a and at b (container gaps)
+    std::span<const double> mu;                // ContinuousPath::motion over [t_a, t_b] (gap stepping's sums)
+  };
   // The window from the checked pose (t_a, q_a), found free against every pair, to the checked
   // pose (t_b, q_b), which the engine is posed at now (checked or not). Returns the earliest
   // contact in (t_a, t_b], if any; every pair is then free on [t_a, t_free]. Leaves the engine
-  // posed at q_b.
+  // posed at q_b. A pair that what is known proves free on the window, and that the clearance
+  // report need not see at b, costs no distance query (the far field).
   ContinuousContact verify(double t_a, const robots::JointVector& q_a, double t_b, const robots::JointVector& q_b,
-                           const ContinuousPath& path);
+                           const ContinuousPath& path, const WindowBounds& known = {});
 
   std::uint64_t probes() const { return probes_; }            // poses posed and measured between checked poses
   std::uint64_t distance_queries() const { return queries_; } // Engine::distance calls
@@ -106,6 +123,17 @@ class ContinuousChecker {
   std::vector<double> cache_d_; // per pair: lower bound at cache_t_
   std::vector<char> cache_exact_;
   std::vector<double> least_;   // per pair: least exact distance met (the report needs only nearer ones)
+  struct Anchor {  // the last checked pose a pair was measured at
+    bool set = false;
+    double t = 0, d = 0;  // d: its distance there (exact or a lower bound)
+    robots::JointVector q;
+  };
+  std::vector<Anchor> anchors_;  // per pair (ContinuousPath::jump)
+  // verify, per pair: its motion bound over the window; its distance (or lower bound) at b and
+  // what it is (kHit, kExact) and whether the window is proven free (kFree).
+  static constexpr char kHit = 1, kExact = 2, kFree = 4;
+  std::vector<double> mu_, end_d_;
+  std::vector<char> end_flags_;
   std::optional<ContinuousContact> graze_;  // solve: the first unprovable window of the pair
   std::uint64_t probes_ = 0, queries_ = 0;
 };

@@ -181,6 +181,11 @@ std::size_t gap_next_sample(std::span<const robots::BodyReach> reach, std::span<
   double* next = sums.data() + n + m;
   double* step = sums.data() + 2 * (n + m);
   bound_mm = 0;
+  // The accepted sums at the front of `sums` on return (per pair: its motion bound to j).
+  const auto accepted = [&](std::size_t j) {
+    if (acc != sums.data()) std::copy(acc, acc + n + m, sums.begin());
+    return j;
+  };
   for (std::size_t j = from + 1; j < samples.size(); ++j) {
     const JointVector delta = samples[j].joints - samples[j - 1].joints;
     for (std::size_t k = 0; k < n; ++k) step[k] = robots::max_displacement(reach[k], delta);
@@ -196,12 +201,12 @@ std::size_t gap_next_sample(std::span<const robots::BodyReach> reach, std::span<
       next[n + i] = acc[n + i] + d;
       fits = fits && next[n + i] <= kLineSafety * p.allow_mm;
     }
-    if (!fits && j > from + 1) return j - 1;  // acc and bound_mm: up to j - 1
+    if (!fits && j > from + 1) return accepted(j - 1);  // acc and bound_mm: up to j - 1
     std::swap(acc, next);
     bound_mm = n ? *std::max_element(acc, acc + n) : 0.0;
-    if (!fits) return j;  // one interval always goes (plan_line kept it within 0.9 * step_mm)
+    if (!fits) return accepted(j);  // one interval always goes (plan_line kept it within 0.9 * step_mm)
   }
-  return samples.size() - 1;
+  return accepted(samples.size() - 1);
 }
 
 int joint_move_intervals(std::span<const robots::BodyReach> reach, const JointVector& from, const JointVector& to,

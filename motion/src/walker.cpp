@@ -40,6 +40,19 @@ struct Walker::Walk {
   std::uint64_t pairs_verified = ~std::uint64_t{0};  // World::pairs_revision() the checker's cache is of
   std::size_t line_i = 0, line_j = 0;  // lines: the checked samples of the current stretch
   bool in_overlap = false;             // walking the overlap with the previous motion (blended path)
+  // Container gaps (QueryResult::gaps, per pair of pairs()) at the last checked pose found free
+  // (`here`: gap stepping's allowances, continuous checking's lower bounds at a window's start)
+  // and at the pose just visited (`next`: at the window's end), in w.gaps_here_ and
+  // w.gaps_next_; each valid for the time of its pose and the World::pairs_revision() then.
+  // Gap stepping's per-pair motion bound over the stretch starting at mu_t (w.window_mu_) is
+  // continuous checking's window bound, not computed twice.
+  struct Tag {
+    bool ok = false;
+    double t = 0;
+    std::uint64_t rev = 0;
+  };
+  bool want_gaps = false;  // gap stepping or continuous checking: visit's query computes them
+  Tag here, next, mu;
 
   template <class F>
   void tell(F&& f) {
@@ -73,8 +86,14 @@ struct Walker::Walk {
     if (engine) {
       w.world_.pose(q, t);
       const std::uint64_t k0 = cpu_ticks();
-      w.world_.query({.clearance_mm = clearance}, w.result_);
+      // The gaps come with the contact test (one pass over the pairs; the next stretch's
+      // allowances and the window's lower bounds at its end).
+      w.world_.query({.clearance_mm = clearance, .gaps = want_gaps}, w.result_);
       const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
+      if (want_gaps) {
+        w.gaps_next_.assign(w.result_.gaps.begin(), w.result_.gaps.end());
+        next = tag(t);
+      }
       contact = record(w.result_, cost, q, report);
     }
     tell([&](WalkObserver& o) { o.on_checked_pose(t, q, contact); });
@@ -86,12 +105,31 @@ struct Walker::Walk {
     return true;
   }
 
-  // Allowance of every enabled pair at the current engine poses (the last checked pose).
-  void update_gaps() {
+  Tag tag(double t) const { return {true, t, w.world_.pairs_revision()}; }
+  bool valid(const Tag& g, double t, const std::vector<double>& v) const {
+    return g.ok && g.t == t && g.rev == w.world_.pairs_revision() && v.size() == w.world_.pairs().size();
+  }
+  // The gaps at the current engine poses (the last checked pose, of time t): visit's when the
+  // pairs have not changed since (a grasp, a release, a part excused no more), else queried now.
+  void gaps_here(double t) {
+    if (valid(here, t, w.gaps_here_)) return;
     w.world_.query({.clearance_mm = clearance, .contact = false, .gaps = true}, w.result_);
+    w.gaps_here_.assign(w.result_.gaps.begin(), w.result_.gaps.end());
+    here = tag(t);
+  }
+  // The stretch to the pose just visited is done: its gaps are the next stretch's start.
+  void advance_gaps() {
+    if (next.ok) std::swap(w.gaps_here_, w.gaps_next_);
+    here = next;
+    next.ok = false;
+  }
+
+  // Allowance of every enabled pair at the current engine poses (the last checked pose, time t).
+  void update_gaps(double t) {
+    gaps_here(t);
     const double c = w.settings_.clearance_mm, step = step_mm(w.settings_);
     const std::span<GapPair> gaps = w.world_.gap_pairs();
-    for (std::size_t i = 0; i < gaps.size(); ++i) gaps[i].allow_mm = gap_allowance(w.result_.gaps[i], c, step);
+    for (std::size_t i = 0; i < gaps.size(); ++i) gaps[i].allow_mm = gap_allowance(w.gaps_here_[i], c, step);
   }
 
   // Contact time (docs/collision-method.md §6.4). `report` holds the contact at the checked
@@ -174,6 +212,11 @@ struct Walker::Walk {
     path.motion = [this](std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) {
       return motion_bound(pair, t1, q1, t2, q2);
     };
+    path.jump = [this](std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) {
+      const GapPair& p = w.world_.gap_pairs()[pair];
+      const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
+      return joint_motion(w.world_.reach(), p, q1, q2) + belt;
+    };
     path.pose = [this](const JointVector& q, double t) { w.world_.pose(q, t); };
     checker->on_measure = [this](std::size_t pair, const collision::DistanceResult& r, double t, bool probe,
                                  std::uint64_t ticks) {
@@ -190,7 +233,17 @@ struct Walker::Walk {
     // The pairs tested now (they change as parts appear, leave, are grasped or released).
     if (w.world_.pairs_revision() != pairs_verified) checker->reset(), pairs_verified = w.world_.pairs_revision();
     path.pairs = w.world_.pairs();
-    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path);
+    ContinuousChecker::WindowBounds known;
+    if (valid(here, t_a, w.gaps_here_)) known.lower_a = w.gaps_here_;
+    if (valid(next, t_b, w.gaps_next_)) known.lower_b = w.gaps_next_;
+    if (valid(mu, t_a, w.window_mu_)) {
+      const std::span<const GapPair> gaps = w.world_.gap_pairs();
+      for (std::size_t i = 0; i < gaps.size(); ++i)  // parts on a running conveyor (as motion_bound)
+        if (gaps[i].speed_mm_s > 0) w.window_mu_[i] += gaps[i].speed_mm_s * std::abs(t_b - t_a);
+      known.mu = w.window_mu_;
+    }
+    mu.ok = false;
+    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, known);
     if (!c.found) return false;
     checker->reset();
     const collision::BodyPair pair = w.world_.pairs()[c.pair];
@@ -254,6 +307,7 @@ struct Walker::Walk {
       return true;
     }
     st.joints = q;
+    advance_gaps();
     if (engine) w.world_.free_pose_seen();
     return false;
   }
@@ -294,8 +348,17 @@ struct Walker::Walk {
       std::size_t j = i + 1;
       double bound = samples[j].bound_mm;
       if (gap) {
-        update_gaps();
+        update_gaps(t_prev);
         j = std::min(gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.sums_, bound), last);
+        // Its per-pair sums to the sample it chose (>= j: a bound for the stretch): the
+        // stretch's motion bounds, line_motion's.
+        if (checker) {
+          const std::size_t n = w.world_.reach().size();
+          w.window_mu_.assign(w.sums_.begin() + n, w.sums_.begin() + n + w.world_.gap_pairs().size());
+          mu = tag(t_prev);
+        }
+      } else if (checker) {
+        gaps_here(t_prev);
       }
       const LineSample &a = samples[i], &b = samples[j];
       const bool at_stop = j == last && !to_end;
@@ -324,6 +387,7 @@ struct Walker::Walk {
         return halt(std::move(report), t_prev, was_free, at);
       }
       st.joints = q;
+      advance_gaps();
       if (engine) w.world_.free_pose_seen();  // after the stretch's continuous check: excused there
       t_prev = t;
       sigma_prev = sigma;
@@ -363,8 +427,17 @@ struct Walker::Walk {
       int k = 1;
       if (gap) {
         pair_bounds();
-        update_gaps();
+        update_gaps(t_prev);
         k = gap_intervals(w.pair_mm_, w.world_.gap_pairs(), last - i);
+        // k intervals of pair_mm_ each (the first may start past a grid point, the last end
+        // before one): the stretch's motion bounds, joint_motion's.
+        if (checker) {
+          w.window_mu_.resize(w.pair_mm_.size());
+          for (std::size_t p = 0; p < w.pair_mm_.size(); ++p) w.window_mu_[p] = k * w.pair_mm_[p];
+          mu = tag(t_prev);
+        }
+      } else if (checker) {
+        gaps_here(t_prev);
       }
       i += k;
       const bool at_last = i == last;
@@ -398,7 +471,8 @@ struct Walker::Walk {
     CollisionReport report;
     while (t_prev < stop) {
       if (interrupt_requested()) return interrupt_halt(t_prev, tr.profile.sigma(t_prev - tr.t0));
-      if (gap) update_gaps();
+      if (gap) update_gaps(t_prev);
+      else if (checker) gaps_here(t_prev);
       double t = std::min(stop, t_prev + dt), body = 0;
       for (int halvings = 0; !fits(blended_travel(tr, t_prev, t), body) && halvings < 60; ++halvings) {
         dt /= 2;
@@ -425,6 +499,7 @@ struct Walker::Walk {
     const bool gap = engine && w.settings_.stepping == Stepping::gap;
     if (engine) w.world_.pose(st.joints, st.time_s);  // parts grasped or released since: their pairs
     if (checker) continuous_path();
+    want_gaps = gap || checker != nullptr;
     const double stop = std::min(until_s, tr.end_time());
     if (st.time_s < tr.blend_end()) {  // continuous path: the overlap with the previous motion first
       in_overlap = true;

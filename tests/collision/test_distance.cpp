@@ -173,3 +173,43 @@ TEST_CASE("distance of a body without faces is beyond any cut-off; bad ids are r
   CHECK_THROWS_AS(e.distance(a, a), std::invalid_argument);
   CHECK_THROWS_AS(e.distance(a, 7), std::invalid_argument);
 }
+
+TEST_CASE("distance cut-off on random poses: 'beyond' is a lower bound, at least the cut-off", "[distance][cross_check]") {
+  // The bounds tried before any grid (oriented containers, convex hulls) and the descent: a
+  // "beyond" answer never exceeds the true distance and is at least the cut-off; below it the
+  // answer is the exact one.
+  const std::vector<Polyhedron> meshes = {test::make_merged_part(), make_cylinder(10, 40, 16), make_box(Vec3(30, 12, 8)),
+                                          test::make_l_prism(40, 10, 20), make_box(Vec3(4, 4, 4))};
+  std::mt19937_64 rng(1414);
+  std::uniform_int_distribution<std::size_t> pick(0, meshes.size() - 1);
+  int beyond = 0, exact = 0, bad = 0;
+  for (int m = 0; m < 60; ++m) {
+    const Polyhedron& ma = meshes[pick(rng)];
+    const Polyhedron& mb = meshes[pick(rng)];
+    Engine e;
+    const BodyId a = e.add_body({.name = "a", .mesh = ma});
+    const BodyId b = e.add_body({.name = "b", .mesh = mb});
+    const Pose pa = test::random_pose(rng, 5);
+    e.set_pose(a, pa);
+    for (int k = 0; k < 20; ++k) {
+      const Pose pb = test::random_pose(rng, 60);
+      e.set_pose(b, pb);
+      const DistanceResult r = brute_force_distance(ma, pa, mb, pb);
+      if (r.status != DistanceStatus::exact) continue;
+      for (const double f : {0.3, 0.9, 0.999, 1.001, 1.5, 3.0}) {
+        const double upper = f * r.distance;
+        const DistanceResult d = e.distance(a, b, {.upper_mm = upper});
+        if (d.status == DistanceStatus::beyond) {
+          ++beyond;
+          if (!(d.distance >= upper && d.distance <= r.distance * (1 + 1e-9))) ++bad;
+        } else {
+          ++exact;
+          if (!(d.status == DistanceStatus::exact && agrees(d.distance, r.distance) && f > 1)) ++bad;
+        }
+      }
+    }
+  }
+  CHECK(beyond > 100);
+  CHECK(exact > 100);
+  REQUIRE(bad == 0);
+}

@@ -164,3 +164,70 @@ TEST_CASE("clearance recorder: per pair the least distance up to the contact, ea
   CHECK(rec.pairs[0].time_s == 1.1);
   CHECK(rec.pairs[0].step == 3);
 }
+
+TEST_CASE("continuous: the far field costs no distance query, and the walker's bounds lose no contact", "[continuous]") {
+  // The container gaps at both ends (what the walker's queries computed) and the window's motion
+  // bound given up front: a far blade costs nothing, a thin one is still found at its instant.
+  for (const double start : {100.0, 100.37, 119.9}) {
+    Slide s;
+    build(s, 0.01, 0.05, start);
+    ContinuousChecker checker(s.engine, 0, 1e-6, 10);
+    ContinuousPath path = s.path();
+    path.jump = path.motion;
+    const double t_touch = (start - 0.005 - 0.025) / s.speed;
+    const auto gaps = [&s] { return s.engine.query({.contact = false, .gaps = true}).gaps; };
+    path.pose(s.q(0), 0);
+    std::vector<double> ga = gaps();
+    bool found = false;
+    std::uint64_t far_queries = 0;
+    for (int k = 0; !found && k < 20; ++k) {
+      const double ta = k * 0.02, tb = (k + 1) * 0.02;  // 20 mm steps
+      path.pose(s.q(tb), tb);
+      const std::vector<double> gb = gaps();
+      const std::vector<double> mu{path.motion(0, ta, s.q(ta), tb, s.q(tb))};
+      const std::uint64_t before = checker.distance_queries();
+      const ContinuousContact c = checker.verify(ta, s.q(ta), tb, s.q(tb), path, {ga, gb, mu});
+      // Both ends farther than the report threshold and than the window's motion allows: no query.
+      if (ga[0] > 10 + 20 && gb[0] > 10 + 20) far_queries += checker.distance_queries() - before;
+      ga = gb;
+      if (!c.found) continue;
+      found = true;
+      CHECK_FALSE(c.graze);
+      CHECK(c.t_free <= t_touch + 1e-12);
+      CHECK(c.t_hit >= t_touch - 1e-12);
+      CHECK(c.t_hit - c.t_free <= 1e-6);
+    }
+    CHECK(found);
+    CHECK(far_queries == 0);
+  }
+}
+
+TEST_CASE("continuous: an anchor keeps an arm going back and forth proven with one distance query", "[continuous]") {
+  // The blade oscillates +-2.5 mm about 30 mm from the plate; without container gaps every
+  // window would need a distance (the bound carried from a shrinks by each window's motion).
+  // The anchor's bound depends on the net motion since it was measured, so one query proves all.
+  Slide s;
+  build(s, 1, 1, 31);
+  const auto x_at = [](int k) { return k % 2 == 0 ? 0.0 : 5.0; };
+  for (const bool with_jump : {true, false}) {
+    ContinuousChecker checker(s.engine, 0, 1e-6, 10);
+    ContinuousPath path = s.path();
+    if (with_jump) path.jump = path.motion;
+    for (int k = 0; k < 20; ++k) {
+      const double ta = k * 0.005, tb = (k + 1) * 0.005;
+      robots::JointVector qa(1), qb(1);
+      qa[0] = x_at(k);
+      qb[0] = x_at(k + 1);
+      // The path between the two checked poses is the straight slide: probes land on it.
+      path.at = [&](double t, const robots::JointVector&) {
+        robots::JointVector q(1);
+        q[0] = qa[0] + (qb[0] - qa[0]) * (t - ta) / (tb - ta);
+        return q;
+      };
+      path.pose(qb, tb);
+      CHECK_FALSE(checker.verify(ta, qa, tb, qb, path).found);
+    }
+    if (with_jump) CHECK(checker.distance_queries() == 1);
+    else CHECK(checker.distance_queries() > 5);
+  }
+}

@@ -58,6 +58,8 @@ class Walker {
   std::vector<WalkObserver*> observers_;
   // Scratch, reused across walks (no allocation per checked pose).
   std::vector<double> pair_mm_, sums_;
+  std::vector<double> gaps_here_, gaps_next_;  // container gaps at two checked poses (Walk)
+  std::vector<double> window_mu_;              // per pair, its motion bound over a stretch (Walk)
   std::vector<collision::BodyPair> hit_pairs_, probe_pairs_;
   collision::QueryResult result_;
   // Continuous checking between checked poses (docs/collision.md §12), once the engine exists.
