@@ -124,6 +124,15 @@ TEST_CASE("srdf: disable_collisions become SRDF pairs; groups and end effectors 
   // `tip:` wins over the SRDF.
   const auto tipped = cell::load_cell_file(cell_file("tip.yaml", "srdf: touchy.srdf\ntip: tool0\n").string());
   CHECK(tipped.robot.flange_offset.translation().x() == Approx(200));
+  // disable_default_collisions: every pair of that link, but the enable_collisions ones.
+  write(dir() / "defaults.srdf", "<robot name=\"touchy\">\n<disable_default_collisions link=\"base\"/>\n"
+                                  "<enable_collisions link1=\"link_3\" link2=\"base\" reason=\"check\"/>\n<bogus/>\n</robot>\n");
+  const auto d = cell::load_cell_file(cell_file("defaults.yaml", "srdf: defaults.srdf\n").string());
+  for (const char* other : {"link_1", "link_2", "camera"}) CHECK(has_pair(d.collision.srdf_disabled, "base", other));
+  CHECK_FALSE(has_pair(d.collision.srdf_disabled, "base", "link_3"));
+  CHECK(d.collision.srdf_disabled.size() == 3);
+  CHECK(std::count_if(d.warnings.begin(), d.warnings.end(),
+                      [](const std::string& w) { return w.find("defaults.srdf:4: <bogus> is not an SRDF element: ignored") != std::string::npos; }) == 1);
   const auto p = test::run_cli("pairs --no-cache " + (dir() / "srdf.yaml").string());
   CHECK(p.out.find("base    link_3  SRDF") != std::string::npos);  // camera / link_2 is ADJACENT first
   CHECK(p.err.find("Note: ") != std::string::npos);
@@ -296,4 +305,31 @@ TEST_CASE("configuration words: honoured on a spherical-wrist URDF arm, said onc
   r = test::run_cli("run " + (dir() / "words.v2").string() + " --cell " + generic6);
   CHECK(r.exit_code == 0);
   CHECK(r.err.find("no meaning for this arm") == std::string::npos);
+}
+
+TEST_CASE("levers: a body following an arm joint is posed and checked as that joint moves") {
+  // J1 about Z, J2 about Y; a lever on link_1 turning against J2 (as the IRB 2400's parallel
+  // links follow J3). J2 = +60 turns it up into a post, J2 = -60 down beside the base.
+  write(dir() / "lever.urdf", R"(<robot name="lever">
+  <link name="base"><collision><origin xyz="0 0 0.05"/><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="link_1"><collision><origin xyz="0 0 0.1"/><geometry><cylinder radius="0.03" length="0.2"/></geometry></collision></link>
+  <link name="link_2"/>
+  <link name="lever"><collision><origin xyz="0.15 0 0"/><geometry><box size="0.3 0.02 0.02"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="link_1"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="link_1"/><child link="link_2"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" velocity="1"/></joint>
+  <joint name="lever_joint" type="continuous"><parent link="link_1"/><child link="lever"/><origin xyz="0 0 0.2"/>
+    <axis xyz="0 1 0"/><mimic joint="j2" multiplier="-1"/></joint>
+</robot>
+)");
+  write(dir() / "lever.yaml", "robot: lever.urdf\nobjects: [{name: post, box: [40, 40, 40], at: [120, 0, 510, 0, 0, 0]}]\n");
+  write(dir() / "up.v2", ".PROGRAM up()\n    MOVE #PPOINT(0, 60)\n.END\n");
+  write(dir() / "downward.v2", ".PROGRAM downward()\n    MOVE #PPOINT(0, -60)\n    TYPE \"clear\"\n.END\n");
+  auto r = test::run_cli("run " + (dir() / "up.v2").string() + " --cell " + (dir() / "lever.yaml").string());
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("*Collision*  lever / post") != std::string::npos);
+  r = test::run_cli("run " + (dir() / "downward.v2").string() + " --cell " + (dir() / "lever.yaml").string());
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("clear") != std::string::npos);
 }
