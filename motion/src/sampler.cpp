@@ -156,6 +156,9 @@ double pair_displacement(std::span<const robots::BodyReach> reach, const GapPair
     const int k = std::max(p.a, p.b);
     return k < 0 ? 0.0 : robots::max_displacement(reach[static_cast<std::size_t>(k)], delta);
   }
+  if (p.link_a < 0 || p.link_b < 0)  // a body with a motion of its own (a follower of an arm joint)
+    return robots::max_displacement(reach[static_cast<std::size_t>(p.a)], delta) +
+           robots::max_displacement(reach[static_cast<std::size_t>(p.b)], delta);
   const bool a_inner = p.link_a <= p.link_b;
   const int inner = a_inner ? p.link_a : p.link_b, outer = a_inner ? p.link_b : p.link_a;
   const robots::BodyReach& r = reach[static_cast<std::size_t>(a_inner ? p.b : p.a)];

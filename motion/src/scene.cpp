@@ -21,9 +21,12 @@ Scene scene_bodies(const Cell& cell) {
     by_name.emplace(b.name, static_cast<std::uint32_t>(s.bodies.size()));
     s.bodies.push_back(std::move(b));
   };
-  for (const auto& b : robot.bodies)
-    add({.name = b.name, .mesh = b.mesh, .group = b.link == 0 ? kStaticGroup : b.link, .is_static = b.link == 0,
+  for (const auto& b : robot.bodies) {
+    // A follower of an arm joint moves even on the base: a group of its own there.
+    const bool still = b.link == 0 && !(b.hand >= 0 && robots::hand_follows_arm(robot, b.hand));
+    add({.name = b.name, .mesh = b.mesh, .group = still ? kStaticGroup : b.link == 0 ? -1 : b.link, .is_static = still,
          .robot = true, .link = b.link, .hand = b.hand});
+  }
   if (cell.tool_shape) add({.name = "tool", .mesh = *cell.tool_shape, .group = n, .robot = true, .link = n});
   for (std::size_t i = 0; i < cell.objects.size(); ++i)
     add({.name = cell.objects[i].name, .mesh = cell.objects[i].mesh, .group = kStaticGroup, .is_static = true,
@@ -97,7 +100,7 @@ void scene_poses(const Cell& cell, const Scene& scene, const robots::JointVector
     const SceneBody& b = scene.bodies[i];
     poses[i] = b.object >= 0 ? cell.objects[static_cast<std::size_t>(b.object)].pose
                              : cell.base * frames[static_cast<std::size_t>(b.link)];
-    if (b.hand >= 0) poses[i] = poses[i] * robots::hand_offset(cell.robot, b.hand, false);  // the hand starts open
+    if (b.hand >= 0) poses[i] = poses[i] * robots::hand_offset(cell.robot, b.hand, false, q);  // the hand starts open
   }
 }
 

@@ -17,17 +17,7 @@ collision::BodyPair ordered(collision::BodyId a, collision::BodyId b) { return {
 World::World(const Cell& cell) : robot_(&cell.robot), base_(cell.base) {
   const auto& robot = cell.robot;
   frames_.reserve(static_cast<std::size_t>(robot.joint_count()) + 1);
-  for (const auto& b : robot.bodies) {
-    robots::BodyReach r = robots::body_reach(robot, b.mesh, b.link);
-    if (b.hand >= 0)  // a finger: the farther of its open and closed places (the hand jumps between them)
-      for (const bool closed : {false, true}) {
-        const robots::BodyReach c =
-            robots::body_reach(robot, collision::transformed(b.mesh, robots::hand_offset(robot, b.hand, closed)), b.link);
-        for (std::size_t j = 0; j < r.radius.size(); ++j) r.radius[j] = std::max(r.radius[j], c.radius[j]);
-      }
-    reach_.push_back(r);
-  }
-  set_hand(false);  // V+ starts with the hand open
+  for (const auto& b : robot.bodies) reach_.push_back(robots::body_reach(robot, b));  // fingers: both places
   if (cell.tool_shape) reach_.push_back(robots::body_reach(robot, *cell.tool_shape, robot.joint_count()));
   arm_bodies_ = reach_.size();
   flange_ = robot.joint_count();
@@ -56,8 +46,10 @@ void World::build_engine(const Cell& cell) {
   std::vector<BodyMount> mounts;
   std::vector<std::string> object_names;
   for (SceneBody& b : scene.bodies) {  // ids are the scene indices (a fresh engine)
-    const bool moves = b.object < 0 && b.link > 0;  // robot bodies past the base, the tool
-    mounts.push_back({moves ? b.link : -1, moves ? b.hand : -1});
+    // Robot bodies past the base, the tool, and a follower of an arm joint even on the base.
+    const bool own = b.object < 0 && b.hand >= 0 && robots::hand_follows_arm(cell.robot, b.hand);
+    const bool moves = b.object < 0 && (b.link > 0 || own);
+    mounts.push_back({moves ? b.link : -1, moves ? b.hand : -1, own});
     if (b.object >= 0) object_names.push_back(b.name);
     const collision::BodyId id = e.add_body({.name = std::move(b.name), .mesh = std::move(b.mesh), .group = b.group,
                                              .is_static = b.is_static, .halvings = cell.collision.halvings});
@@ -102,7 +94,7 @@ void World::build_engine(const Cell& cell) {
     const BodyMount &a = mounts_[p.a], &b = mounts_[p.b];
     if (a.frame >= 0 && b.frame >= 0) arm_moving_pairs_.push_back(p);
     gap_pairs_.push_back({a.frame >= 0 ? static_cast<int>(p.a) : -1, b.frame >= 0 ? static_cast<int>(p.b) : -1,
-                          std::max(a.frame, 0), std::max(b.frame, 0), 0});
+                          a.own_motion ? -1 : std::max(a.frame, 0), b.own_motion ? -1 : std::max(b.frame, 0), 0});
   }
   moving_pairs_ = arm_moving_pairs_;
   if (has_parts_) cell_pairs_ = cell_pairs, cell_gaps_ = gap_pairs_, part_pairs_ = cell_pairs_, part_gaps_ = cell_gaps_;
@@ -113,10 +105,7 @@ void World::build_engine(const Cell& cell) {
   engine_.emplace(std::move(e));
 }
 
-void World::set_hand(bool closed) {
-  hand_offsets_.clear();
-  for (std::size_t k = 0; k < robot_->hand.size(); ++k) hand_offsets_.push_back(robots::hand_offset(*robot_, static_cast<int>(k), closed));
-}
+void World::set_hand(bool closed) { hand_closed_ = closed; }
 
 std::span<const collision::BodyPair> World::pairs() const {
   if (has_parts_) return part_pairs_;
@@ -138,7 +127,7 @@ void World::pose(const robots::JointVector& q, double t) {
   for (const collision::BodyId id : moving_) {
     const BodyMount& m = mounts_[id];
     if (m.hand < 0) engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(m.frame)]);
-    else engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(m.frame)] * hand_offsets_[static_cast<std::size_t>(m.hand)]);
+    else engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(m.frame)] * robots::hand_offset(*robot_, m.hand, hand_closed_, q));
   }
   if (!has_parts_ || !runtime_) return;
   DeviceClock& clock = runtime_->clock();
@@ -232,7 +221,8 @@ void World::rebuild_pairs() {
   const auto excused = [&](const collision::BodyPair& p) { return std::find(excused_.begin(), excused_.end(), p) != excused_.end(); };
   // Reach index and link of body `id` in a pair (the carried part: its slot on the flange).
   const auto mover = [&](collision::BodyId id) -> std::pair<int, int> {
-    if (id < arm_bodies_) return mounts_[id].frame >= 0 ? std::pair{static_cast<int>(id), mounts_[id].frame} : std::pair{-1, 0};
+    if (id < arm_bodies_)
+      return mounts_[id].frame >= 0 ? std::pair{static_cast<int>(id), mounts_[id].own_motion ? -1 : mounts_[id].frame} : std::pair{-1, 0};
     if (carried_ && id == *carried_) return {slot, flange_};
     return {-1, 0};
   };

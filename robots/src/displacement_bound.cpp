@@ -33,6 +33,29 @@ BodyReach body_reach(const Robot& robot, const collision::Polyhedron& mesh, int 
   return r;
 }
 
+BodyReach body_reach(const Robot& robot, const LinkBody& body) {
+  if (body.hand < 0) return body_reach(robot, body.mesh, body.link);
+  if (hand_follows_arm(robot, body.hand)) {
+    // The loader allows such a follower only straight on the arm, with no hand joint on it.
+    const HandJoint& h = robot.hand[static_cast<std::size_t>(body.hand)];
+    const Vec3 o = h.origin.translation();
+    double r = 0;
+    for (const auto& v : body.mesh.vertices) r = std::max(r, (v - o).norm());
+    collision::Polyhedron ball = collision::make_box(Vec3::Constant(2 * r));  // holds the ball about o
+    for (auto& v : ball.vertices) v += o;
+    BodyReach out = body_reach(robot, ball, body.link);
+    out.radius[static_cast<std::size_t>(h.arm_joint)] +=
+        std::abs(h.multiplier) * (h.type == JointType::prismatic ? 180 / std::numbers::pi : r);
+    return out;
+  }
+  BodyReach out = body_reach(robot, body.mesh, body.link);
+  for (const bool closed : {false, true}) {  // the hand jumps between the two places
+    const BodyReach c = body_reach(robot, collision::transformed(body.mesh, hand_offset(robot, body.hand, closed)), body.link);
+    for (std::size_t j = 0; j < out.radius.size(); ++j) out.radius[j] = std::max(out.radius[j], c.radius[j]);
+  }
+  return out;
+}
+
 double max_displacement(const BodyReach& reach, const JointVector& delta_display) {
   constexpr double kDeg = std::numbers::pi / 180;
   double s = 0;

@@ -31,19 +31,29 @@ void update_hand_followers(Robot& robot) {
   // followers is at most the list long; the loader refuses mimic cycles).
   for (std::size_t pass = 0; pass <= robot.hand.size(); ++pass)
     for (HandJoint& h : robot.hand)
-      if (h.leader >= 0) {
+      if (h.leader >= 0 && h.arm_joint < 0) {
         const HandJoint& l = robot.hand[static_cast<std::size_t>(h.leader)];
         h.open = h.multiplier * l.open + h.offset;
         h.closed = h.multiplier * l.closed + h.offset;
       }
 }
 
-Pose hand_offset(const Robot& robot, int k, bool closed) {
+bool hand_follows_arm(const Robot& robot, int k) {
+  for (std::size_t guard = 0; k >= 0 && guard <= robot.hand.size(); ++guard) {
+    const HandJoint& h = robot.hand[static_cast<std::size_t>(k)];
+    if (h.arm_joint >= 0) return true;
+    k = h.parent;
+  }
+  return false;
+}
+
+Pose hand_offset(const Robot& robot, int k, bool closed, const JointVector& q) {
   Pose out = Pose::Identity();
   // Parents first in the list, so the walk up ends; the depth is bounded by the list's size.
   for (std::size_t guard = 0; k >= 0 && guard <= robot.hand.size(); ++guard) {
     const HandJoint& h = robot.hand[static_cast<std::size_t>(k)];
-    const double v = closed ? h.closed : h.open;
+    const double leader = h.arm_joint >= 0 && h.arm_joint < q.size() ? q[h.arm_joint] : 0.0;
+    const double v = h.arm_joint >= 0 ? h.multiplier * leader + h.offset : closed ? h.closed : h.open;
     Pose m = Pose::Identity();
     if (h.type == JointType::prismatic) m.translation() = h.axis * v;
     else m.linear() = Eigen::AngleAxisd(v * kDeg, h.axis).toRotationMatrix();

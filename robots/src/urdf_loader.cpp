@@ -412,20 +412,30 @@ class Parser {
       attach(j->child, f, at_joint, k);
     };
     for (const Branch& b : branches) branch(b.joint, b.frame, b.pose, -1);
-    // Followers: the leader must be a finger (or a follower of one), never an arm joint.
+    // Followers: of a finger (or of a follower of one), or of an arm joint (a parallel-link
+    // lever; straight on the arm, with no hand joint on it).
     for (std::size_t k = 0; k < r.hand.size(); ++k) {
       const Joint& j = *hand_joints[k];
       if (j.mimic.empty()) continue;
       const auto leader = hand_of.find(j.mimic);
-      if (leader == hand_of.end())
-        throw UrdfError(source_, j.line, "joint '" + j.name + "' mimics '" + j.mimic + "', " +
-                                             (!on_chain.count(j.mimic) ? "which is no finger of the hand (no such joint off the arm chain)"
-                                              : j.mimic == chain.back().name && chain.back().kind == Kind::prismatic
-                                                  ? "the arm's last axis: if '" + j.mimic +
-                                                        "' is a gripper finger, name the link the hand hangs on with tip:"
-                                                  : "an arm joint: a follower of an arm joint is not modelled"));
-      const Joint& l = *hand_joints[static_cast<std::size_t>(leader->second)];
       HandJoint& h = r.hand[k];
+      if (leader == hand_of.end()) {
+        const auto arm = std::find_if(chain.begin(), chain.end(), [&](const Joint& c) { return c.name == j.mimic; });
+        if (arm == chain.end())
+          throw UrdfError(source_, j.line, "joint '" + j.name + "' mimics '" + j.mimic +
+                                               "', which is neither an arm joint nor a finger of the hand");
+        if (&*arm == &chain.back() && arm->kind == Kind::prismatic)
+          throw UrdfError(source_, j.line, "joint '" + j.name + "' mimics '" + j.mimic + "', the arm's last axis: if '" + j.mimic +
+                                               "' is a gripper finger, name the link the hand hangs on with tip:");
+        if (h.parent >= 0)
+          throw UrdfError(source_, j.line, "joint '" + j.name + "' follows the arm joint '" + j.mimic + "' but rides on the finger '" +
+                                               r.hand[static_cast<std::size_t>(h.parent)].name + "': not modelled");
+        h.arm_joint = static_cast<int>(arm - chain.begin());
+        h.multiplier = j.mimic_multiplier * unit(j) / unit(*arm);
+        h.offset = j.mimic_offset * unit(j);
+        continue;
+      }
+      const Joint& l = *hand_joints[static_cast<std::size_t>(leader->second)];
       h.leader = leader->second;
       h.multiplier = j.mimic_multiplier * unit(j) / unit(l);
       h.offset = j.mimic_offset * unit(j);
@@ -438,6 +448,11 @@ class Parser {
         at_k = r.hand[static_cast<std::size_t>(at_k)].leader;
       }
     }
+    for (const HandJoint& h : r.hand)
+      if (h.parent >= 0 && r.hand[static_cast<std::size_t>(h.parent)].arm_joint >= 0)
+        throw UrdfError(source_, hand_joints[static_cast<std::size_t>(&h - r.hand.data())]->line,
+                        "joint '" + h.name + "' rides on '" + r.hand[static_cast<std::size_t>(h.parent)].name +
+                            "', a follower of an arm joint: not modelled");
     update_hand_followers(r);
     r.lower.resize(n), r.upper.resize(n), r.max_velocity.resize(n), r.max_acceleration.resize(n), r.ready.resize(n);
     for (int i = 0; i < n; ++i) {

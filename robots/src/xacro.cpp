@@ -246,46 +246,44 @@ class Expr {
     }
   }
 
-  // The end of the operand that starts at i_ and stops at a depth-0 keyword `kw` or at the end
-  // (brackets and quotes skipped): the branches of `a if c else b` are cut this way so that only
-  // the branch taken is evaluated, as Python does.
+  // From `from`, the first position at bracket depth 0 outside quotes where `hit` holds
+  // (closed false), or of a closing bracket without its opening one, or the end (closed true).
+  struct Stop {
+    std::size_t at;
+    bool closed;
+  };
+  Stop scan_top(std::size_t from, const std::function<bool(std::size_t)>& hit) const {
+    int depth = 0;
+    char quote = 0;
+    for (std::size_t k = from; k < s_.size(); ++k) {
+      const char c = s_[k];
+      if (quote) {
+        if (c == quote) quote = 0;
+      } else if (c == '\'' || c == '"') {
+        quote = c;
+      } else if (c == '(' || c == '[' || c == '{') {
+        ++depth;
+      } else if (c == ')' || c == ']' || c == '}') {
+        if (depth-- == 0) return {k, true};
+      } else if (depth == 0 && hit(k)) {
+        return {k, false};
+      }
+    }
+    return {s_.size(), true};
+  }
+  bool name_char(std::size_t k) const { return std::isalnum(static_cast<unsigned char>(s_[k])) || s_[k] == '_'; }
+  // The depth-0 keyword `kw` from `from` (npos: none): the branches of `a if c else b` are cut
+  // this way so that only the branch taken is evaluated, as Python does.
   std::size_t find_keyword(std::size_t from, const char* kw) const {
     const std::size_t n = std::strlen(kw);
-    int depth = 0;
-    char quote = 0;
-    for (std::size_t k = from; k < s_.size(); ++k) {
-      const char c = s_[k];
-      if (quote) {
-        if (c == quote) quote = 0;
-        continue;
-      }
-      if (c == '\'' || c == '"') quote = c;
-      else if (c == '(' || c == '[' || c == '{') ++depth;
-      else if (c == ')' || c == ']' || c == '}') {
-        if (--depth < 0) return std::string::npos;
-      } else if (depth == 0 && s_.compare(k, n, kw) == 0 && (k == 0 || !(std::isalnum(static_cast<unsigned char>(s_[k - 1])) || s_[k - 1] == '_')) &&
-                 (k + n >= s_.size() || !(std::isalnum(static_cast<unsigned char>(s_[k + n])) || s_[k + n] == '_')))
-        return k;
-    }
-    return std::string::npos;
+    const Stop s = scan_top(from, [&](std::size_t k) {
+      return s_.compare(k, n, kw) == 0 && (k == 0 || !name_char(k - 1)) && (k + n >= s_.size() || !name_char(k + n));
+    });
+    return s.closed ? std::string::npos : s.at;
   }
-  // The end of the current (sub)expression: the first depth-0 ')', ']', '}' or ',' from i_.
+  // The end of the current operand: the first depth-0 ',' or ':' or the enclosing bracket.
   std::size_t operand_end(std::size_t from) const {
-    int depth = 0;
-    char quote = 0;
-    for (std::size_t k = from; k < s_.size(); ++k) {
-      const char c = s_[k];
-      if (quote) {
-        if (c == quote) quote = 0;
-        continue;
-      }
-      if (c == '\'' || c == '"') quote = c;
-      else if (c == '(' || c == '[' || c == '{') ++depth;
-      else if (c == ')' || c == ']' || c == '}') {
-        if (depth-- == 0) return k;
-      } else if ((c == ',' || c == ':') && depth == 0) return k;
-    }
-    return s_.size();
+    return scan_top(from, [&](std::size_t k) { return s_[k] == ',' || s_[k] == ':'; }).at;
   }
   Value sub(std::size_t b, std::size_t e) { return Expr(s_.substr(b, e - b), cx_, depth_ + 1).run(); }
 

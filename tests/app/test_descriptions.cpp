@@ -18,15 +18,10 @@ using namespace asimov;
 namespace fs = std::filesystem;
 
 namespace {
+// A cell that must load.
+motion::Cell load(const fs::path& p) { return test::must(cell::load_cell_file(p.string())); }
+
 fs::path dir() { return test::scratch_dir("descriptions"); }
-
-motion::Cell load_cell_file(const std::string& path) { return test::must(cell::load_cell_file(path)); }
-
-// The Error of a cell that must not load.
-Error cell_error(const Result<motion::Cell>& cell) {
-  if (cell) FAIL("no error");
-  return cell ? Error{} : cell.error();
-}
 
 void write(const fs::path& p, const std::string& text) {
   fs::create_directories(p.parent_path());
@@ -78,25 +73,25 @@ fs::path cell_file(const std::string& name, const std::string& extra) {
 }  // namespace
 
 TEST_CASE("default pairs: self-pairs touching at the start joints are not tested (DEFAULT), with one warning") {
-  const auto cell = load_cell_file(cell_file("touch.yaml", "").string());
+  const auto cell = load(cell_file("touch.yaml", ""));
   REQUIRE(cell.collision.start_contacts.size() == 1);
   CHECK(has_pair(cell.collision.start_contacts, "base", "link_2"));
   const auto warned = std::count_if(cell.warnings.begin(), cell.warnings.end(),
                                     [](const std::string& w) { return w.find("(DEFAULT): base / link_2") != std::string::npos; });
   CHECK(warned == 1);
   // Clear of each other at the start: nothing disabled, no warning.
-  const auto apart = load_cell_file(cell_file("apart.yaml", "start: [0, 90, 0]\n").string());
+  const auto apart = load(cell_file("apart.yaml", "start: [0, 90, 0]\n"));
   CHECK(apart.collision.start_contacts.empty());
   CHECK(apart.warnings.empty());
   // Collision checking off: nothing is looked at.
-  CHECK(load_cell_file(cell_file("off.yaml", "collision: {enabled: false}\n").string()).collision.start_contacts.empty());
+  CHECK(load(cell_file("off.yaml", "collision: {enabled: false}\n")).collision.start_contacts.empty());
   // A clearance that halts counts, one that only warns does not: at J2 = 90 link_2 lies 75 mm
   // above the base's top.
   const std::string side = "start: [0, 90, 0]\n";
-  CHECK(has_pair(load_cell_file(cell_file("c100.yaml", side + "collision: {clearance_mm: 100}\n").string()).collision.start_contacts,
+  CHECK(has_pair(load(cell_file("c100.yaml", side + "collision: {clearance_mm: 100}\n")).collision.start_contacts,
                  "base", "link_2"));
-  CHECK(load_cell_file(cell_file("c60.yaml", side + "collision: {clearance_mm: 60}\n").string()).collision.start_contacts.empty());
-  CHECK(load_cell_file(cell_file("cw.yaml", side + "collision: {clearance_mm: 100, on_clearance: warn}\n").string())
+  CHECK(load(cell_file("c60.yaml", side + "collision: {clearance_mm: 60}\n")).collision.start_contacts.empty());
+  CHECK(load(cell_file("cw.yaml", side + "collision: {clearance_mm: 100, on_clearance: warn}\n"))
             .collision.start_contacts.empty());
 }
 
@@ -119,7 +114,7 @@ TEST_CASE("default pairs: the run starts and the pair is DEFAULT in `asimov pair
 }
 
 TEST_CASE("srdf: disable_collisions become SRDF pairs; groups and end effectors are reported; the tip") {
-  const auto cell = load_cell_file(cell_file("srdf.yaml", "srdf: touchy.srdf\n").string());
+  const auto cell = load(cell_file("srdf.yaml", "srdf: touchy.srdf\n"));
   CHECK(has_pair(cell.collision.srdf_disabled, "camera", "link_2"));
   CHECK(has_pair(cell.collision.srdf_disabled, "base", "link_3"));
   CHECK(cell.collision.srdf_disabled.size() == 2);
@@ -128,11 +123,20 @@ TEST_CASE("srdf: disable_collisions become SRDF pairs; groups and end effectors 
   CHECK(cell.notes[0].find("end effectors: pointer (parent link_3, group hand)") != std::string::npos);
   // The end effector's parent link is the tip: the flange is link_3's frame, not tool0's.
   CHECK(cell.robot.flange_offset.translation().norm() < 1e-12);
-  const auto no_srdf = load_cell_file(cell_file("plain.yaml", "").string());
+  const auto no_srdf = load(cell_file("plain.yaml", ""));
   CHECK(no_srdf.robot.flange_offset.translation().x() == Approx(200));
   // `tip:` wins over the SRDF.
-  const auto tipped = load_cell_file(cell_file("tip.yaml", "srdf: touchy.srdf\ntip: tool0\n").string());
+  const auto tipped = load(cell_file("tip.yaml", "srdf: touchy.srdf\ntip: tool0\n"));
   CHECK(tipped.robot.flange_offset.translation().x() == Approx(200));
+  // disable_default_collisions: every pair of that link, but the enable_collisions ones.
+  write(dir() / "defaults.srdf", "<robot name=\"touchy\">\n<disable_default_collisions link=\"base\"/>\n"
+                                  "<enable_collisions link1=\"link_3\" link2=\"base\" reason=\"check\"/>\n<bogus/>\n</robot>\n");
+  const auto d = load(cell_file("defaults.yaml", "srdf: defaults.srdf\n"));
+  for (const char* other : {"link_1", "link_2", "camera"}) CHECK(has_pair(d.collision.srdf_disabled, "base", other));
+  CHECK_FALSE(has_pair(d.collision.srdf_disabled, "base", "link_3"));
+  CHECK(d.collision.srdf_disabled.size() == 3);
+  CHECK(std::count_if(d.warnings.begin(), d.warnings.end(),
+                      [](const std::string& w) { return w.find("defaults.srdf:4: <bogus> is not an SRDF element: ignored") != std::string::npos; }) == 1);
   const auto p = test::run_cli("pairs --no-cache " + (dir() / "srdf.yaml").string());
   CHECK(p.out.find("base    link_3  SRDF") != std::string::npos);  // camera / link_2 is ADJACENT first
   CHECK(p.err.find("Note: ") != std::string::npos);
@@ -141,8 +145,8 @@ TEST_CASE("srdf: disable_collisions become SRDF pairs; groups and end effectors 
 TEST_CASE("srdf: hostile files give the SRDF's file:line at the cell's srdf key") {
   auto error_of = [](const std::string& srdf, const std::string& extra = "") {
     write(dir() / "bad.srdf", srdf);
-    const auto cell = cell::load_cell_file(cell_file("bad.yaml", "srdf: bad.srdf\n" + extra).string());
-    return cell ? std::string("no error") : cell::format_cell_error(cell.error());
+    const auto r = cell::load_cell_file(cell_file("bad.yaml", "srdf: bad.srdf\n" + extra).string());
+    return r ? std::string("no error") : cell::format_cell_error(r.error());
   };
   const std::string at = "bad.yaml:2:7: srdf: " + (dir() / "bad.srdf").string();
   std::string e = error_of("<robot name=\"t\">\n<disable_collisions link1=\"base\" link2=\"nope\"/>\n</robot>\n");
@@ -171,12 +175,23 @@ TEST_CASE("srdf: hostile files give the SRDF's file:line at the cell's srdf key"
   CHECK(e.find("XML error") != std::string::npos);
   // A missing file, a bad tip.
   write(dir() / "nosrdf.yaml", "robot: touchy.urdf\nsrdf: missing.srdf\n");
-  CHECK(cell_error(cell::load_cell_file((dir() / "nosrdf.yaml").string())).line == 2);
+  {
+    const auto r = cell::load_cell_file((dir() / "nosrdf.yaml").string());
+    REQUIRE_FALSE(r);
+    CHECK(r.error().line == 2);
+  }
   write(dir() / "badtip.yaml", "robot: touchy.urdf\ntip: wrist\n");
-  const Error badtip = cell_error(cell::load_cell_file((dir() / "badtip.yaml").string()));
-  CHECK(badtip.line == 2);
-  CHECK(badtip.message.find("tip: the description has no link 'wrist'") != std::string::npos);
-  CHECK(cell_error(cell::load_cell_text("robot: puma560\ntip: link6\n", "b.yaml")).line == 2);
+  {
+    const auto r = cell::load_cell_file((dir() / "badtip.yaml").string());
+    REQUIRE_FALSE(r);
+    CHECK(r.error().line == 2);
+    CHECK(r.error().message.find("tip: the description has no link 'wrist'") != std::string::npos);
+  }
+  {
+    const auto r = cell::load_cell_text("robot: puma560\ntip: link6\n", "b.yaml");
+    REQUIRE_FALSE(r);
+    CHECK(r.error().line == 2);
+  }
 }
 
 namespace {
@@ -215,7 +230,7 @@ TEST_CASE("fingers: OPEN / CLOSE drive the prismatic fingers and their follower;
   write(dir() / "closed.v2", ".PROGRAM closed()\n    CLOSE\n    MOVE #PPOINT(0, -5)\n    TYPE \"done\"\n.END\n");
   write(dir() / "open.v2", ".PROGRAM open()\n    MOVE #PPOINT(0, -5)\n    TYPE \"done\"\n.END\n");
   const auto cell = gripper_cell("grip.yaml", "");
-  const auto loaded = load_cell_file(cell.string());
+  const auto loaded = load(cell);
   CHECK(loaded.robot.joint_count() == 2);
   REQUIRE(loaded.robot.hand.size() == 2);
   auto closed = test::run_cli("run " + (dir() / "closed.v2").string() + " --cell " + cell.string());
@@ -228,7 +243,7 @@ TEST_CASE("fingers: OPEN / CLOSE drive the prismatic fingers and their follower;
   CHECK(open.err.find("at t = 0.000000 s") != std::string::npos);
   // Travel from the cell: open at 20 mm (y 30..40), clear of the cube; the follower follows.
   const auto short_travel = gripper_cell("short.yaml", "gripper: {fingers: {finger_left_joint: [10, 20]}}\n");
-  const auto s = load_cell_file(short_travel.string());
+  const auto s = load(short_travel);
   CHECK(s.robot.hand[0].open == Approx(20));
   CHECK(s.robot.hand[1].open == Approx(20));
   CHECK(s.robot.hand[1].closed == Approx(10));
@@ -237,8 +252,10 @@ TEST_CASE("fingers: OPEN / CLOSE drive the prismatic fingers and their follower;
   CHECK(open.exit_code == 0);
   // Bad travel: no such finger, a follower, outside the limits.
   auto fails = [&](const std::string& extra, const std::string& what) {
+    const auto r = cell::load_cell_file(gripper_cell("badgrip.yaml", extra).string());
     INFO(extra);
-    CHECK(cell_error(cell::load_cell_file(gripper_cell("badgrip.yaml", extra).string())).message.find(what) != std::string::npos);
+    REQUIRE_FALSE(r);
+    CHECK(r.error().message.find(what) != std::string::npos);
   };
   fails("gripper: {fingers: {thumb: [0, 1]}}\n", "'thumb' is no finger of the robot (fingers: finger_left_joint)");
   fails("gripper: {fingers: {finger_right_joint: [0, 1]}}\n", "'finger_right_joint' is no finger");
@@ -246,7 +263,11 @@ TEST_CASE("fingers: OPEN / CLOSE drive the prismatic fingers and their follower;
   // Without the tip the left finger would be J3 and the right one follows an arm joint: a cell
   // error saying to give the tip.
   write(dir() / "notip.yaml", "robot: grip.urdf\n");
-  CHECK(cell_error(cell::load_cell_file((dir() / "notip.yaml").string())).message.find("mimics 'finger_left_joint', the arm's last axis") != std::string::npos);
+  {
+    const auto r = cell::load_cell_file((dir() / "notip.yaml").string());
+    REQUIRE_FALSE(r);
+    CHECK(r.error().message.find("mimics 'finger_left_joint', the arm's last axis") != std::string::npos);
+  }
 }
 
 TEST_CASE("configuration words: honoured on a spherical-wrist URDF arm, said once where they mean nothing (UR-like)") {
@@ -278,4 +299,31 @@ TEST_CASE("configuration words: honoured on a spherical-wrist URDF arm, said onc
   r = test::run_cli("run " + (dir() / "words.v2").string() + " --cell " + generic6);
   CHECK(r.exit_code == 0);
   CHECK(r.err.find("no meaning for this arm") == std::string::npos);
+}
+
+TEST_CASE("levers: a body following an arm joint is posed and checked as that joint moves") {
+  // J1 about Z, J2 about Y; a lever on link_1 turning against J2 (as the IRB 2400's parallel
+  // links follow J3). J2 = +60 turns it up into a post, J2 = -60 down beside the base.
+  write(dir() / "lever.urdf", R"(<robot name="lever">
+  <link name="base"><collision><origin xyz="0 0 0.05"/><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="link_1"><collision><origin xyz="0 0 0.1"/><geometry><cylinder radius="0.03" length="0.2"/></geometry></collision></link>
+  <link name="link_2"/>
+  <link name="lever"><collision><origin xyz="0.15 0 0"/><geometry><box size="0.3 0.02 0.02"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="link_1"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="link_1"/><child link="link_2"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" velocity="1"/></joint>
+  <joint name="lever_joint" type="continuous"><parent link="link_1"/><child link="lever"/><origin xyz="0 0 0.2"/>
+    <axis xyz="0 1 0"/><mimic joint="j2" multiplier="-1"/></joint>
+</robot>
+)");
+  write(dir() / "lever.yaml", "robot: lever.urdf\nobjects: [{name: post, box: [40, 40, 40], at: [120, 0, 510, 0, 0, 0]}]\n");
+  write(dir() / "up.v2", ".PROGRAM up()\n    MOVE #PPOINT(0, 60)\n.END\n");
+  write(dir() / "downward.v2", ".PROGRAM downward()\n    MOVE #PPOINT(0, -60)\n    TYPE \"clear\"\n.END\n");
+  auto r = test::run_cli("run " + (dir() / "up.v2").string() + " --cell " + (dir() / "lever.yaml").string());
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("*Collision*  lever / post") != std::string::npos);
+  r = test::run_cli("run " + (dir() / "downward.v2").string() + " --cell " + (dir() / "lever.yaml").string());
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("clear") != std::string::npos);
 }

@@ -2,12 +2,15 @@
 // the root to the tip (UrdfOptions::tip, else the one chain of independent joints), fixed
 // branches are rigid, prismatic fingers and their <mimic> followers are hand joints moved by
 // OPEN/CLOSE, any other movable branch is an error naming it.
+#include "asimov/robots/displacement_bound.hpp"
 #include "asimov/robots/urdf_loader.hpp"
 
 #include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <numbers>
 #include <string>
 
 using namespace asimov::robots;
@@ -162,9 +165,16 @@ TEST_CASE("branches: a movable branch that is no finger is an error naming the j
                         joint("cam_tilt", "continuous", "hand", "wrist_cam", "0 0 0", "<axis xyz=\"1 0 0\"/>")),
             "tool0");
   CHECK(e.find("joint 'cam_tilt' (continuous) branches off the arm chain at link 'hand'") != std::string::npos);
-  // A follower of an arm joint, of nothing, and a cycle of followers.
-  CHECK(error(gripper_arm("", "j2"), "tool0").find("joint 'finger_right_joint' mimics 'j2', an arm joint") != std::string::npos);
-  CHECK(error(gripper_arm("", "nothing"), "tool0").find("mimics 'nothing', which is no finger") != std::string::npos);
+  // A follower of nothing, a follower of an arm joint riding on a finger, a cycle of followers.
+  CHECK(error(gripper_arm("", "nothing"), "tool0").find("mimics 'nothing', which is neither an arm joint nor a finger") !=
+        std::string::npos);
+  const std::string riding = error(gripper_arm(link("pad", "0 0 0", "0.005 0.005 0.005") +
+                                               joint("pad_joint", "prismatic", "finger_left", "pad", "0 0 0",
+                                                     "<axis xyz=\"1 0 0\"/><limit lower=\"0\" upper=\"0.01\" velocity=\"0.1\"/>"
+                                                     "<mimic joint=\"j1\"/>")),
+                                   "tool0");
+  INFO(riding);
+  CHECK(riding.find("joint 'pad_joint' follows the arm joint 'j1' but rides on the finger 'finger_left_joint'") != std::string::npos);
   std::string cycle = gripper_arm("", "finger_right_joint");
   CHECK(error(cycle, "tool0").find("mimics itself") != std::string::npos);
   std::string loop = gripper_arm();
@@ -176,6 +186,43 @@ TEST_CASE("branches: a movable branch that is no finger is an error naming the j
   CHECK(error(coupled, "tool0").find("joint 'j2' on the arm chain mimics 'j1'") != std::string::npos);
   // An unknown tip.
   CHECK(error(gripper_arm(), "palm").find("tip: the description has no link 'palm'") != std::string::npos);
+}
+
+TEST_CASE("branches: a follower of an arm joint moves with that joint (a parallel-link lever)") {
+  // The right finger made a follower of J2 (1 rad -> 1 m, display: 1000 mm per 180/pi deg).
+  const Robot r = load(gripper_arm("", "j2"), "tool0");
+  REQUIRE(r.hand.size() == 2);
+  const HandJoint& f = r.hand[1];
+  CHECK(f.arm_joint == 1);
+  CHECK(f.leader == -1);
+  CHECK(f.multiplier == Approx(1000 * std::numbers::pi / 180));
+  CHECK(hand_follows_arm(r, 1));
+  CHECK_FALSE(hand_follows_arm(r, 0));
+  JointVector q(2);
+  q << 0, 10;
+  // Along -Y by 10 deg worth of the multiplier, whatever the hand does.
+  for (const bool closed : {false, true}) {
+    const Pose o = hand_offset(r, 1, closed, q);
+    CHECK((o.translation() - Vec3(0, -10 * f.multiplier, 0)).norm() < 1e-9);
+  }
+  // Its reach: J2 moves it by |multiplier| per degree of J2 on its own (180/pi per rad).
+  const LinkBody& body_r = body(r, "finger_right");
+  const BodyReach reach = body_reach(r, body_r);
+  CHECK(reach.radius[1] >= 1000.0 - 1e-9);
+  // A lever that turns against J2 (multiplier -1), hanging on link_1.
+  const Robot lever = load(gripper_arm(link("lever", "0.15 0 0", "0.3 0.02 0.02") +
+                                       joint("lever_joint", "continuous", "link_1", "lever", "0 0 0.2",
+                                             "<axis xyz=\"0 1 0\"/><mimic joint=\"j2\" multiplier=\"-1\"/>")),
+                           "tool0");
+  const auto it = std::find_if(lever.hand.begin(), lever.hand.end(), [](const HandJoint& h) { return h.name == "lever_joint"; });
+  REQUIRE(it != lever.hand.end());
+  const HandJoint& l = *it;
+  CHECK(l.frame == 1);
+  CHECK(l.arm_joint == 1);
+  CHECK(l.multiplier == Approx(-1));
+  q << 0, 90;
+  const Vec3 tip = hand_offset(lever, static_cast<int>(it - lever.hand.begin()), false, q) * Vec3(300, 0, 200);
+  CHECK((tip - Vec3(0, 0, 500)).norm() < 1e-9);  // turned -90 deg about Y: straight up from (0, 0, 200)
 }
 
 TEST_CASE("branches: one finger without a tip stays the last axis, with a warning saying so; fixed branches are rigid") {

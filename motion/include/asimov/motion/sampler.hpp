@@ -41,8 +41,8 @@ struct PoseError {
 PoseError pose_error(const Location& a, const Location& b);
 
 // Gap stepping. One enabled pair: its bodies' BodyIds, which index the reach list (-1: a body
-// that never moves, delta = 0), their links (frame index, 0 for fixed bodies) and what the
-// pair allows, gap_allowance(g, c, step_mm) with g the engine's gap (QueryRequest::gaps).
+// that never moves, delta = 0), their links (frame index, 0 for fixed bodies; -1 for a body with
+// a motion of its own, a follower of an arm joint: then delta_A + delta_B) and what the pair allows, gap_allowance(g, c, step_mm) with g the engine's gap (QueryRequest::gaps).
 struct GapPair {
   int a = -1, b = -1;
   int link_a = 0, link_b = 0;

@@ -31,7 +31,8 @@ namespace asimov::motion {
 // the flange). Parts move as their state says (World: carried, on a running conveyor, resting).
 struct BodyMount {
   int frame = -1;  // index into robots::link_frames (the tool: joint_count()); -1: fixed pose
-  int hand = -1;   // a gripper finger's body: its robots::HandJoint (posed as the hand is)
+  int hand = -1;   // a body off the arm chain: its robots::HandJoint (posed as the hand and the arm are)
+  bool own_motion = false;  // it follows an arm joint on its own: no frame in common with others
 };
 
 // The carried part at a pose of the arm (trace, replay).
@@ -115,7 +116,7 @@ class World {
   std::vector<collision::BodyPair> moving_pairs_, arm_moving_pairs_;
   std::vector<GapPair> gap_pairs_;
   std::vector<collision::Pose> frames_;           // link_frames scratch
-  std::vector<collision::Pose> hand_offsets_;     // per robots::HandJoint at the hand's state
+  bool hand_closed_ = false;                      // V+ starts with the hand open
   std::vector<collision::BodyId> moving_;         // ids with a frame (posed by pose())
   std::vector<collision::BodyId> unprepared_;     // bodies whose voxel grid is not built yet
   std::optional<collision::Engine> engine_;

@@ -18,6 +18,14 @@ struct BodyReach {
 // For a mesh given in DH frame `link` (0 = fixed base: all radii 0).
 BodyReach body_reach(const Robot& robot, const collision::Polyhedron& mesh, int link);
 
+// For one of the robot's bodies: body_reach of its mesh, or for a body moved by hand joints
+// (LinkBody::hand) the larger of its open and closed places; a follower of arm joint j also
+// turns (or slides) by |multiplier| dq_j on its own: the ball about its joint origin that holds
+// the body at every joint value, and radius[j] grows by |multiplier| times that ball's radius
+// (180/pi for a sliding follower). Pairs with such a body have no common frame
+// (motion::GapPair: link -1).
+BodyReach body_reach(const Robot& robot, const LinkBody& body);
+
 // Upper bound [mm] of the displacement of any body point for a display joint step [deg].
 double max_displacement(const BodyReach& reach, const JointVector& delta_display);
 

@@ -46,10 +46,11 @@ struct LinkBody {
   int hand = -1;                 // the hand joint (Robot::hand) that moves it, or -1: rigid in frame `link`
 };
 
-// A joint off the arm chain that the hand drives (docs/robots.md "Grippers and side branches"):
-// a prismatic finger, or a <mimic> follower of one. Its bodies are stored at joint value 0; at
-// value v their pose in frame `frame` is hand_offset(): the parent's offset . origin . motion(v)
-// . origin^-1.
+// A joint off the arm chain (docs/robots.md "Grippers and side branches"): a prismatic finger
+// the hand drives, a <mimic> follower of one, or a follower of an arm joint (a parallel-link
+// lever: it moves with that joint, not with the hand). Its bodies are stored at joint value 0;
+// at value v their pose in frame `frame` is hand_offset(): the parent's offset . origin .
+// motion(v) . origin^-1.
 struct HandJoint {
   std::string name;
   int frame = 0;                   // the arm frame it hangs on
@@ -60,6 +61,7 @@ struct HandJoint {
   double open = 0, closed = 0;     // display values (mm; deg for a revolute follower) at OPEN, CLOSE
   double lower = 0, upper = 0;     // its limits (display)
   int leader = -1;                 // a <mimic> follower: value = multiplier * leader's + offset (display)
+  int arm_joint = -1;              // a follower of arm joint j (0-based): value = multiplier * q_j + offset
   double multiplier = 1, offset = 0;
 };
 
@@ -123,9 +125,12 @@ Pose flange_pose_dh(const Robot& robot, const JointVector& dh);
 // followers resolved in turn).
 void update_hand_followers(Robot& robot);
 
-// Pose of hand joint k's bodies in its frame `frame` with the hand closed or open (the joints
-// above it too); identity for k < 0.
-Pose hand_offset(const Robot& robot, int k, bool closed);
+// Pose of hand joint k's bodies in its frame `frame` with the hand closed or open and the arm
+// at display joints q (followers of arm joints; an empty q counts as all 0), the joints above
+// it too; identity for k < 0.
+Pose hand_offset(const Robot& robot, int k, bool closed, const JointVector& q = JointVector());
+// True when hand joint k (or one above it) follows an arm joint: its pose changes with q.
+bool hand_follows_arm(const Robot& robot, int k);
 
 // Angle helpers [deg]: wrap into (-180, 180].
 double wrap_deg(double deg);
