@@ -40,6 +40,7 @@ struct Walker::Walk {
   std::uint64_t pairs_verified = ~std::uint64_t{0};  // World::pairs_revision() the checker's cache is of
   std::size_t line_i = 0, line_j = 0;  // lines: the checked samples of the current stretch
   bool in_overlap = false;             // walking the overlap with the previous motion (blended path)
+  bool dwelling = false;               // time passing with the arm at rest (dwell)
 
   template <class F>
   void tell(F&& f) {
@@ -150,6 +151,7 @@ struct Walker::Walk {
   // bound on each pair's relative motion over [t1, t2] (docs/collision.md §12), so any path
   // that can state both (blended segments too) is checked the same way.
   JointVector joints_at(double t, const JointVector& seed) {
+    if (dwelling) return tr.to;
     if (in_overlap) return blended_joints_at(tr, t);
     if (tr.kind != PathKind::line) return joint_path_at(tr, t);
     const LinePoint lp = line_path_between(w.robot_, tr, line_i, line_j, t, &seed);
@@ -405,6 +407,52 @@ struct Walker::Walk {
     return {};
   }
 
+  // Time passing with the arm at rest up to `stop` (tr: the arm's joints, from = to): only
+  // parts carried by a running conveyor move. The speeds are constant between two device
+  // changes (DeviceClock::next_change), so each such stretch is walked with checked poses no
+  // farther apart than the step rule allows the fastest pair (its belt speed times the
+  // interval within step_mm; with gap stepping within each moving pair's gap allowance), and
+  // continuous checking proves the stretches between them. A stretch where nothing moves is
+  // skipped to the next change without a query.
+  MotionResult dwell(bool gap, double stop) {
+    const auto at = [this](double, const JointVector&) { return tr.to; };
+    const double limit = step_mm(w.settings_);
+    double t_prev = st.time_s;
+    w.world_.pose(tr.to, t_prev);  // the parts' state now (the program may have changed signals)
+    CollisionReport report;
+    while (t_prev < stop) {
+      const double change = std::min(stop, w.world_.next_part_change());
+      double speed = 0;
+      for (const GapPair& p : w.world_.gap_pairs()) speed = std::max(speed, p.speed_mm_s);
+      if (!(speed > 0)) {  // nothing moves until the next change
+        if (change < stop) w.world_.pose(tr.to, change);
+        t_prev = change;
+        continue;
+      }
+      if (!st.start_checked) {  // the run's first pose (no motion before): the stretches start free
+        st.start_checked = true;
+        if (visit(tr.to, t_prev, report)) return collision_result(std::move(report), 0);
+      }
+      double dt = limit / speed;
+      if (gap) {
+        update_gaps();
+        for (const GapPair& p : w.world_.gap_pairs())
+          if (p.speed_mm_s > 0) dt = std::min(dt, p.allow_mm / p.speed_mm_s);
+      }
+      double t = std::min(change, t_prev + dt);
+      if (!(t > t_prev)) t = std::min(stop, std::nextafter(t_prev, stop));
+      stretch({t_prev, t, 1, 1, 0, 0, speed * (t - t_prev)});
+      const bool was_free = st.last_free;
+      const bool hit = visit(tr.to, t, report);
+      if (checker && was_free && continuous_contact(t_prev, t, tr.to, report)) return collision_result(std::move(report), 0);
+      if (hit) return halt(std::move(report), t_prev, was_free, at);
+      w.world_.free_pose_seen();
+      t_prev = t;
+    }
+    st.time_s = stop;
+    return {};
+  }
+
   MotionResult run(double until_s) {
     CollisionReport report;
     if (!st.start_checked) {  // the start pose of the first motion
@@ -437,17 +485,38 @@ struct Walker::Walk {
   }
 };
 
+ContinuousChecker* Walker::checker(collision::Engine* engine) {
+  if (!engine || !settings_.continuous) return nullptr;
+  if (!continuous_) continuous_ = std::make_unique<ContinuousChecker>(*engine, 0, toc_tolerance(settings_), 0);
+  continuous_->set_clearance(halting_clearance(settings_));
+  continuous_->set_report_mm(std::max(settings_.report_within_mm, settings_.clearance_mm));
+  continuous_->reset();  // between walks the hand, the parts or the settings may have changed
+  return continuous_.get();
+}
+
+MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
+  collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
+  if (!(until_s > state.time_s)) return {};
+  if (!engine || !world_.has_parts()) {  // nothing can move without the arm: the clock only
+    state.time_s = until_s;
+    return {};
+  }
+  Trajectory tr;  // the arm at rest: a null joint move at its joints
+  tr.from = tr.to = state.joints;
+  tr.t0 = state.time_s;
+  tr.step = step;
+  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker(engine), {}, ~std::uint64_t{0}};
+  walk.dwelling = true;
+  if (walk.checker) walk.continuous_path();
+  walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
+  MotionResult r = walk.dwell(settings_.stepping == Stepping::gap, until_s);
+  walk.tell([](WalkObserver& o) { o.on_walk_end(); });
+  return r;
+}
+
 MotionResult Walker::walk(const Trajectory& tr, WalkState& state, double until_s) {
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
-  ContinuousChecker* checker = nullptr;
-  if (engine && settings_.continuous) {
-    if (!continuous_) continuous_ = std::make_unique<ContinuousChecker>(*engine, 0, toc_tolerance(settings_), 0);
-    continuous_->set_clearance(halting_clearance(settings_));
-    continuous_->set_report_mm(std::max(settings_.report_within_mm, settings_.clearance_mm));
-    continuous_->reset();  // between walks the hand, the parts or the settings may have changed
-    checker = continuous_.get();
-  }
-  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker, {}, ~std::uint64_t{0}};
+  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker(engine), {}, ~std::uint64_t{0}};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
   MotionResult r = walk.run(until_s);
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });

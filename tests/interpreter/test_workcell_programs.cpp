@@ -118,3 +118,76 @@ TEST_CASE("CLOSEI on air is reported, or an error when the cell says so; OPENI o
     CHECK(r.error.detail.find("no support below part held") == 0);
   }
 }
+
+// A post standing over the belt, 770 mm ahead of the riding cube's leading face (cube x in
+// [-510, -490], post x from 280): with the belt on, the cube reaches it after 7.7 s, while the
+// program waits and the arm stands still (Walker::dwell).
+TEST_CASE("a part the belt carries into a post while the program waits is a collision at the WAIT") {
+  const auto post_cell = [](double post_y, bool continuous, motion::Stepping stepping) {
+    motion::Cell cell = reacting_cell();
+    cell.collision.enabled = true;
+    cell.collision.continuous = continuous;
+    cell.collision.stepping = stepping;
+    cell.objects.erase(cell.objects.end() - 1);  // the table under the flange (it stands in the arm)
+    cell.workcell.parts.pop_back();             // and the cube on it
+    cell.objects.push_back({"post", collision::make_box({40, 40, 40}), at(300, post_y, 30)});  // z in [10, 50]
+    return cell;
+  };
+  const std::string wait_event = ".PROGRAM main()\n  SIGNAL 1\n  WAIT.EVENT , 20\n  TYPE \"done\"\n.END\n";
+  const std::string wait_sig = ".PROGRAM main()\n  SIGNAL 1\n  TYPE \"waiting\"\n  WAIT SIG(2001)\n.END\n";
+  for (const bool continuous : {false, true})
+    for (const auto stepping : {motion::Stepping::fixed, motion::Stepping::gap}) {
+      CAPTURE(continuous, static_cast<int>(stepping));
+      {
+        motion::Simulator sim(post_cell(-3000, continuous, stepping));
+        std::ostringstream out;
+        interpreter::Interpreter interp(sim, out);
+        for (const auto& d : interp.load_source(wait_event, "test.v2")) REQUIRE(d.warning);
+        const auto r = interp.run("main");
+        REQUIRE(r.status == interpreter::RunStatus::collision);
+        CHECK(r.collision.body_a + " / " + r.collision.body_b == "post / part:riding");
+        const double tol = sim.cell().collision.toc_tolerance_s >= 0 ? sim.cell().collision.toc_tolerance_s : 1e-6;
+        CHECK(std::abs(r.collision.time_s - 7.7) <= tol + 1e-9);
+        CHECK(r.collision.time_free_s <= 7.7 + 1e-9);
+        CHECK(r.error.line == 3);  // the WAIT.EVENT
+        CHECK(out.str().empty());
+        CHECK(sim.time_s() == Approx(r.collision.time_s).margin(1e-12));
+      }
+      {  // a polling WAIT (tick by tick) finds it the same way
+        motion::Simulator sim(post_cell(-3000, continuous, stepping));
+        std::ostringstream out;
+        interpreter::Interpreter interp(sim, out);
+        interp.limits().max_wait_s = 30;
+        for (const auto& d : interp.load_source(wait_sig, "test.v2")) REQUIRE(d.warning);
+        const auto r = interp.run("main");
+        REQUIRE(r.status == interpreter::RunStatus::collision);
+        CHECK(std::abs(r.collision.time_s - 7.7) <= 1e-6 + 1e-9);
+        CHECK(r.error.line == 4);
+      }
+      {  // the post beside the belt: the wait ends, the cube rides on past it
+        motion::Simulator sim(post_cell(-2800, continuous, stepping));
+        std::ostringstream out;
+        interpreter::Interpreter interp(sim, out);
+        for (const auto& d : interp.load_source(wait_event, "test.v2")) REQUIRE(d.warning);
+        const auto r = interp.run("main");
+        REQUIRE(r.status == interpreter::RunStatus::completed);
+        CHECK(out.str() == "done\n");
+        CHECK(sim.time_s() == Approx(20).margin(1e-9));
+      }
+    }
+}
+
+TEST_CASE("waiting with nothing moving queries nothing") {
+  motion::Cell cell = reacting_cell();
+  cell.collision.enabled = true;
+  cell.objects.erase(cell.objects.end() - 1);
+  cell.workcell.parts.pop_back();
+  motion::Simulator sim(std::move(cell));
+  std::ostringstream out;
+  interpreter::Interpreter interp(sim, out);
+  for (const auto& d : interp.load_source(".PROGRAM main()\n  WAIT.EVENT , 5\n  PARAMETER HAND.TIME = 2\n  CLOSEI\n.END\n", "test.v2")) REQUIRE(d.warning);
+  const auto before = sim.recorders().counts.poses;
+  REQUIRE(interp.run("main").status == interpreter::RunStatus::completed);
+  CHECK(sim.time_s() == Approx(7).margin(1e-12));
+  CHECK(sim.recorders().counts.poses == before);  // the belt is off: no pose checked
+}
