@@ -434,8 +434,9 @@ struct Walker::Walk {
         if (visit(tr.to, t_prev, report)) return collision_result(std::move(report), 0);
       }
       double dt = limit / speed;
-      if (gap) {
+      if (gap) {  // each moving pair within its allowance (at least the step)
         update_gaps();
+        dt = std::numeric_limits<double>::infinity();
         for (const GapPair& p : w.world_.gap_pairs())
           if (p.speed_mm_s > 0) dt = std::min(dt, p.allow_mm / p.speed_mm_s);
       }
