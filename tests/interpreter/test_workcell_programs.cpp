@@ -119,6 +119,19 @@ TEST_CASE("CLOSEI on air is reported, or an error when the cell says so; OPENI o
   }
 }
 
+// A program run to its end on `cell` (max_wait_s > 0: the wait limit).
+struct CellRun {
+  CellRun(motion::Cell cell, const std::string& text, double max_wait_s = 0) : sim(std::move(cell)), interp(sim, out) {
+    if (max_wait_s > 0) interp.limits().max_wait_s = max_wait_s;
+    for (const auto& d : interp.load_source(text, "test.v2")) REQUIRE(d.warning);
+    r = interp.run("main");
+  }
+  motion::Simulator sim;
+  std::ostringstream out;
+  interpreter::Interpreter interp;
+  interpreter::RunResult r;
+};
+
 // A post standing over the belt, 770 mm ahead of the riding cube's leading face (cube x in
 // [-510, -490], post x from 280): with the belt on, the cube reaches it after 7.7 s, while the
 // program waits and the arm stands still (Walker::dwell).
@@ -139,40 +152,28 @@ TEST_CASE("a part the belt carries into a post while the program waits is a coll
     for (const auto stepping : {motion::Stepping::fixed, motion::Stepping::gap}) {
       CAPTURE(continuous, static_cast<int>(stepping));
       {
-        motion::Simulator sim(post_cell(-3000, continuous, stepping));
-        std::ostringstream out;
-        interpreter::Interpreter interp(sim, out);
-        for (const auto& d : interp.load_source(wait_event, "test.v2")) REQUIRE(d.warning);
-        const auto r = interp.run("main");
+        const CellRun run(post_cell(-3000, continuous, stepping), wait_event);
+        const auto& r = run.r;
         REQUIRE(r.status == interpreter::RunStatus::collision);
         CHECK(r.collision.body_a + " / " + r.collision.body_b == "post / part:riding");
-        const double tol = sim.cell().collision.toc_tolerance_s >= 0 ? sim.cell().collision.toc_tolerance_s : 1e-6;
+        const double tol = run.sim.cell().collision.toc_tolerance_s >= 0 ? run.sim.cell().collision.toc_tolerance_s : 1e-6;
         CHECK(std::abs(r.collision.time_s - 7.7) <= tol + 1e-9);
         CHECK(r.collision.time_free_s <= 7.7 + 1e-9);
         CHECK(r.error.line == 3);  // the WAIT.EVENT
-        CHECK(out.str().empty());
-        CHECK(sim.time_s() == Approx(r.collision.time_s).margin(1e-12));
+        CHECK(run.out.str().empty());
+        CHECK(run.sim.time_s() == Approx(r.collision.time_s).margin(1e-12));
       }
       {  // a polling WAIT (tick by tick) finds it the same way
-        motion::Simulator sim(post_cell(-3000, continuous, stepping));
-        std::ostringstream out;
-        interpreter::Interpreter interp(sim, out);
-        interp.limits().max_wait_s = 30;
-        for (const auto& d : interp.load_source(wait_sig, "test.v2")) REQUIRE(d.warning);
-        const auto r = interp.run("main");
-        REQUIRE(r.status == interpreter::RunStatus::collision);
-        CHECK(std::abs(r.collision.time_s - 7.7) <= 1e-6 + 1e-9);
-        CHECK(r.error.line == 4);
+        const CellRun run(post_cell(-3000, continuous, stepping), wait_sig, 30);
+        REQUIRE(run.r.status == interpreter::RunStatus::collision);
+        CHECK(std::abs(run.r.collision.time_s - 7.7) <= 1e-6 + 1e-9);
+        CHECK(run.r.error.line == 4);
       }
       {  // the post beside the belt: the wait ends, the cube rides on past it
-        motion::Simulator sim(post_cell(-2800, continuous, stepping));
-        std::ostringstream out;
-        interpreter::Interpreter interp(sim, out);
-        for (const auto& d : interp.load_source(wait_event, "test.v2")) REQUIRE(d.warning);
-        const auto r = interp.run("main");
-        REQUIRE(r.status == interpreter::RunStatus::completed);
-        CHECK(out.str() == "done\n");
-        CHECK(sim.time_s() == Approx(20).margin(1e-9));
+        const CellRun run(post_cell(-2800, continuous, stepping), wait_event);
+        REQUIRE(run.r.status == interpreter::RunStatus::completed);
+        CHECK(run.out.str() == "done\n");
+        CHECK(run.sim.time_s() == Approx(20).margin(1e-9));
       }
     }
 }
@@ -182,12 +183,9 @@ TEST_CASE("waiting with nothing moving queries nothing") {
   cell.collision.enabled = true;
   cell.objects.erase(cell.objects.end() - 1);
   cell.workcell.parts.pop_back();
-  motion::Simulator sim(std::move(cell));
-  std::ostringstream out;
-  interpreter::Interpreter interp(sim, out);
-  for (const auto& d : interp.load_source(".PROGRAM main()\n  WAIT.EVENT , 5\n  PARAMETER HAND.TIME = 2\n  CLOSEI\n.END\n", "test.v2")) REQUIRE(d.warning);
-  const auto before = sim.recorders().counts.poses;
-  REQUIRE(interp.run("main").status == interpreter::RunStatus::completed);
-  CHECK(sim.time_s() == Approx(7).margin(1e-12));
-  CHECK(sim.recorders().counts.poses == before);  // the belt is off: no pose checked
+  // The belt is off: neither the wait nor the hand time checks a pose.
+  const CellRun run(std::move(cell), ".PROGRAM main()\n  WAIT.EVENT , 5\n  PARAMETER HAND.TIME = 2\n  CLOSEI\n.END\n");
+  REQUIRE(run.r.status == interpreter::RunStatus::completed);
+  CHECK(run.sim.time_s() == Approx(7).margin(1e-12));
+  CHECK(run.sim.recorders().counts.poses == 0);
 }
