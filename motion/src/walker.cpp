@@ -41,6 +41,14 @@ struct Walker::Walk {
   std::size_t line_i = 0, line_j = 0;  // lines: the checked samples of the current stretch
   bool in_overlap = false;             // walking the overlap with the previous motion (blended path)
   bool dwelling = false;               // time passing with the arm at rest (dwell)
+  // While dwelling only the pairs with a belt-borne part can change distance: those are
+  // checked (dwell_pairs; dwell_index: their indices in World::pairs()), the rest stay free.
+  std::vector<collision::BodyPair> dwell_pairs{}, dwell_scratch{};
+  std::vector<std::size_t> dwell_index{};
+  std::span<const collision::BodyPair> checked_pairs() const {
+    return dwelling ? std::span<const collision::BodyPair>(dwell_pairs) : w.world_.pairs();
+  }
+  std::size_t world_pair(std::size_t k) const { return dwelling ? dwell_index[k] : k; }
 
   template <class F>
   void tell(F&& f) {
@@ -74,7 +82,7 @@ struct Walker::Walk {
     if (engine) {
       w.world_.pose(q, t);
       const std::uint64_t k0 = cpu_ticks();
-      w.world_.query({.clearance_mm = clearance}, w.result_);
+      w.world_.query({.clearance_mm = clearance, .pairs = dwelling ? std::optional(checked_pairs()) : std::nullopt}, w.result_);
       const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
       contact = record(w.result_, cost, q, report);
     }
@@ -162,7 +170,7 @@ struct Walker::Walk {
     return lp.joints;
   }
   double motion_bound(std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) const {
-    const GapPair& p = w.world_.gap_pairs()[pair];
+    const GapPair& p = w.world_.gap_pairs()[world_pair(pair)];
     // Parts on a running conveyor (0 * inf would be NaN on a 1e308 s motion: no belt, no term).
     const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
     // The overlap: each joint travels at most what both motions' joints travel (docs/blending.md).
@@ -179,7 +187,7 @@ struct Walker::Walk {
     path.pose = [this](const JointVector& q, double t) { w.world_.pose(q, t); };
     checker->on_measure = [this](std::size_t pair, const collision::DistanceResult& r, double t, bool probe,
                                  std::uint64_t ticks) {
-      const collision::BodyPair bp = w.world_.pairs()[pair];
+      const collision::BodyPair bp = w.world_.pairs()[world_pair(pair)];
       tell([&](WalkObserver& o) { o.on_distance(bp, r, {t, probe, tr.step, ticks}); });
     };
   }
@@ -191,11 +199,11 @@ struct Walker::Walk {
   bool continuous_contact(double t_a, double t_b, const JointVector& q_b, CollisionReport& report) {
     // The pairs tested now (they change as parts appear, leave, are grasped or released).
     if (w.world_.pairs_revision() != pairs_verified) checker->reset(), pairs_verified = w.world_.pairs_revision();
-    path.pairs = w.world_.pairs();
+    path.pairs = checked_pairs();
     const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path);
     if (!c.found) return false;
     checker->reset();
-    const collision::BodyPair pair = w.world_.pairs()[c.pair];
+    const collision::BodyPair pair = checked_pairs()[c.pair];
     CollisionReport r;
     if (!record(query(c.q_hit, c.t_hit, std::span(&pair, 1)), {QueryKind::probe}, c.q_hit, r)) {
       // A graze (no probe in contact, docs/collision.md §12): the pair, the point halfway
@@ -414,6 +422,20 @@ struct Walker::Walk {
   // interval within step_mm; with gap stepping within each moving pair's gap allowance), and
   // continuous checking proves the stretches between them. A stretch where nothing moves is
   // skipped to the next change without a query.
+  // The pairs of a belt-borne part now (the checker's cache is of the list: reset on a change).
+  void moving_pairs() {
+    const std::span<const collision::BodyPair> all = w.world_.pairs();
+    const std::span<const GapPair> gaps = w.world_.gap_pairs();
+    dwell_scratch.clear();
+    std::vector<std::size_t> index;
+    for (std::size_t k = 0; k < gaps.size() && k < all.size(); ++k)
+      if (gaps[k].speed_mm_s > 0) dwell_scratch.push_back(all[k]), index.push_back(k);
+    const bool same = index == dwell_index;  // same indices, same revision: the same pairs
+    dwell_pairs.swap(dwell_scratch);
+    dwell_index = std::move(index);
+    if (!same && checker) checker->reset();
+  }
+
   MotionResult dwell(bool gap, double stop) {
     const auto at = [this](double, const JointVector&) { return tr.to; };
     const double limit = step_mm(w.settings_);
@@ -424,6 +446,7 @@ struct Walker::Walk {
       const double change = std::min(stop, w.world_.next_part_change());
       double speed = 0;
       for (const GapPair& p : w.world_.gap_pairs()) speed = std::max(speed, p.speed_mm_s);
+      moving_pairs();
       if (!(speed > 0)) {  // nothing moves until the next change
         if (change < stop) w.world_.pose(tr.to, change);
         t_prev = change;
