@@ -342,7 +342,7 @@ RunStatus Evaluator::hand(const Instr& in) {
   // The hand acts where the motion ended, then HAND.TIME.
   if (const RunStatus s = check_motion(sim_.finish_motion()); s != RunStatus::completed) return s;
   hand_changed(h, in.line);
-  return check_motion(sim_.hand_immediate(h, memory_.settings.hand_time_s));  // OPENI ...
+  return check_dwell(sim_.hand_immediate(h, memory_.settings.hand_time_s, step_of(in.line)), in.line);  // OPENI ...
 }
 
 void Evaluator::statement(const Instr& in) {
@@ -612,6 +612,14 @@ RunStatus Evaluator::check_motion(const motion::MotionResult& r) {
   return RunStatus::completed;
 }
 
+RunStatus Evaluator::check_dwell(const motion::MotionResult& r, int line) {
+  if (r.status == motion::MotionStatus::collision) {  // located at the statement that waited
+    motion_program_ = current_program_;
+    motion_line_ = line;
+  }
+  return check_motion(r);
+}
+
 RunStatus Evaluator::motion(const Instr& in) {
   require_robot();
   // Without continuous path a motion instruction waits for the previous motion to end; with it
@@ -767,9 +775,9 @@ RunStatus Evaluator::wait(const Instr& in) {
   if (in.code == Code::wait_event) {
     const double t = to_real(eval(in.args[1]), "WAIT.EVENT time");
     if (!(t >= 0)) raise(Message::illegal_value, fmt::format("WAIT.EVENT {}", format_number(t)));
-    return check_motion(sim_.wait(t));
+    return check_dwell(sim_.wait(t, step_of(in.line)), in.line);
   }
-  if (in.args.empty()) return check_motion(sim_.wait(limits_.tick_s));
+  if (in.args.empty()) return check_dwell(sim_.wait(limits_.tick_s, step_of(in.line)), in.line);
   const double give_up = sim_.time_s() + limits_.max_wait_s;
   waited_.clear();
   while (to_real(eval(in.args[0]), "WAIT condition") == 0) {
@@ -780,7 +788,8 @@ RunStatus Evaluator::wait(const Instr& in) {
     if (sim_.time_s() >= give_up)
       return stop(fault(Message::wait_limit,
                         fmt::format("still false after {} s{}", format_number(limits_.max_wait_s), undriven_signals())));
-    if (const RunStatus s = check_motion(sim_.wait(limits_.tick_s)); s != RunStatus::completed) return s;
+    if (const RunStatus s = check_dwell(sim_.wait(limits_.tick_s, step_of(in.line)), in.line); s != RunStatus::completed)
+      return s;
   }
   return RunStatus::completed;
 }

@@ -180,6 +180,9 @@ class Evaluator {
   std::vector<Value> eval_all(const std::vector<Node>& nodes);
   RunStatus finish_motion();
   RunStatus check_motion(const motion::MotionResult& r);  // a failed finish: collision, error, Ctrl-C
+  // Time passing at the statement of `line` (WAIT, hand times): a contact then is reported there.
+  RunStatus check_dwell(const motion::MotionResult& r, int line);
+  int step_of(int line) const { return current_program_ ? line - current_program_->line : 0; }
   RunStatus resume_halted_motion();  // PROCEED / RETRY after Ctrl-C halted a motion
   RunStatus stop(Fault f);  // keeps `f` for the report: RunStatus::error, or interrupted
   RunStatus wait(const Instr& in);

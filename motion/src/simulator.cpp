@@ -228,18 +228,30 @@ void Simulator::request_hand(HandState state) { impl_->hand.pending = state; }
 CellRuntime* Simulator::cell_runtime() { return impl_->runtime ? &*impl_->runtime : nullptr; }
 const CellRuntime* Simulator::cell_runtime() const { return impl_->runtime ? &*impl_->runtime : nullptr; }
 
-MotionResult Simulator::hand_immediate(HandState state, double hand_time_s) {
+MotionResult Simulator::hand_immediate(HandState state, double hand_time_s, int step) {
   if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
   impl_->hand.pending.reset();
   impl_->set_hand(state);
-  if (hand_time_s > 0) impl_->state.time_s += hand_time_s;
-  return {};
+  return dwell(hand_time_s, step);
 }
 
-MotionResult Simulator::wait(double seconds) {
+MotionResult Simulator::wait(double seconds, int step) {
   if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
-  if (seconds > 0) impl_->state.time_s += seconds;
-  return {};
+  return dwell(seconds, step);
+}
+
+// The clock advances with the arm at rest; parts on a running conveyor are walked (Walker::dwell).
+MotionResult Simulator::dwell(double seconds, int step) {
+  if (!(seconds > 0)) return {};
+  Impl& s = *impl_;
+  MotionResult r;
+  try {
+    r = s.walker.dwell(s.state, s.state.time_s + seconds, step);
+  } catch (const DeviceError& e) {  // the devices' clock advanced with the walk
+    r.status = MotionStatus::error;
+    r.error = {.message = "*Device logic loop*", .detail = e.what(), .file = {}, .line = 0};
+  }
+  return r;
 }
 
 void Simulator::set_collision_enabled(bool on) {

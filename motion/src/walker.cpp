@@ -53,6 +53,15 @@ struct Walker::Walk {
   };
   bool want_gaps = false;  // gap stepping or continuous checking: visit's query computes them
   Tag here, next, mu;
+  bool dwelling = false;               // time passing with the arm at rest (dwell)
+  // While dwelling only the pairs with a belt-borne part can change distance: those are
+  // checked (dwell_pairs; dwell_index: their indices in World::pairs()), the rest stay free.
+  std::vector<collision::BodyPair> dwell_pairs{}, dwell_scratch{};
+  std::vector<std::size_t> dwell_index{};
+  std::span<const collision::BodyPair> checked_pairs() const {
+    return dwelling ? std::span<const collision::BodyPair>(dwell_pairs) : w.world_.pairs();
+  }
+  std::size_t world_pair(std::size_t k) const { return dwelling ? dwell_index[k] : k; }
 
   template <class F>
   void tell(F&& f) {
@@ -87,8 +96,11 @@ struct Walker::Walk {
       w.world_.pose(q, t);
       const std::uint64_t k0 = cpu_ticks();
       // The gaps come with the contact test (one pass over the pairs; the next stretch's
-      // allowances and the window's lower bounds at its end).
-      w.world_.query({.clearance_mm = clearance, .gaps = want_gaps}, w.result_);
+      // allowances and the window's lower bounds at its end). A dwell tests its subset only.
+      w.world_.query({.clearance_mm = clearance,
+                      .pairs = dwelling ? std::optional(checked_pairs()) : std::nullopt,
+                      .gaps = want_gaps && !dwelling},
+                     w.result_);
       const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
       if (want_gaps) {
         w.gaps_next_.assign(w.result_.gaps.begin(), w.result_.gaps.end());
@@ -188,6 +200,7 @@ struct Walker::Walk {
   // bound on each pair's relative motion over [t1, t2] (docs/collision.md §12), so any path
   // that can state both (blended segments too) is checked the same way.
   JointVector joints_at(double t, const JointVector& seed) {
+    if (dwelling) return tr.to;
     if (in_overlap) return blended_joints_at(tr, t);
     if (tr.kind != PathKind::line) return joint_path_at(tr, t);
     const LinePoint lp = line_path_between(w.robot_, tr, line_i, line_j, t, &seed);
@@ -198,7 +211,7 @@ struct Walker::Walk {
     return lp.joints;
   }
   double motion_bound(std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) const {
-    const GapPair& p = w.world_.gap_pairs()[pair];
+    const GapPair& p = w.world_.gap_pairs()[world_pair(pair)];
     // Parts on a running conveyor (0 * inf would be NaN on a 1e308 s motion: no belt, no term).
     const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
     // The overlap: each joint travels at most what both motions' joints travel (docs/blending.md).
@@ -220,7 +233,7 @@ struct Walker::Walk {
     path.pose = [this](const JointVector& q, double t) { w.world_.pose(q, t); };
     checker->on_measure = [this](std::size_t pair, const collision::DistanceResult& r, double t, bool probe,
                                  std::uint64_t ticks) {
-      const collision::BodyPair bp = w.world_.pairs()[pair];
+      const collision::BodyPair bp = w.world_.pairs()[world_pair(pair)];
       tell([&](WalkObserver& o) { o.on_distance(bp, r, {t, probe, tr.step, ticks}); });
     };
   }
@@ -232,11 +245,11 @@ struct Walker::Walk {
   bool continuous_contact(double t_a, double t_b, const JointVector& q_b, CollisionReport& report) {
     // The pairs tested now (they change as parts appear, leave, are grasped or released).
     if (w.world_.pairs_revision() != pairs_verified) checker->reset(), pairs_verified = w.world_.pairs_revision();
-    path.pairs = w.world_.pairs();
-    ContinuousChecker::WindowBounds known;
-    if (valid(here, t_a, w.gaps_here_)) known.lower_a = w.gaps_here_;
-    if (valid(next, t_b, w.gaps_next_)) known.lower_b = w.gaps_next_;
-    if (valid(mu, t_a, w.window_mu_)) {
+    path.pairs = checked_pairs();
+    ContinuousChecker::WindowBounds known;  // per pair of World::pairs(): not for a dwell's subset
+    if (!dwelling && valid(here, t_a, w.gaps_here_)) known.lower_a = w.gaps_here_;
+    if (!dwelling && valid(next, t_b, w.gaps_next_)) known.lower_b = w.gaps_next_;
+    if (!dwelling && valid(mu, t_a, w.window_mu_)) {
       const std::span<const GapPair> gaps = w.world_.gap_pairs();
       for (std::size_t i = 0; i < gaps.size(); ++i)  // parts on a running conveyor (as motion_bound)
         if (gaps[i].speed_mm_s > 0) w.window_mu_[i] += gaps[i].speed_mm_s * std::abs(t_b - t_a);
@@ -246,7 +259,7 @@ struct Walker::Walk {
     const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, known);
     if (!c.found) return false;
     checker->reset();
-    const collision::BodyPair pair = w.world_.pairs()[c.pair];
+    const collision::BodyPair pair = checked_pairs()[c.pair];
     CollisionReport r;
     if (!record(query(c.q_hit, c.t_hit, std::span(&pair, 1)), {QueryKind::probe}, c.q_hit, r)) {
       // A graze (no probe in contact, docs/collision.md §12): the pair, the point halfway
@@ -489,6 +502,68 @@ struct Walker::Walk {
     return {};
   }
 
+  // Time passing with the arm at rest up to `stop` (tr: the arm's joints, from = to): only
+  // parts carried by a running conveyor move. The speeds are constant between two device
+  // changes (DeviceClock::next_change), so each such stretch is walked with checked poses no
+  // farther apart than the step rule allows the fastest pair (its belt speed times the
+  // interval within step_mm; with gap stepping within each moving pair's gap allowance), and
+  // continuous checking proves the stretches between them. A stretch where nothing moves is
+  // skipped to the next change without a query.
+  // The pairs of a belt-borne part now (the checker's cache is of the list: reset on a change).
+  void moving_pairs() {
+    const std::span<const collision::BodyPair> all = w.world_.pairs();
+    const std::span<const GapPair> gaps = w.world_.gap_pairs();
+    dwell_scratch.clear();
+    std::vector<std::size_t> index;
+    for (std::size_t k = 0; k < gaps.size() && k < all.size(); ++k)
+      if (gaps[k].speed_mm_s > 0) dwell_scratch.push_back(all[k]), index.push_back(k);
+    const bool same = index == dwell_index;  // same indices, same revision: the same pairs
+    dwell_pairs.swap(dwell_scratch);
+    dwell_index = std::move(index);
+    if (!same && checker) checker->reset();
+  }
+
+  MotionResult dwell(bool gap, double stop) {
+    const auto at = [this](double, const JointVector&) { return tr.to; };
+    const double limit = step_mm(w.settings_);
+    double t_prev = st.time_s;
+    w.world_.pose(tr.to, t_prev);  // the parts' state now (the program may have changed signals)
+    CollisionReport report;
+    while (t_prev < stop) {
+      const double change = std::min(stop, w.world_.next_part_change());
+      double speed = 0;
+      for (const GapPair& p : w.world_.gap_pairs()) speed = std::max(speed, p.speed_mm_s);
+      moving_pairs();
+      if (!(speed > 0)) {  // nothing moves until the next change
+        if (change < stop) w.world_.pose(tr.to, change);
+        t_prev = change;
+        continue;
+      }
+      if (!st.start_checked) {  // the run's first pose (no motion before): the stretches start free
+        st.start_checked = true;
+        if (visit(tr.to, t_prev, report)) return collision_result(std::move(report), 0);
+      }
+      double dt = limit / speed;
+      if (gap) {  // each moving pair within its allowance (at least the step)
+        update_gaps(t_prev);
+        dt = std::numeric_limits<double>::infinity();
+        for (const GapPair& p : w.world_.gap_pairs())
+          if (p.speed_mm_s > 0) dt = std::min(dt, p.allow_mm / p.speed_mm_s);
+      }
+      double t = std::min(change, t_prev + dt);
+      if (!(t > t_prev)) t = std::min(stop, std::nextafter(t_prev, stop));
+      stretch({t_prev, t, 1, 1, 0, 0, speed * (t - t_prev)});
+      const bool was_free = st.last_free;
+      const bool hit = visit(tr.to, t, report);
+      if (checker && was_free && continuous_contact(t_prev, t, tr.to, report)) return collision_result(std::move(report), 0);
+      if (hit) return halt(std::move(report), t_prev, was_free, at);
+      w.world_.free_pose_seen();
+      t_prev = t;
+    }
+    st.time_s = stop;
+    return {};
+  }
+
   MotionResult run(double until_s) {
     CollisionReport report;
     if (!st.start_checked) {  // the start pose of the first motion
@@ -522,17 +597,38 @@ struct Walker::Walk {
   }
 };
 
+ContinuousChecker* Walker::checker(collision::Engine* engine) {
+  if (!engine || !settings_.continuous) return nullptr;
+  if (!continuous_) continuous_ = std::make_unique<ContinuousChecker>(*engine, 0, toc_tolerance(settings_), 0);
+  continuous_->set_clearance(halting_clearance(settings_));
+  continuous_->set_report_mm(std::max(settings_.report_within_mm, settings_.clearance_mm));
+  continuous_->reset();  // between walks the hand, the parts or the settings may have changed
+  return continuous_.get();
+}
+
+MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
+  collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
+  if (!(until_s > state.time_s)) return {};
+  if (!engine || !world_.has_parts()) {  // nothing can move without the arm: the clock only
+    state.time_s = until_s;
+    return {};
+  }
+  Trajectory tr;  // the arm at rest: a null joint move at its joints
+  tr.from = tr.to = state.joints;
+  tr.t0 = state.time_s;
+  tr.step = step;
+  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker(engine), {}, ~std::uint64_t{0}};
+  walk.dwelling = true;
+  if (walk.checker) walk.continuous_path();
+  walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
+  MotionResult r = walk.dwell(settings_.stepping == Stepping::gap, until_s);
+  walk.tell([](WalkObserver& o) { o.on_walk_end(); });
+  return r;
+}
+
 MotionResult Walker::walk(const Trajectory& tr, WalkState& state, double until_s) {
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
-  ContinuousChecker* checker = nullptr;
-  if (engine && settings_.continuous) {
-    if (!continuous_) continuous_ = std::make_unique<ContinuousChecker>(*engine, 0, toc_tolerance(settings_), 0);
-    continuous_->set_clearance(halting_clearance(settings_));
-    continuous_->set_report_mm(std::max(settings_.report_within_mm, settings_.clearance_mm));
-    continuous_->reset();  // between walks the hand, the parts or the settings may have changed
-    checker = continuous_.get();
-  }
-  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker, {}, ~std::uint64_t{0}};
+  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker(engine), {}, ~std::uint64_t{0}};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
   MotionResult r = walk.run(until_s);
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });

@@ -4,6 +4,7 @@
 #include "asimov/motion/scene.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace asimov::motion {
 namespace {
@@ -120,6 +121,10 @@ int World::link_of(collision::BodyId id) const {
 collision::BodyId World::part_body(const PartState& p) const {
   return p.feeder < 0 ? first_part_ + static_cast<collision::BodyId>(p.ordinal)
                       : feeder_first_[static_cast<std::size_t>(p.feeder)] + static_cast<collision::BodyId>(p.ordinal);
+}
+
+double World::next_part_change() const {
+  return has_parts() ? runtime_->clock().next_change() : std::numeric_limits<double>::infinity();
 }
 
 void World::pose(const robots::JointVector& q, double t) {

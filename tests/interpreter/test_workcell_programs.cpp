@@ -118,3 +118,74 @@ TEST_CASE("CLOSEI on air is reported, or an error when the cell says so; OPENI o
     CHECK(r.error.detail.find("no support below part held") == 0);
   }
 }
+
+// A program run to its end on `cell` (max_wait_s > 0: the wait limit).
+struct CellRun {
+  CellRun(motion::Cell cell, const std::string& text, double max_wait_s = 0) : sim(std::move(cell)), interp(sim, out) {
+    if (max_wait_s > 0) interp.limits().max_wait_s = max_wait_s;
+    for (const auto& d : interp.load_source(text, "test.v2")) REQUIRE(d.warning);
+    r = interp.run("main");
+  }
+  motion::Simulator sim;
+  std::ostringstream out;
+  interpreter::Interpreter interp;
+  interpreter::RunResult r;
+};
+
+// A post standing over the belt, 770 mm ahead of the riding cube's leading face (cube x in
+// [-510, -490], post x from 280): with the belt on, the cube reaches it after 7.7 s, while the
+// program waits and the arm stands still (Walker::dwell).
+TEST_CASE("a part the belt carries into a post while the program waits is a collision at the WAIT") {
+  const auto post_cell = [](double post_y, bool continuous, motion::Stepping stepping) {
+    motion::Cell cell = reacting_cell();
+    cell.collision.enabled = true;
+    cell.collision.continuous = continuous;
+    cell.collision.stepping = stepping;
+    cell.objects.erase(cell.objects.end() - 1);  // the table under the flange (it stands in the arm)
+    cell.workcell.parts.pop_back();             // and the cube on it
+    cell.objects.push_back({"post", collision::make_box({40, 40, 40}), at(300, post_y, 30)});  // z in [10, 50]
+    return cell;
+  };
+  const std::string wait_event = ".PROGRAM main()\n  SIGNAL 1\n  WAIT.EVENT , 20\n  TYPE \"done\"\n.END\n";
+  const std::string wait_sig = ".PROGRAM main()\n  SIGNAL 1\n  TYPE \"waiting\"\n  WAIT SIG(2001)\n.END\n";
+  for (const bool continuous : {false, true})
+    for (const auto stepping : {motion::Stepping::fixed, motion::Stepping::gap}) {
+      CAPTURE(continuous, static_cast<int>(stepping));
+      {
+        const CellRun run(post_cell(-3000, continuous, stepping), wait_event);
+        const auto& r = run.r;
+        REQUIRE(r.status == interpreter::RunStatus::collision);
+        CHECK(r.collision.body_a + " / " + r.collision.body_b == "post / part:riding");
+        const double tol = run.sim.cell().collision.toc_tolerance_s >= 0 ? run.sim.cell().collision.toc_tolerance_s : 1e-6;
+        CHECK(std::abs(r.collision.time_s - 7.7) <= tol + 1e-9);
+        CHECK(r.collision.time_free_s <= 7.7 + 1e-9);
+        CHECK(r.error.line == 3);  // the WAIT.EVENT
+        CHECK(run.out.str().empty());
+        CHECK(run.sim.time_s() == Approx(r.collision.time_s).margin(1e-12));
+      }
+      {  // a polling WAIT (tick by tick) finds it the same way
+        const CellRun run(post_cell(-3000, continuous, stepping), wait_sig, 30);
+        REQUIRE(run.r.status == interpreter::RunStatus::collision);
+        CHECK(std::abs(run.r.collision.time_s - 7.7) <= 1e-6 + 1e-9);
+        CHECK(run.r.error.line == 4);
+      }
+      {  // the post beside the belt: the wait ends, the cube rides on past it
+        const CellRun run(post_cell(-2800, continuous, stepping), wait_event);
+        REQUIRE(run.r.status == interpreter::RunStatus::completed);
+        CHECK(run.out.str() == "done\n");
+        CHECK(run.sim.time_s() == Approx(20).margin(1e-9));
+      }
+    }
+}
+
+TEST_CASE("waiting with nothing moving queries nothing") {
+  motion::Cell cell = reacting_cell();
+  cell.collision.enabled = true;
+  cell.objects.erase(cell.objects.end() - 1);
+  cell.workcell.parts.pop_back();
+  // The belt is off: neither the wait nor the hand time checks a pose.
+  const CellRun run(std::move(cell), ".PROGRAM main()\n  WAIT.EVENT , 5\n  PARAMETER HAND.TIME = 2\n  CLOSEI\n.END\n");
+  REQUIRE(run.r.status == interpreter::RunStatus::completed);
+  CHECK(run.sim.time_s() == Approx(7).margin(1e-12));
+  CHECK(run.sim.recorders().counts.poses == 0);
+}

@@ -104,7 +104,7 @@ class Simulator {
   // is returned, the hand untouched, when it fails or is interrupted), sets the hand (dropping
   // a pending request) and advances the clock by hand_time_s (negative: 0).
   void request_hand(HandState state);
-  MotionResult hand_immediate(HandState state, double hand_time_s = kDefaultHandTime);
+  MotionResult hand_immediate(HandState state, double hand_time_s = kDefaultHandTime, int step = 0);
   Hand hand() const;
   // Parts and devices of the cell (null for a cell without any): the collision world poses
   // the parts from it at every checked pose and advances its clock with the walk.
@@ -112,8 +112,9 @@ class Simulator {
   const CellRuntime* cell_runtime() const;
   // WAIT / WAIT.EVENT: finishes the pending motion (its failure or interruption is returned,
   // the clock then where the motion stopped), then advances the clock by `seconds` (negative:
-  // 0) without motion.
-  MotionResult wait(double seconds);
+  // 0) without motion. The hand time and the wait are walked (Walker::dwell): a part that a
+  // running conveyor carries into something meanwhile is a collision at program step `step`.
+  MotionResult wait(double seconds, int step = 0);
   // ENABLE / DISABLE COLLISION and PARAMETER COLLISION.CLEARANCE at run time (dialect §6):
   // the cell's settings (read them as cell().collision), applied from the next checked pose.
   void set_collision_enabled(bool on);
@@ -134,6 +135,7 @@ class Simulator {
   std::string body_name(std::uint32_t id) const;  // collision::BodyId
 
  private:
+  MotionResult dwell(double seconds, int step);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

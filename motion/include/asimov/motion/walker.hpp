@@ -48,9 +48,16 @@ class Walker {
   // there, docs/blending.md), both on the path at until_s. collision: the arm at the last free
   // pose, the clock at the contact time. interrupted: the arm and clock at the last checked pose.
   MotionResult walk(const Trajectory& tr, WalkState& state, double until_s = std::numeric_limits<double>::infinity());
+  // Time passing with the arm at rest from state.time_s to until_s (WAIT, DELAY, hand times):
+  // parts carried by a running conveyor move and are checked like any moving body (the step
+  // rule or gap stepping on their belt speed, continuous checking, the contact time bisected);
+  // `step` is the program step reported with a contact. ok: the clock at until_s. collision:
+  // the clock at the contact time. Without parts, or while nothing moves, no query.
+  MotionResult dwell(WalkState& state, double until_s, int step);
 
  private:
   struct Walk;
+  ContinuousChecker* checker(collision::Engine* engine);  // null: continuous checking off
   const robots::Robot& robot_;
   World& world_;
   const CollisionSettings& settings_;

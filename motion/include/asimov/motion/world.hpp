@@ -56,6 +56,11 @@ class World {
 
   // The parts' states come from `runtime` (the simulator's; it must outlive the world).
   void attach(CellRuntime& runtime) { runtime_ = &runtime; }
+  // A cell with movable parts whose states come from a runtime (they can move without the arm).
+  bool has_parts() const { return has_parts_ && runtime_ != nullptr; }
+  // The next instant after the devices' clock at which a part or signal changes by itself
+  // (+inf without parts): the parts' speeds are constant until then.
+  double next_part_change() const;
 
   // Displacement bounds of the arm's parts, indexed by BodyId (robot bodies, then the tool),
   // then, in a cell with parts, the carried part's (zero radii while nothing is carried).
