@@ -74,6 +74,14 @@ nlohmann::json run_report(const RunSummary& s) {
     doc["interrupt"] = {{"time_s", r.interrupt->time_s},
                         {"path_fraction", r.interrupt->path_fraction},
                         {"joints_deg", joints(r.interrupt->joints)}};
+  if (!r.motion_times.empty()) {  // per-motion durations (docs/blending.md)
+    auto motions = nlohmann::json::array();
+    for (const auto& m : r.motion_times)
+      motions.push_back({{"step", m.step}, {"program", m.program}, {"start_s", m.start_s}, {"duration_s", m.duration_s},
+                         {"blended", m.blended}});
+    doc["motions"] = std::move(motions);
+    if (r.motion_times_omitted > 0) doc["motions_omitted"] = r.motion_times_omitted;
+  }
   if (!r.warnings.empty()) {
     auto warnings = nlohmann::json::array();
     for (const auto& w : r.warnings) warnings.push_back(error_object(w));

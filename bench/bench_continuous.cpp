@@ -69,7 +69,12 @@ Case program_case(const std::string& program, const std::string& cell_file) {
   const std::string path = std::string(ASIMOV_SOURCE_DIR) + "/programs/" + program;
   const std::string cell_path = cell_file.empty() ? "" : std::string(ASIMOV_SOURCE_DIR) + "/programs/" + cell_file;
   return {program,
-          [cell_path] { return cell_path.empty() ? cell::default_cell() : cell::load_cell_file(cell_path); },
+          [cell_path] {
+            if (cell_path.empty()) return cell::default_cell();
+            auto cell = cell::load_cell_file(cell_path);
+            if (!cell) throw std::runtime_error(cell::format_cell_error(cell.error()));
+            return std::move(cell).value();
+          },
           [path](motion::Simulator& sim) {
             std::ostringstream out;
             interpreter::Interpreter interp(sim, out);

@@ -47,7 +47,9 @@ struct Outcome {
 
 Outcome run_once(const std::string& cell_yaml, const std::string& program) {
   const double t0 = cpu_us();
-  motion::Cell cell = cell::load_cell_text(cell_yaml, "belt_cell.yaml", ASIMOV_SOURCE_DIR "/programs/cells");
+  auto loaded = cell::load_cell_text(cell_yaml, "belt_cell.yaml", ASIMOV_SOURCE_DIR "/programs/cells");
+  if (!loaded) throw std::runtime_error(cell::format_cell_error(loaded.error()));
+  motion::Cell cell = std::move(loaded).value();
   motion::Simulator sim(std::move(cell));
   std::ostringstream out;
   interpreter::Interpreter interp(sim, out);

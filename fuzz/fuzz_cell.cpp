@@ -1,4 +1,4 @@
-// The YAML cell loader. A CellError is the documented outcome of bad input; anything else
+// The YAML cell loader. An Error result is the documented outcome of bad input; an exception
 // escaping (a YAML exception, bad_alloc) or a crash is a bug.
 #include "asimov/cell/cell_loader.hpp"
 
@@ -8,10 +8,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace asimov;
-  try {
-    (void)cell::load_cell_text(std::string(reinterpret_cast<const char*>(data), size), "fuzz.yaml", ".");
-  } catch (const cell::CellError& e) {
-    (void)e.format();
-  }
+  const auto cell = cell::load_cell_text(std::string(reinterpret_cast<const char*>(data), size), "fuzz.yaml", ".");
+  if (!cell) (void)cell::format_cell_error(cell.error());
   return 0;
 }

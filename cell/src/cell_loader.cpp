@@ -24,6 +24,12 @@
 namespace asimov::cell {
 namespace {
 
+// Inside the loader a problem unwinds the YAML walk at once; it becomes an Error at the boundary.
+struct CellError {
+  std::string what, file;
+  int line, column;
+};
+
 const char* const kDefaultCell = R"(# Built-in default cell: the PUMA 560 with a table and a box in reach.
 # World frame = robot frame: origin at the shoulder (J1/J2 axes), Z up; the floor is ~672 mm below.
 robot: puma560
@@ -43,7 +49,7 @@ class Reader : public Fields {
 
   [[noreturn]] void fail(const YAML::Node& node, const std::string& what) const {
     const auto mark = node.Mark();
-    throw CellError(what, source_, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1);
+    throw CellError{what, source_, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1};
   }
 
   double number(const YAML::Node& node, const std::string& what) const {
@@ -413,41 +419,50 @@ std::optional<DepthError> yaml_too_deep(const std::string& text) {
 }
 }  // namespace
 
-std::string CellError::format() const {
+std::string format_cell_error(const Error& e) {
   // Messages quote the file's text (yaml-cpp's too): printable, whatever bytes it holds.
-  if (line > 0) return collision::printable(fmt::format("{}:{}:{}: {}", file, line, column, what()));
-  return collision::printable(fmt::format("{}: {}", file, what()));
+  if (e.line > 0) return collision::printable(fmt::format("{}:{}:{}: {}", e.file, e.line, e.column, e.message));
+  return collision::printable(fmt::format("{}: {}", e.file, e.message));
 }
 
 namespace {
-motion::Cell parse_cell(const std::string& yaml, const std::string& source_name, const std::string& base_dir,
-                        bool from_file) {
+motion::Cell parse_cell_or_throw(const std::string& yaml, const std::string& source_name,
+                                 const std::string& base_dir, bool from_file) {
   Reader reader(source_name, base_dir, !from_file);
   if (const auto deep = yaml_too_deep(yaml))
-    throw CellError(fmt::format("nested more than {} levels deep", kMaxYamlDepth), source_name, deep->line, deep->column);
+    throw CellError{fmt::format("nested more than {} levels deep", kMaxYamlDepth), source_name, deep->line, deep->column};
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
-    throw CellError(e.msg, source_name, e.mark.line + 1, e.mark.column + 1);
+    throw CellError{e.msg, source_name, e.mark.line + 1, e.mark.column + 1};
   }
   try {
     return reader.cell(root);
   } catch (const YAML::Exception& e) {  // e.g. a map where a string was expected
-    throw CellError(e.msg, source_name, e.mark.is_null() ? 0 : e.mark.line + 1,
-                    e.mark.is_null() ? 0 : e.mark.column + 1);
+    throw CellError{e.msg, source_name, e.mark.is_null() ? 0 : e.mark.line + 1,
+                    e.mark.is_null() ? 0 : e.mark.column + 1};
+  }
+}
+
+Result<motion::Cell> parse_cell(const std::string& yaml, const std::string& source_name,
+                                const std::string& base_dir, bool from_file) {
+  try {
+    return parse_cell_or_throw(yaml, source_name, base_dir, from_file);
+  } catch (const CellError& e) {
+    return Error{.message = e.what, .file = e.file, .line = e.line, .column = e.column};
   }
 }
 }  // namespace
 
-motion::Cell load_cell_text(const std::string& yaml, const std::string& source_name,
-                           const std::string& base_dir) {
+Result<motion::Cell> load_cell_text(const std::string& yaml, const std::string& source_name,
+                                    const std::string& base_dir) {
   return parse_cell(yaml, source_name, base_dir, false);
 }
 
-motion::Cell load_cell_file(const std::string& path) {
+Result<motion::Cell> load_cell_file(const std::string& path) {
   const Result<std::string> text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
-  if (!text) throw CellError(text.error().message, path, 0, 0);
+  if (!text) return Error{.message = text.error().message, .file = path};
   return parse_cell(*text, path, std::filesystem::path(path).parent_path().string(), true);
 }
 
@@ -456,17 +471,16 @@ const std::string& default_cell_yaml() {
   return text;
 }
 
-motion::Cell default_cell() { return load_cell_text(default_cell_yaml(), "<default cell>"); }
+motion::Cell default_cell() { return std::move(load_cell_text(default_cell_yaml(), "<default cell>")).value(); }
 
 std::optional<motion::Cell> load_cell_for_command(const std::string& path, std::ostream& err) {
-  try {
-    motion::Cell cell = path.empty() ? default_cell() : load_cell_file(path);
-    for (const auto& w : cell.warnings) err << "Warning: " << w << '\n';
-    return cell;
-  } catch (const CellError& e) {
-    err << "*Cell error*  " << e.format() << '\n';
+  Result<motion::Cell> cell = path.empty() ? Result<motion::Cell>(default_cell()) : load_cell_file(path);
+  if (!cell) {
+    err << "*Cell error*  " << format_cell_error(cell.error()) << '\n';
     return std::nullopt;
   }
+  for (const auto& w : cell->warnings) err << "Warning: " << w << '\n';
+  return std::move(cell).value();
 }
 
 }  // namespace asimov::cell

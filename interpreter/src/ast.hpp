@@ -152,6 +152,12 @@ struct Unsupported {
   std::string rest;                                   // the rest of the line, as written
 };
 
+// ACCEL [ "(" profile ")" ] [ acceleration ] [ "," [ deceleration ] ]
+struct AccelStmt {
+  Expr profile;              // a Nil operand when omitted
+  std::vector<Expr> values;  // acceleration, deceleration (an omitted one holds a Nil operand)
+};
+
 // V+ I/O (dialect §7a): KEYWORD [ "(" [expression] { "," [expression] } ")" ] [ items ]
 // ATTACH (lun, 4) "DISK", FOPENR (lun) "f.txt", READ (lun) $s, x, WRITE (lun) $s, /S, FCLOSE (lun)
 struct IoStmt {
@@ -184,7 +190,7 @@ struct ProgramHeader {
 };
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
-                               ProgramHeader, Declaration, TimerStmt, Unsupported, IoStmt,
+                               ProgramHeader, Declaration, TimerStmt, AccelStmt, Unsupported, IoStmt,
                                ExecuteStmt> {
   using base_type::base_type;
   using base_type::operator=;

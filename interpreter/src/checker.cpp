@@ -353,6 +353,12 @@ class Checker {
       void operator()(const ast::ProgramHeader&) const {}
       void operator()(const ast::Declaration& d) const { c.declaration(d); }
       void operator()(const ast::Unsupported& u) const { c.unsupported(u); }
+      void operator()(const ast::AccelStmt& a) const {  // args: profile, acceleration, deceleration
+        if (a.values.size() > 2) return c.error("ACCEL expects at most an acceleration and a deceleration");
+        Instr& in = c.emit(Code::accel);
+        in.args.push_back(c.expression(a.profile));
+        for (const ast::Expr& v : a.values) in.args.push_back(c.expression(v));
+      }
       void operator()(const ast::IoStmt& io) const { c.io_statement(io); }
       void operator()(const ast::ExecuteStmt& e) const { c.execute_statement(e); }
       void operator()(const ast::TimerStmt& t) const {
@@ -365,7 +371,7 @@ class Checker {
     boost::apply_visitor(Visitor{*this}, s);
   }
 
-  // Dialect §7: robot ATTACH ()/DETACH (), SELECT ROBOT = 1 and ACCEL only warn.
+  // Dialect §7: robot ATTACH ()/DETACH () and SELECT ROBOT = 1 only warn.
   void unsupported(const ast::Unsupported& u) {
     Instr& in = emit(Code::unsupported);
     for (char c : u.keyword) in.target.text += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -373,7 +379,7 @@ class Checker {
     for (char c : u.rest.substr(0, u.rest.find(';')))
       if (c != ' ' && c != '\t') rest += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     const std::string& k = in.target.text;
-    in.always = k == "ACCEL" || ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0)
+    in.always = ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0)
         || (k == "SELECT" && rest == "ROBOT=1");
   }
 
@@ -524,7 +530,7 @@ class Checker {
     if (n.kind == NodeKind::variable && n.text[0] == '#') return 'p';
     if (n.kind == NodeKind::binary && n.op == ast::Op::compound) return 't';
     if (n.kind == NodeKind::function) switch (n.func) {
-        case Func::ppoint: return 'p';
+        case Func::ppoint: case Func::pdest: return 'p';
         case Func::trans: case Func::here: case Func::dest: case Func::null: case Func::inverse:
         case Func::rx: case Func::ry: case Func::rz: case Func::shift: case Func::tool: case Func::base:
         case Func::frame: return 't';

@@ -100,6 +100,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   RunResult result;
   warnings_.clear();
   motion_sites_.clear();
+  motion_times_.clear();
+  motion_times_omitted_ = 0;
   halt_.reset();
   // The simulator reads the Ctrl-C flag while this run goes on, and only then.
   struct InterruptWiring {
@@ -107,6 +109,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     ~InterruptWiring() { sim.set_interrupt(nullptr); }
   } wiring{sim_};
   sim_.set_interrupt(limits_.interrupt);
+  sim_.settings().continuous_path = memory_.settings.cp;  // ENABLE / DISABLE CP (docs/blending.md)
   files_.set_root(limits_.files_root);
   struct FileClosing {  // what was written is committed however the run ends
     FileUnits& files;
@@ -195,6 +198,9 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
                        duration_always_, duration_next_, halt_.has_value(), memory_.programs};
   }
   result.interrupt = halt_;
+  result.motion_times = std::move(motion_times_);
+  result.motion_times_omitted = motion_times_omitted_;
+  motion_times_.clear();
   stack_.clear();
   result.warnings = std::move(warnings_);
   warnings_.clear();
@@ -403,6 +409,14 @@ void Evaluator::statement(const Instr& in) {
         set_signal(signal_number(n, true));
       }
       return;
+    case Code::accel: {  // ACCEL (profile) a, d: an omitted one is kept; out of [1, 100]: the nearer end
+      if (in.args[0].kind != NodeKind::absent) to_real(eval(in.args[0]), "ACCEL profile");  // profile 0 is used
+      double* ramp[2] = {&memory_.settings.accel, &memory_.settings.decel};
+      for (std::size_t k = 1; k < in.args.size(); ++k)
+        if (in.args[k].kind != NodeKind::absent)
+          *ramp[k - 1] = std::clamp(to_real(eval(in.args[k]), k == 1 ? "ACCEL acceleration" : "ACCEL deceleration"), 1.0, 100.0);
+      return;
+    }
     case Code::timer: {
       const int k = to_index(to_real(eval(in.args[0]), "timer number"));
       if (k < 1 || k > 16) raise(Message::illegal_value, fmt::format("timer {}", k));
@@ -600,20 +614,23 @@ RunStatus Evaluator::check_motion(const motion::MotionResult& r) {
 
 RunStatus Evaluator::motion(const Instr& in) {
   require_robot();
-  // A motion instruction waits for the previous motion to end.
-  if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
+  // Without continuous path a motion instruction waits for the previous motion to end; with it
+  // the simulator blends the two (docs/blending.md), and relative motions start from where the
+  // pending motion ends (planned_here / planned_joints: HERE and the joints once it has).
+  if (!sim_.settings().continuous_path)
+    if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
   const bool straight = straight_path(in.code);
   std::optional<Value> target;
   switch (in.code) {
     case Code::ready: target = motion::ready_target(sim_.robot()); break;  // the robot's READY
-    case Code::align: target = motion::align_target(sim_.here()); break;
+    case Code::align: target = motion::align_target(sim_.planned_here()); break;
     case Code::drive: {  // DRIVE j, change, speed: one joint, relative, at speed % of its maximum
       const int j = to_index(to_real(eval(in.args[0]), "joint"));
       const double change = to_real(eval(in.args[1]), "DRIVE change");
       const double s = to_real(eval(in.args[2]), "DRIVE speed");
       if (!(s >= 1 && s <= 100)) raise(Message::illegal_value, fmt::format("DRIVE speed {}", format_number(s)));
       robots::JointVector target;
-      if (!motion::drive_target(sim_.joints(), j, change, target))
+      if (!motion::drive_target(sim_.planned_joints(), j, change, target))
         raise(Message::illegal_value, fmt::format("joint {}", j));
       MotionRequest m;
       m.joints = target;
@@ -626,7 +643,7 @@ RunStatus Evaluator::motion(const Instr& in) {
       double d[3] = {0, 0, 0};
       for (std::size_t k = 0; k < in.args.size() && k < 3; ++k)
         if (in.args[k].kind != NodeKind::absent) d[k] = to_real(eval(in.args[k]), "DRAW");
-      target = motion::draw_target(sim_.here(), d[0], d[1], d[2]);
+      target = motion::draw_target(sim_.planned_here(), d[0], d[1], d[2]);
       break;
     }
     case Code::move: case Code::moves: target = eval(in.args[0]); break;
@@ -641,9 +658,9 @@ RunStatus Evaluator::motion(const Instr& in) {
       target = motion::appro_target(as_pose(loc, sim_), d);
       break;
     }
-    case Code::depart: case Code::departs: {  // HERE is taken once the previous motion has ended
+    case Code::depart: case Code::departs: {  // from where the previous motion ends
       const double d = to_real(eval(in.args[0]), "DEPART distance");
-      target = motion::depart_target(sim_.here(), d);
+      target = motion::depart_target(sim_.planned_here(), d);
       break;
     }
     default: raise(Message::not_supported, "a motion without a target in Evaluator::motion");
@@ -684,25 +701,41 @@ RunStatus Evaluator::start_motion(const MotionRequest& m) {
   if (std::find(motion_sites_.begin(), motion_sites_.end(), std::pair{m.program, m.line}) == motion_sites_.end())
     motion_sites_.emplace_back(m.program, m.line);
   // OPEN / CLOSE act as this motion starts: the grasp or release where the previous motion
-  // ended, before this one is planned (a carried part widens its step bounds).
+  // ended (a stop, also with continuous path), before this one is planned (a carried part
+  // widens its step bounds).
   const std::optional<motion::HandState> hand_request = sim_.hand().pending;
   if (hand_request && sim_.cell_runtime()) {
-    if (const RunStatus s = check_motion(sim_.finish_motion()); s != RunStatus::completed) return s;
+    if (const RunStatus s = finish_motion(); s != RunStatus::completed) return s;
     hand_changed(*hand_request, m.line);
   }
-  const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, m.speed, step)
-                                          : sim_.start_move(m.pose, m.straight, m.speed, step);
-  if (r.status == motion::MotionStatus::interrupted) return check_motion(r);  // the previous motion's halt
+  robots::JointVector earlier = sim_.planned_joints();  // where this motion starts from
+  motion::SpeedSettings speed = m.speed;
+  speed.accel = memory_.settings.accel;  // ACCEL in effect now
+  speed.decel = memory_.settings.decel;
+  const motion::MotionResult r = m.joints ? sim_.start_joint_move(*m.joints, speed, step)
+                                          : sim_.start_move(m.pose, m.straight, speed, step);
+  // A halt or contact here is the previous motion's (carried out up to where this one starts).
+  if (r.status == motion::MotionStatus::interrupted || r.status == motion::MotionStatus::collision)
+    return check_motion(r);
   motion_program_ = m.program;
   motion_line_ = m.line;
   last_motion_ = m;
   if (r.status == motion::MotionStatus::error)  // reported at the statement that started it
     return stop(Fault{Message::motion, r.error.message, r.error.detail});
-  if (r.status == motion::MotionStatus::collision) {
-    contact_ = r.collision;
-    return RunStatus::collision;
+  if (const auto timing = sim_.pending_timing()) {
+    record_timing(*timing, m.program->name);
+    earlier_destination_ = std::move(earlier);
+    earlier_until_ = timing->start_s;
   }
   return RunStatus::completed;
+}
+
+void Evaluator::record_timing(const motion::MotionTiming& t, const std::string& program) {
+  if (motion_times_.size() >= kMaxMotionTimes) {
+    ++motion_times_omitted_;
+    return;
+  }
+  motion_times_.push_back({t.step, program, t.start_s, t.duration_s, t.blended});
 }
 
 void Evaluator::type(const Instr& in) {

@@ -155,6 +155,7 @@ class Evaluator {
   // message in fault_, set by stop()).
   RunResult protected_run(const std::string& name, const std::function<RunStatus()>& setup);
   RunStatus start_motion(const MotionRequest& m);
+  void record_timing(const motion::MotionTiming& t, const std::string& program);  // RunResult::motion_times
   RunStatus execute(const Instr& in);  // the statements that can end a run, else statement()
   void statement(const Instr& in);
   RunStatus loop();  // runs stack_ until it is empty, or until its task gives way
@@ -195,6 +196,7 @@ class Evaluator {
   // A motion under way: pending, or (with tasks) carried out ahead and not ended at the clock.
   bool moving() const { return sim_.motion_pending() || (running_ && now_ < moving_until_); }
   double clock() const { return running_ ? now_ : sim_.time_s(); }  // the simulated clock (TIMER)
+  robots::JointVector planned_destination() const;  // #PDEST
   int signal_number(const Node& n, bool output);
   Variable& variable(const Node& n) {
     if (n.ref.scope == Scope::global) return *ctx_.globals[n.ref.slot];
@@ -254,6 +256,8 @@ class Evaluator {
   bool interactive_ = false;                  // PROMPT asks again on bad input
   std::vector<Diagnostic> warnings_;          // this execution's §7 warnings
   std::vector<std::pair<const Program*, int>> motion_sites_;  // this execution's motions (RunResult::motions)
+  std::vector<MotionTime> motion_times_;                      // RunResult::motion_times
+  std::uint64_t motion_times_omitted_ = 0;
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
   std::optional<motion::InterruptReport> halt_;  // this run's motion halted by Ctrl-C
@@ -267,6 +271,10 @@ class Evaluator {
   bool yield_ = false;                        // the running task gave way (WAIT, motion, RELEASE ...)
   double now_ = 0;                            // the scheduler's simulated clock (tasks only)
   double moving_until_ = 0;                   // the arm's last motion, carried out, ends here
+  // The joints the motion before the pending one ends at (where the pending one starts from):
+  // with tasks, what #PDEST is for a task running before the pending motion's start.
+  robots::JointVector earlier_destination_;
+  double earlier_until_ = 0;                  // the pending motion's start
   int robot_task_ = 0;                        // the task that moves the arm; -1: DETACHed
   std::uint64_t statements_ = 0;              // executed in this execution
   std::uint64_t budget_ = 0;                  // at this count the task yields, or the run stops

@@ -150,6 +150,7 @@ Value Evaluator::function(const Node& n) {
     for (char c : n.text) name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     raise(Message::not_supported, name);
   }
+  if (n.func == Func::pdest) return planned_destination();
   if (n.func == Func::state) return state(to_index(to_real(eval(n.kids[0]), "STATE selector")));
   if (n.func == Func::task) {  // TASK(): this task; TASK(1, n): 4 while task n executes, else 0
     if (n.kids.empty()) return static_cast<double>(task_number());
@@ -209,6 +210,14 @@ Value Evaluator::function(const Node& n) {
     else args.emplace_back(eval(k));
   }
   return call_function(n.func, args, sim_);
+}
+
+// #PDEST: the joints the motion in progress ends at, the arm's joints when none is. The
+// simulator plans (and, blending, carries out) motions ahead of the task clock: a task that runs
+// before the pending motion's start sees the motion before it, which ends where it starts.
+robots::JointVector Evaluator::planned_destination() const {
+  if (running_ && sim_.motion_pending() && now_ < earlier_until_) return earlier_destination_;
+  return sim_.planned_joints();
 }
 
 // STATE(select) as the simulated controller reports it (dialect §7): power on and calibrated,

@@ -12,7 +12,7 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<FunctionInfo, 58> kFunctions = {{
+constexpr std::array<FunctionInfo, 59> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -27,7 +27,7 @@ constexpr std::array<FunctionInfo, 58> kFunctions = {{
     {"frame", 4, 4},    {"parameter", 1, 1}, {"switch", 1, 1},  {"inrange", 1, 1},
     {"state", 1, 1},    {"task", 0, 2},     {"error", 1, 2},   {"$error", 1, 1},
     {"select", 1, 1},   {"status", 1, 1},   {"getc", 1, 2},    {"iostat", 1, 2},
-    {"tas", 2, 2},      {"", 0, -1},
+    {"tas", 2, 2},      {"#pdest", 0, 0},   {"", 0, -1},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
@@ -143,6 +143,7 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::tool: return sim.settings().tool;
     case Func::base: return sim.settings().base;
     case Func::trans: return motion::trans(x(0), x(1), x(2), x(3), x(4), x(5));
+    case Func::pdest: return sim.planned_joints();  // the pending motion's end (tasks: Evaluator::function)
     case Func::ppoint: {
       const int n = sim.robot().joint_count();
       if (static_cast<int>(args.size()) > n)

@@ -14,7 +14,7 @@ enum class Func : int {
   sin, cos, tan, asin, acos, atan2, sqrt, sqr, abs, int_, fract, sign, max, min, pi, true_,
   false_, random, bmask, here, dest, null, trans, ppoint, inverse, rx, ry, rz, dx, dy, dz,
   distance, shift, tool, base, len, chr, asc, val, defined, sig, timer, mid, last, frame,
-  parameter, switch_, inrange, state, task, error, error_text, select, status, getc, iostat, tas,
+  parameter, switch_, inrange, state, task, error, error_text, select, status, getc, iostat, tas, pdest,
   vplus,  // a V+ function that loads but is not simulated (dialect §7): $LNGB, $DECODE...
   count
 };

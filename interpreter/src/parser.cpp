@@ -36,6 +36,7 @@ BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::TypeStmt, kw, items)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ProgramHeader, name, params)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Declaration, kw, names)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::TimerStmt, number, value)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::AccelStmt, profile, values)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Unsupported, keyword, rest)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::IoStmt, keyword, unit, items)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ExecuteHead, task, program)
@@ -135,7 +136,7 @@ struct unsupported_table : x3::symbols<x3::unused_type> {
   unsupported_table() {
     for (const char* w : {"select",
                           "set.event", "clear.event", "lock", "priority", "react", "reacti", "reacte", "ignore",
-                          "teach", "calls", "accel"})
+                          "teach", "calls"})
       add(w);
   }
 } const unsupported_words;
@@ -153,7 +154,7 @@ struct io_table : x3::symbols<x3::unused_type> {
 // Function words that need no parentheses.
 struct bare_function_table : x3::symbols<std::string> {
   bare_function_table() {
-    for (const char* w : {"here", "dest", "pi", "true", "false", "null", "random", "tool", "base"})
+    for (const char* w : {"here", "dest", "#pdest", "pi", "true", "false", "null", "random", "tool", "base"})
       add(w, std::string(w));
   }
 } const bare_function_words;
@@ -201,6 +202,7 @@ x3::rule<class data_line_class, ast::DataLine, true> const data_line = "data lin
 x3::rule<class optional_expression_class, ast::Expr> const optional_expression = "expression";
 x3::rule<class declaration_class, ast::Declaration> const declaration = "declaration";
 x3::rule<class timer_class, ast::TimerStmt> const timer_stmt = "TIMER";
+x3::rule<class accel_class, ast::AccelStmt> const accel_stmt = "ACCEL";
 x3::rule<class unsupported_class, ast::Unsupported> const unsupported = "statement";
 x3::rule<class io_class, ast::IoStmt> const io_stmt = "statement";
 x3::rule<class unit_class, std::vector<ast::Expr>> const unit_args = "arguments";
@@ -237,7 +239,7 @@ const auto primary_def = number | string_literal | encode | call | variable
 // encode = "$ENCODE" "(" type_item { "," type_item } ")"
 const auto encode_def = (x3::attr(Kw::type) >> x3::lexeme[x3::no_case["$encode"] >> !name_char] >> '(')
     > (type_item % ',') > ')';
-// function = [ "#" | "$" ] name "(" arguments ")" | HERE | DEST | PI | TRUE | FALSE | NULL | ...
+// function = [ "#" | "$" ] name "(" arguments ")" | HERE | DEST | #PDEST | PI | TRUE | FALSE | NULL | ...
 const auto function_name_def = x3::raw[x3::lexeme[-x3::char_("#$") >> word]];
 const auto call_def = ((function_name >> '(') > arguments > ')')
     | (word_of(bare_function_words) >> x3::attr(std::vector<boost::optional<ast::Expr>>()));
@@ -291,6 +293,10 @@ const auto declaration_def = word_of(declaration_words) >> x3::omit[-word_of(typ
     > (variable % ',');
 // timer = TIMER expression "=" expression
 const auto timer_stmt_def = kw("timer") > expression > '=' > expression;
+// accel = ACCEL [ "(" expression ")" ] optional_expression { "," optional_expression }
+//   (not followed by "=": `accel = 1` is an assignment)
+const auto accel_stmt_def = kw("accel") >> !x3::lit('=')
+    >> (('(' > expression > ')') | x3::attr(ast::Expr())) >> (optional_expression % ',');
 // unsupported = V+_KEYWORD { any }     (not followed by "=": `read = 1` is an assignment)
 const auto unsupported_def = x3::raw[word_of(unsupported_words)] >> !x3::lit('=')
     >> x3::raw[x3::lexeme[*x3::char_]];
@@ -304,10 +310,11 @@ const auto execute_head_def = (expression >> word) | (x3::attr(ast::Expr()) >> w
 const auto execute_stmt_def = kw("execute") >> x3::omit[-x3::lexeme[x3::no_case[x3::lit("/c")] >> !name_char]]
     >> execute_head >> -('(' > arguments > ')') >> *(',' >> optional_expression);
 // statement = assignment (when the line reads `name [subscript] =`) | program_header
-//           | declaration | type | for | if | call | timer | io | execute | instruction | unsupported
+//           | declaration | type | for | if | call | timer | accel | io | execute | instruction | unsupported
 //           | binding
 const auto statement_def = (assignment_ahead >> assignment) | program_header | declaration | type_stmt
-    | for_stmt | if_stmt | call_stmt | timer_stmt | io_stmt | execute_stmt | instruction | unsupported | binding;
+    | for_stmt | if_stmt | call_stmt | timer_stmt | accel_stmt | io_stmt | execute_stmt | instruction
+    | unsupported | binding;
 
 // data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
 const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
@@ -318,7 +325,8 @@ const auto data_line_def = x3::raw[x3::lexeme[-x3::char_("$#") >> word]]
 BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, expression, binary_op,
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, assignment, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
-                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, unsupported, encode, io_stmt, unit_args, execute_stmt, execute_head)
+                    program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, accel_stmt,
+                    unsupported, encode, io_stmt, unit_args, execute_stmt, execute_head)
 
 // skipper = blank | ";" { any }
 const auto skipper = x3::blank | (';' >> *x3::char_);

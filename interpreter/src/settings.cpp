@@ -39,7 +39,7 @@ bool switch_value(const std::string& name, const Settings& s, const motion::Simu
 }
 
 bool set_switch(const std::string& name, bool on, Settings& s, motion::Simulator& sim) {
-  if (name == "CP") s.cp = on;
+  if (name == "CP") s.cp = on, sim.settings().continuous_path = on;
   else if (name == "COLLISION") sim.set_collision_enabled(on);
   else if (name == "POWER") return on;  // ENABLE POWER: it is on already
   else if (name == "SCALE.ACCEL" || name == "DRY.RUN") return false;

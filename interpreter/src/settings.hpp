@@ -11,7 +11,8 @@ namespace asimov::interpreter {
 // What the interpreter keeps between runs (the simulator holds the collision settings).
 struct Settings {
   double hand_time_s = motion::kDefaultHandTime;  // PARAMETER HAND.TIME [s]
-  bool cp = true;                                 // ENABLE CP: accepted, no effect
+  bool cp = true;                                 // ENABLE CP: motions blend (docs/blending.md)
+  double accel = 100, decel = 100;                // ACCEL acceleration, deceleration [%]
 };
 
 double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim);

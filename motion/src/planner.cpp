@@ -37,6 +37,8 @@ std::string fmt_fraction(const char* what, double s) {
 }
 
 double speed_factor(const SpeedSettings& s) { return s.monitor / 100 * s.program / 100; }
+Ramps ramps(const SpeedSettings& s) { return {s.accel / 100, s.decel / 100}; }
+bool valid_ramps(const SpeedSettings& s) { return s.accel > 0 && s.accel <= 100 && s.decel > 0 && s.decel <= 100; }
 
 Location here_at(const PlanStart& st, const JointVector& q) { return st.base * robots::flange_pose(st.robot, q) * st.tool; }
 
@@ -53,7 +55,7 @@ Trajectory joint_trajectory(const PlanStart& st, const JointVector& target, cons
   tr.from = st.joints;
   tr.to = target;
   tr.intervals = joint_move_intervals(st.reach, st.joints, target, st.step_mm, st.moving_pairs);
-  tr.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(robot.joint_count())), speed.duration_s);
+  tr.profile = plan_profile(std::span(axes.data(), static_cast<std::size_t>(robot.joint_count())), speed.duration_s, ramps(speed));
   tr.speed = speed;
   tr.t0 = st.time_s;
   tr.step = step;
@@ -86,7 +88,7 @@ Profile line_profile(const robots::Robot& robot, const LinePath& path, const Lin
     path_s[i] = plan.samples[i].s;
     for (int j = 0; j < n; ++j) path_q[i * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = plan.samples[i].joints[j];
   }
-  return fit_path_acceleration(plan_profile(std::span(axes.data(), static_cast<std::size_t>(2 + n)), speed.duration_s),
+  return fit_path_acceleration(plan_profile(std::span(axes.data(), static_cast<std::size_t>(2 + n)), speed.duration_s, ramps(speed)),
                                {path_s, path_q, n}, std::span(robot.max_acceleration.data(), static_cast<std::size_t>(n)));
 }
 
@@ -144,6 +146,7 @@ Plan plan_line_move(const PlanStart& st, const Location& target, const SpeedSett
 
 Plan plan_joint_move(const PlanStart& st, const JointVector& target, const SpeedSettings& speed, int step) {
   if (!(speed_factor(speed) > 0)) return refused("*Illegal value*", "speed must be > 0");
+  if (!valid_ramps(speed)) return refused("*Illegal value*", "ACCEL must be in (0, 100]");
   if (target.size() != st.robot.joint_count()) return refused("*Illegal value*", "wrong number of joints");
   if (const int j = robots::first_limit_violation(st.robot, target); j >= 0)
     return refused("*Joint limit exceeded*", fmt_limit(st.robot, j, target[j]));
@@ -155,6 +158,7 @@ Plan plan_joint_move(const PlanStart& st, const JointVector& target, const Speed
 Plan plan_move(const PlanStart& st, robots::ConfigurationRequest& request, const Location& target, bool straight,
                const SpeedSettings& speed, int step) {
   if (!(speed_factor(speed) > 0)) return refused("*Illegal value*", "speed must be > 0");
+  if (!valid_ramps(speed)) return refused("*Illegal value*", "ACCEL must be in (0, 100]");
   if (straight) return plan_line_move(st, target, speed, step);
   const auto& robot = st.robot;
   const Location flange = st.base.inverse() * target * st.tool.inverse();

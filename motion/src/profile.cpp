@@ -1,5 +1,7 @@
 // docs/kinematics.md §8: U = max D/V, W = max D/A; trapezoid (x = U, y = W/U) when U^2 >= W, else
 // triangle (x = y = sqrt W). Peak velocity D/x <= V and peak acceleration D/(xy) <= A per axis.
+// ACCEL (ramps a, d): the ramps last y = W/(a x) and yd = W/(d x); the cruise x - (y + yd)/2
+// must not be negative, so x = max(U, sqrt(k W)) with k = (1/a + 1/d)/2; T = x + (y + yd)/2.
 #include "asimov/motion/profile.hpp"
 
 #include <algorithm>
@@ -8,7 +10,7 @@
 
 namespace asimov::motion {
 
-Profile plan_profile(std::span<const ProfileAxis> axes, double min_duration) {
+Profile plan_profile(std::span<const ProfileAxis> axes, double min_duration, Ramps ramps) {
   double u = 0, w = 0;
   for (const auto& a : axes) {
     u = std::max(u, std::abs(a.distance) / a.velocity);
@@ -16,19 +18,19 @@ Profile plan_profile(std::span<const ProfileAxis> axes, double min_duration) {
   }
   Profile p;
   if (w > 0) {
-    if (u * u >= w) {
-      p.x = u, p.y = w / u;
-    } else {
-      p.x = p.y = std::sqrt(w);
-    }
+    const double a = ramps.accel, d = ramps.decel;
+    const double k = (1 / a + 1 / d) / 2;  // exactly 1 at 100 %, 100 %
+    p.x = u * u >= k * w ? u : std::sqrt(k * w);
+    p.y = w / (a * p.x);
+    p.yd = w / (d * p.x);
   }
-  p.duration = p.x + p.y;
+  p.duration = p.x + (p.y + p.yd) / 2;
   if (min_duration > p.duration) {
     if (p.duration > 0) {
       const double k = min_duration / p.duration;
-      p.x *= k, p.y *= k;
+      p.x *= k, p.y *= k, p.yd *= k;
     } else {  // null motion that must still last: a triangle of the requested length
-      p.x = p.y = min_duration / 2;
+      p.x = p.y = p.yd = min_duration / 2;
     }
     p.duration = min_duration;
   }
@@ -38,7 +40,7 @@ Profile plan_profile(std::span<const ProfileAxis> axes, double min_duration) {
 Profile stretched(const Profile& p, double k) {
   if (!(k > 1) || p.duration <= 0) return p;
   Profile out = p;
-  out.x *= k, out.y *= k, out.duration = out.x + out.y;
+  out.x *= k, out.y *= k, out.yd *= k, out.duration = out.x + (out.y + out.yd) / 2;
   return out;
 }
 
@@ -56,12 +58,15 @@ double path_acceleration_ratio(const Profile& p, const SampledPath& path, std::s
   if (m < 3) return 0;
   const auto sg = [&](std::size_t k) { return path.sigma[idx[k]]; };
   const auto q = [&](std::size_t k, int j) { return path.q[idx[k] * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)]; };
-  // Profile terms: sigma'^2 = min(1/x^2, 2 s/(x y), 2 (1 - s)/(x y)); |sigma''| = 1/(x y) in the blends.
-  const double s1 = p.y / (2 * p.x);
+  // Profile terms: sigma'^2 = min(1/x^2, 2 s/(x y), 2 (1 - s)/(x yd)); |sigma''| = 1/(x y) while
+  // accelerating, 1/(x yd) while decelerating.
+  const double s1 = p.y / (2 * p.x), s2 = p.yd / (2 * p.x);
   const auto max_rate2 = [&](double a, double b) {  // largest sigma'^2 on [a, b]
-    return std::min({1 / (p.x * p.x), 2 * b / (p.x * p.y), 2 * (1 - a) / (p.x * p.y)});
+    return std::min({1 / (p.x * p.x), 2 * b / (p.x * p.y), 2 * (1 - a) / (p.x * p.yd)});
   };
-  const auto max_accel = [&](double a, double b) { return a < s1 || b > 1 - s1 ? 1 / (p.x * p.y) : 0.0; };
+  const auto max_accel = [&](double a, double b) {
+    return std::max(a < s1 ? 1 / (p.x * p.y) : 0.0, b > 1 - s2 ? 1 / (p.x * p.yd) : 0.0);
+  };
   double worst = 0;
   std::vector<double> slope(m - 1), curv(m);
   for (int j = 0; j < n; ++j) {
@@ -90,18 +95,18 @@ double Profile::sigma(double t) const {
   if (duration <= 0 || t >= duration) return 1;
   if (t <= 0) return 0;
   if (t <= y) return t * t / (2 * x * y);
-  if (t <= x) return (t - y / 2) / x;
+  if (t <= duration - yd) return (t - y / 2) / x;
   const double r = duration - t;
-  return 1 - r * r / (2 * x * y);
+  return 1 - r * r / (2 * x * yd);
 }
 
 double Profile::time_at(double s) const {
   if (duration <= 0) return 0;
   s = std::clamp(s, 0.0, 1.0);
-  const double s1 = y / (2 * x);  // sigma at t = y, and 1 - sigma at t = x
+  const double s1 = y / (2 * x), s2 = yd / (2 * x);  // sigma at t = y, and 1 - sigma at t = T - yd
   if (s <= s1) return std::sqrt(2 * x * y * s);
-  if (s <= 1 - s1) return x * s + y / 2;
-  return duration - std::sqrt(2 * x * y * (1 - s));
+  if (s <= 1 - s2) return x * s + y / 2;
+  return duration - std::sqrt(2 * x * yd * (1 - s));
 }
 
 }  // namespace asimov::motion

@@ -31,8 +31,8 @@ void ReplayRecorder::on_stretch(const Trajectory& tr, const Stretch& s) {
   for (double k = std::floor(s.t_from / grid_s) + 1; k * grid_s < s.t_to; ++k) {
     const double t = k * grid_s;
     push(t,
-         tr.kind == PathKind::joint
-             ? joint_path_at(tr, t)
+         s.blended                    ? blended_joints_at(tr, t)
+         : tr.kind == PathKind::joint ? joint_path_at(tr, t)
              : line_path_between(robot, tr, s.sample_from, s.sample_to, t, samples.empty() ? nullptr : &samples.back().joints)
                    .joints,
          false);
@@ -52,7 +52,7 @@ void ReplayRecorder::on_contact(const CollisionReport& report, const robots::Joi
 
 void AccuracyRecorder::on_stretch(const Trajectory& tr, const Stretch& s) {
   figures.step_displacement_mm = std::max(figures.step_displacement_mm, s.bound_mm);
-  if (tr.kind != PathKind::line) return;
+  if (tr.kind != PathKind::line || s.blended) return;  // the blend leaves the line on purpose
   const LineSample &a = tr.line.samples[s.sample_from], &b = tr.line.samples[s.sample_to];
   const robots::JointVector mid = interpolate_joints(a.joints, b.joints, 0.5);
   figures.line_deviation.merge(

@@ -11,6 +11,7 @@
 #include "asimov/motion/world.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace asimov::motion {
 namespace {
@@ -75,8 +76,56 @@ struct Simulator::Impl {
 
   Location here() const { return settings.base * robots::flange_pose(cell.robot, state.joints) * settings.tool; }
 
-  PlanStart plan_start() const {
-    return {cell.robot, world.reach(), world.moving_pairs(), step_mm(cell.collision), state.joints, settings.base, settings.tool, state.time_s};
+  PlanStart plan_start() const { return plan_from(state.joints, state.time_s); }
+  PlanStart plan_from(const robots::JointVector& joints, double time_s) const {
+    return {cell.robot, world.reach(), world.moving_pairs(), step_mm(cell.collision), joints, settings.base, settings.tool, time_s};
+  }
+
+  // Carries the pending motion out up to `until_s` (all of it by default); an interrupted
+  // motion keeps its rest (halted_motion). The pending motion is consumed either way.
+  MotionResult walk_pending(double until_s = std::numeric_limits<double>::infinity()) {
+    const Trajectory tr = std::move(*pending);
+    pending.reset();
+    MotionResult r;
+    try {
+      r = walker.walk(tr, state, until_s);
+    } catch (const DeviceError& e) {  // the devices' clock advanced with the walk
+      r.status = MotionStatus::error;
+      r.error = {.message = "*Device logic loop*", .detail = e.what(), .file = {}, .line = 0};
+    }
+    if (runtime && runtime->carried())  // the part in the gripper is where the flange took it
+      runtime->clock().move_carried(*runtime->carried(), runtime->carried_pose(cell.base * robots::flange_pose(cell.robot, state.joints)));
+    if (r.status == MotionStatus::interrupted) {
+      rest = Rest{tr.to, tr.kind == PathKind::line, dest, tr.speed, r.interrupt.time_s - tr.t0};
+      halted = r.interrupt;
+    }
+    return r;
+  }
+
+  // Continuous path (docs/blending.md): `plan_at(start)` plans the next motion b from the
+  // pending motion a's target as if a had been reached at its end; b then starts
+  // tau = min(a's deceleration time, b's acceleration time) before a's end, so the two
+  // overlap on [a.end - tau, a.end]. a is carried out up to b's start; b (with a as its
+  // `previous`) becomes the pending motion. A refused plan leaves a pending, untouched.
+  template <class PlanAt>
+  MotionResult blend(PlanAt&& plan_at) {
+    const double a_end = pending->end_time();
+    Plan plan;
+    {
+      const ScopeTimer timer{rec.timing.timing.motion_s};
+      plan = plan_at(plan_from(pending->to, a_end));
+    }
+    if (plan.result.status != MotionStatus::ok) return accept(std::move(plan));
+    Trajectory& b = plan.trajectory;
+    const double tau = std::min(pending->profile.yd, b.profile.y);
+    if (tau > 0) b.t0 = a_end - tau;
+    auto a = std::make_shared<Trajectory>(*pending);
+    if (MotionResult r = walk_pending(b.t0); r.status != MotionStatus::ok) return r;
+    if (tau > 0) {
+      a->previous.reset();  // walked past its own overlap: at most two motions overlap
+      b.previous = std::move(a);
+    }
+    return accept(std::move(plan));
   }
 
   // A planned motion becomes the pending one; a pending OPEN/CLOSE/RELAX takes effect.
@@ -115,6 +164,8 @@ std::string Simulator::body_name(std::uint32_t id) const {
 int Simulator::motion_step() const { return impl_->pending ? impl_->pending->step : 0; }
 
 MotionResult Simulator::start_joint_move(const robots::JointVector& target, SpeedSettings speed, int step) {
+  if (impl_->pending && impl_->settings.continuous_path)
+    return impl_->blend([&](const PlanStart& st) { return plan_joint_move(st, target, speed, step); });
   if (impl_->pending)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
   const ScopeTimer timer{impl_->rec.timing.timing.motion_s};
@@ -122,31 +173,27 @@ MotionResult Simulator::start_joint_move(const robots::JointVector& target, Spee
 }
 
 MotionResult Simulator::start_move(const Location& target, bool straight, SpeedSettings speed, int step) {
+  if (impl_->pending && impl_->settings.continuous_path)
+    return impl_->blend(
+        [&](const PlanStart& st) { return plan_move(st, impl_->settings.request, target, straight, speed, step); });
   if (impl_->pending)
     if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
   const ScopeTimer timer{impl_->rec.timing.timing.motion_s};
   return impl_->accept(plan_move(impl_->plan_start(), impl_->settings.request, target, straight, speed, step));
 }
 
-MotionResult Simulator::finish_motion() {
-  Impl& s = *impl_;
-  if (!s.pending) return {};
-  const Trajectory tr = std::move(*s.pending);
-  s.pending.reset();
-  MotionResult r;
-  try {
-    r = s.walker.walk(tr, s.state);
-  } catch (const DeviceError& e) {  // the devices' clock advanced with the walk
-    r.status = MotionStatus::error;
-    r.error = {.message = "*Device logic loop*", .detail = e.what()};
-  }
-  if (s.runtime && s.runtime->carried())  // the part in the gripper is where the flange took it
-    s.runtime->clock().move_carried(*s.runtime->carried(), s.runtime->carried_pose(s.cell.base * robots::flange_pose(s.cell.robot, s.state.joints)));
-  if (r.status == MotionStatus::interrupted) {
-    s.rest = Impl::Rest{tr.to, tr.kind == PathKind::line, s.dest, tr.speed, r.interrupt.time_s - tr.t0};
-    s.halted = r.interrupt;
-  }
-  return r;
+MotionResult Simulator::finish_motion() { return impl_->pending ? impl_->walk_pending() : MotionResult{}; }
+
+const robots::JointVector& Simulator::planned_joints() const {
+  return impl_->pending ? impl_->pending->to : impl_->state.joints;
+}
+Location Simulator::planned_here() const {
+  return impl_->settings.base * robots::flange_pose(impl_->cell.robot, planned_joints()) * impl_->settings.tool;
+}
+std::optional<MotionTiming> Simulator::pending_timing() const {
+  const auto& p = impl_->pending;
+  if (!p) return std::nullopt;
+  return MotionTiming{p->step, p->t0, p->profile.duration, p->previous != nullptr};
 }
 
 void Simulator::set_interrupt(const std::atomic<bool>* flag) { impl_->walker.set_interrupt(flag); }

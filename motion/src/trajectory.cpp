@@ -31,4 +31,50 @@ LinePoint line_path_between(const robots::Robot& robot, const Trajectory& tr, st
   return line_path_at(robot, tr, *(next - 1), *next, t, seed ? *seed : (next - 1)->joints);
 }
 
+std::size_t sample_before(const std::vector<LineSample>& samples, double sigma) {
+  if (samples.size() < 2) return 0;
+  const auto next = std::upper_bound(samples.begin() + 1, samples.end() - 1, sigma,
+                                     [](double v, const LineSample& x) { return v < x.s; });
+  return static_cast<std::size_t>(next - samples.begin()) - 1;
+}
+
+namespace {
+
+robots::JointVector line_joints(const std::vector<LineSample>& samples, double sigma) {
+  if (samples.size() < 2) return samples.front().joints;
+  const std::size_t i = sample_before(samples, sigma);
+  const LineSample &a = samples[i], &b = samples[i + 1];
+  return interpolate_joints(a.joints, b.joints, b.s > a.s ? std::clamp((sigma - a.s) / (b.s - a.s), 0.0, 1.0) : 1.0);
+}
+}  // namespace
+
+robots::JointVector segment_joints_at(const Trajectory& tr, double t) {
+  if (tr.kind == PathKind::joint) return joint_path_at(tr, t);
+  return line_joints(tr.line.samples, tr.profile.sigma(t - tr.t0));
+}
+
+robots::JointVector segment_travel(const Trajectory& tr, double t1, double t2) {
+  if (tr.kind == PathKind::joint || tr.line.samples.size() < 2)
+    return (segment_joints_at(tr, t2) - segment_joints_at(tr, t1)).cwiseAbs();
+  // Piecewise linear between samples: the sum of the pieces crossed.
+  const auto& samples = tr.line.samples;
+  const double s1 = tr.profile.sigma(t1 - tr.t0), s2 = tr.profile.sigma(t2 - tr.t0);
+  const std::size_t i1 = sample_before(samples, s1), i2 = sample_before(samples, s2);
+  if (i1 == i2) return (line_joints(samples, s2) - line_joints(samples, s1)).cwiseAbs();
+  robots::JointVector sum = (samples[i1 + 1].joints - line_joints(samples, s1)).cwiseAbs();
+  for (std::size_t i = i1 + 1; i < i2; ++i) sum += (samples[i + 1].joints - samples[i].joints).cwiseAbs();
+  sum += (line_joints(samples, s2) - samples[i2].joints).cwiseAbs();
+  return sum;
+}
+
+robots::JointVector blended_joints_at(const Trajectory& tr, double t) {
+  if (!tr.previous) return segment_joints_at(tr, t);
+  return segment_joints_at(*tr.previous, t) + segment_joints_at(tr, t) - tr.previous->to;
+}
+
+robots::JointVector blended_travel(const Trajectory& tr, double t1, double t2) {
+  if (!tr.previous) return segment_travel(tr, t1, t2);
+  return segment_travel(*tr.previous, t1, t2) + segment_travel(tr, t1, t2);
+}
+
 }  // namespace asimov::motion

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace asimov::motion {
 namespace {
@@ -38,6 +39,7 @@ struct Walker::Walk {
   ContinuousPath path;         // the trajectory as continuous checking sees it (continuous_path)
   std::uint64_t pairs_verified = ~std::uint64_t{0};  // World::pairs_revision() the checker's cache is of
   std::size_t line_i = 0, line_j = 0;  // lines: the checked samples of the current stretch
+  bool in_overlap = false;             // walking the overlap with the previous motion (blended path)
 
   template <class F>
   void tell(F&& f) {
@@ -148,6 +150,7 @@ struct Walker::Walk {
   // bound on each pair's relative motion over [t1, t2] (docs/collision.md §12), so any path
   // that can state both (blended segments too) is checked the same way.
   JointVector joints_at(double t, const JointVector& seed) {
+    if (in_overlap) return blended_joints_at(tr, t);
     if (tr.kind != PathKind::line) return joint_path_at(tr, t);
     const LinePoint lp = line_path_between(w.robot_, tr, line_i, line_j, t, &seed);
     if (lp.ik_used) {
@@ -160,6 +163,8 @@ struct Walker::Walk {
     const GapPair& p = w.world_.gap_pairs()[pair];
     // Parts on a running conveyor (0 * inf would be NaN on a 1e308 s motion: no belt, no term).
     const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
+    // The overlap: each joint travels at most what both motions' joints travel (docs/blending.md).
+    if (in_overlap) return pair_displacement(w.world_.reach(), p, blended_travel(tr, t1, t2)) + belt;
     if (tr.kind != PathKind::line) return joint_motion(w.world_.reach(), p, q1, q2) + belt;
     return line_motion(w.world_.reach(), p, tr.line.samples, tr.profile.sigma(t1 - tr.t0), q1,
                        tr.profile.sigma(t2 - tr.t0), q2) + belt;
@@ -247,28 +252,43 @@ struct Walker::Walk {
     tell([&](WalkObserver& o) { o.on_stretch(tr, s); });
   }
 
-  MotionResult line(bool gap) {
+  // The segment's own grid from the current time (tr.t0, or the end of the overlap with the
+  // previous motion) to `stop` (tr.end_time(), or earlier when the next motion blends in at
+  // `stop`): checked poses on the grid between, then the pose at `stop` itself.
+  MotionResult line(bool gap, double stop) {
     const auto& samples = tr.line.samples;
-    double t_prev = st.time_s;  // time of the current joints
+    const bool to_end = stop >= tr.end_time();
+    const double sigma_stop = to_end ? 1.0 : tr.profile.sigma(stop - tr.t0);
+    double t_prev = st.time_s;  // time and path parameter of the current joints
+    double sigma_prev = tr.profile.sigma(t_prev - tr.t0);
+    std::size_t i = sample_before(samples, sigma_prev);
+    // The last sample to visit: the end, or the first at or after sigma_stop (visited as the
+    // pose at `stop`).
+    std::size_t last = samples.size() - 1;
+    if (!to_end)
+      while (last > i + 1 && samples[last - 1].s >= sigma_stop) --last;
     CollisionReport report;
-    for (std::size_t i = 0; i + 1 < samples.size();) {
-      if (interrupt_requested()) return interrupt_halt(t_prev, samples[i].s);
+    while (i < last) {
+      if (interrupt_requested()) return interrupt_halt(t_prev, sigma_prev);
       // Next checked sample j: the next one, or with gap stepping the farthest the gaps allow.
       std::size_t j = i + 1;
       double bound = samples[j].bound_mm;
       if (gap) {
         update_gaps();
-        j = gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.sums_, bound);
+        j = std::min(gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.sums_, bound), last);
       }
       const LineSample &a = samples[i], &b = samples[j];
-      const double t = tr.t0 + tr.profile.time_at(b.s);
-      stretch({t_prev, t, a.s, b.s, i, j, bound});
+      const bool at_stop = j == last && !to_end;
+      const double t = at_stop ? stop : tr.t0 + tr.profile.time_at(b.s);
+      const JointVector q = at_stop ? segment_joints_at(tr, stop) : b.joints;
+      const double sigma = at_stop ? sigma_stop : b.s;
+      stretch({t_prev, t, sigma_prev, sigma, i, j, bound});
       const bool was_free = st.last_free;
-      const bool hit = visit(b.joints, t, report);
+      const bool hit = visit(q, t, report);
       line_i = i;
       line_j = j;
       // The distances are measured in the engine's time (timing: on_distance).
-      if (checker && was_free && continuous_contact(t_prev, t, b.joints, report))
+      if (checker && was_free && continuous_contact(t_prev, t, q, report))
         return collision_result(std::move(report), 0);
       if (hit) {
         // Between samples: the line's pose at sigma(t) by IK seeded with the nearest free
@@ -283,15 +303,16 @@ struct Walker::Walk {
         };
         return halt(std::move(report), t_prev, was_free, at);
       }
-      st.joints = b.joints;
+      st.joints = q;
       if (engine) w.world_.free_pose_seen();  // after the stretch's continuous check: excused there
       t_prev = t;
+      sigma_prev = sigma;
       i = j;
     }
     return {};
   }
 
-  MotionResult joint(bool gap) {
+  MotionResult joint(bool gap, double stop) {
     const auto at = [this](double tm, const JointVector&) { return joint_path_at(tr, tm); };
     // Bound per grid interval of each body: the bound is linear in the joint step.
     const JointVector step = (tr.to - tr.from) / tr.intervals;
@@ -307,22 +328,29 @@ struct Walker::Walk {
       w.pair_mm_.resize(gaps.size());
       for (std::size_t k = 0; k < gaps.size(); ++k) w.pair_mm_[k] = pair_displacement(w.world_.reach(), gaps[k], step);
     };
+    const int n = tr.intervals;
+    const bool to_end = stop >= tr.end_time();
+    const double sigma_stop = to_end ? 1.0 : tr.profile.sigma(stop - tr.t0);
     double t_prev = st.time_s;
+    double sigma_from = tr.profile.sigma(t_prev - tr.t0);
+    // Grid points: from the one at or before the current sigma to the one at or after sigma_stop.
+    int i = std::clamp(static_cast<int>(std::floor(sigma_from * n)), 0, n);
+    const int last = to_end ? n : std::clamp(static_cast<int>(std::ceil(sigma_stop * n)), i + 1, n);
     JointVector q(st.joints.size());
     CollisionReport report;
-    for (int i = 0; i < tr.intervals;) {
-      if (interrupt_requested()) return interrupt_halt(t_prev, static_cast<double>(i) / tr.intervals);
+    while (i < last) {
+      if (interrupt_requested()) return interrupt_halt(t_prev, sigma_from);
       int k = 1;
       if (gap) {
         pair_bounds();
         update_gaps();
-        k = gap_intervals(w.pair_mm_, w.world_.gap_pairs(), tr.intervals - i);
+        k = gap_intervals(w.pair_mm_, w.world_.gap_pairs(), last - i);
       }
-      const double sigma_from = static_cast<double>(i) / tr.intervals;
       i += k;
-      const double sigma = static_cast<double>(i) / tr.intervals;
-      q = i == tr.intervals ? tr.to : interpolate_joints(tr.from, tr.to, sigma);
-      const double t = tr.t0 + tr.profile.time_at(sigma);
+      const bool at_last = i == last;
+      const double sigma = at_last ? sigma_stop : static_cast<double>(i) / n;
+      q = at_last && to_end ? tr.to : interpolate_joints(tr.from, tr.to, sigma);
+      const double t = at_last ? stop : tr.t0 + tr.profile.time_at(sigma);
       stretch({t_prev, t, sigma_from, sigma, 0, 0, k * body_max});
       const bool was_free = st.last_free;
       const bool hit = visit(q, t, report);
@@ -331,11 +359,53 @@ struct Walker::Walk {
       st.joints = q;
       if (engine) w.world_.free_pose_seen();
       t_prev = t;
+      sigma_from = sigma;
     }
     return {};
   }
 
-  MotionResult run() {
+  // The overlap with the previous motion up to `stop` (<= tr.blend_end()): the superposed path
+  // (blended_joints_at), stepped in time so that the bound over each interval from the joint
+  // travel of both segments (blended_travel) keeps the step rule (every body and moving pair
+  // within step_mm; with gap stepping every pair within its gap allowance at the last checked
+  // pose): the interval is halved until it fits, and doubled again after each checked pose.
+  MotionResult overlap(bool gap, double stop) {
+    const auto at = [this](double tm, const JointVector&) { return blended_joints_at(tr, tm); };
+    const double limit = step_mm(w.settings_);
+    const auto fits = [&](const JointVector& travel, double& body) {
+      const double d = max_body_displacement(w.world_.reach(), travel, w.world_.moving_pairs(), &body);
+      if (!gap) return d <= limit;
+      for (const GapPair& p : w.world_.gap_pairs())
+        if (pair_displacement(w.world_.reach(), p, travel) > p.allow_mm) return false;
+      return true;
+    };
+    double t_prev = st.time_s, dt = stop - t_prev;
+    CollisionReport report;
+    while (t_prev < stop) {
+      if (interrupt_requested()) return interrupt_halt(t_prev, tr.profile.sigma(t_prev - tr.t0));
+      if (gap) update_gaps();
+      double t = std::min(stop, t_prev + dt), body = 0;
+      for (int halvings = 0; !fits(blended_travel(tr, t_prev, t), body) && halvings < 60; ++halvings) {
+        dt /= 2;
+        t = t_prev + dt;
+      }
+      if (!(t > t_prev)) t = std::min(stop, std::nextafter(t_prev, stop));
+      const JointVector q = at(t, st.joints);
+      stretch({t_prev, t, tr.profile.sigma(t_prev - tr.t0), tr.profile.sigma(t - tr.t0), 0, 0, body, true});
+      const bool was_free = st.last_free;
+      const bool hit = visit(q, t, report);
+      if (checker && was_free && continuous_contact(t_prev, t, q, report)) return collision_result(std::move(report), 0);
+      if (hit) return halt(std::move(report), t_prev, was_free, at);
+      st.joints = q;
+      if (engine) w.world_.free_pose_seen();
+      t_prev = t;
+      dt *= 2;
+    }
+    st.time_s = stop;  // the segment's own walk goes on from here
+    return {};
+  }
+
+  MotionResult run(double until_s) {
     CollisionReport report;
     if (!st.start_checked) {  // the start pose of the first motion
       st.start_checked = true;
@@ -345,15 +415,29 @@ struct Walker::Walk {
     const bool gap = engine && w.settings_.stepping == Stepping::gap;
     if (engine) w.world_.pose(st.joints, st.time_s);  // parts grasped or released since: their pairs
     if (checker) continuous_path();
-    MotionResult r = tr.kind == PathKind::line ? line(gap) : joint(gap);
-    if (r.status != MotionStatus::ok) return r;
-    st.joints = tr.to;
-    st.time_s = tr.end_time();
+    const double stop = std::min(until_s, tr.end_time());
+    if (st.time_s < tr.blend_end()) {  // continuous path: the overlap with the previous motion first
+      in_overlap = true;
+      MotionResult r = overlap(gap, std::min(stop, tr.blend_end()));
+      in_overlap = false;
+      if (r.status != MotionStatus::ok) return r;
+    }
+    if (st.time_s < stop || stop >= tr.end_time()) {
+      if (engine) w.world_.pose(st.joints, st.time_s);  // the gaps are of the current pose
+      MotionResult r = tr.kind == PathKind::line ? line(gap, stop) : joint(gap, stop);
+      if (r.status != MotionStatus::ok) return r;
+    }
+    if (stop >= tr.end_time()) {
+      st.joints = tr.to;
+      st.time_s = tr.end_time();
+    } else {
+      st.time_s = stop;
+    }
     return {};
   }
 };
 
-MotionResult Walker::walk(const Trajectory& tr, WalkState& state) {
+MotionResult Walker::walk(const Trajectory& tr, WalkState& state, double until_s) {
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
   ContinuousChecker* checker = nullptr;
   if (engine && settings_.continuous) {
@@ -365,7 +449,7 @@ MotionResult Walker::walk(const Trajectory& tr, WalkState& state) {
   }
   Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker, {}, ~std::uint64_t{0}};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
-  MotionResult r = walk.run();
+  MotionResult r = walk.run(until_s);
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });
   return r;
 }

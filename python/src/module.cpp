@@ -53,14 +53,14 @@ py::dict diagnostic_dict(const interpreter::Diagnostic& d) {
   return f;
 }
 
-[[noreturn]] void raise_cell_error(const cell::CellError& e) {
+[[noreturn]] void raise_cell_error(const Error& e) {
   py::dict f;
   f["message"] = "*Cell error*";
-  f["detail"] = std::string(e.what());
+  f["detail"] = e.message;
   f["file"] = e.file;
   f["line"] = e.line;
   f["column"] = e.column;
-  f["text"] = e.format();
+  f["text"] = cell::format_cell_error(e);
   raise("CellError", f);
 }
 
@@ -138,20 +138,20 @@ robots::JointVector to_joints(const robots::Robot& robot, const Array& a) {
 // ---- cells and robots --------------------------------------------------------------------
 
 motion::Cell load_cell_any(const py::object& source, const std::string& base_dir) {
-  try {
-    if (source.is_none()) return cell::default_cell();
-    if (py::isinstance<motion::Cell>(source)) return source.cast<motion::Cell>();
-    if (py::isinstance<py::dict>(source)) {
-      // JSON is YAML: the dict goes through the same loader as a file.
-      const std::string text = py::module_::import("json").attr("dumps")(source, py::arg("indent") = 1).cast<std::string>();
-      return cell::load_cell_text(text, "<dict>", base_dir.empty() ? std::string(".") : base_dir);
-    }
-    const std::string path = py::str(py::module_::import("os").attr("fspath")(source));
-    if (!std::filesystem::is_regular_file(path)) raise_message("CellError", "*File not found*", path, path);
-    return cell::load_cell_file(path);
-  } catch (const cell::CellError& e) {
-    raise_cell_error(e);
+  if (source.is_none()) return cell::default_cell();
+  if (py::isinstance<motion::Cell>(source)) return source.cast<motion::Cell>();
+  auto checked = [](Result<motion::Cell> cell) {
+    if (!cell) raise_cell_error(cell.error());
+    return std::move(cell).value();
+  };
+  if (py::isinstance<py::dict>(source)) {
+    // JSON is YAML: the dict goes through the same loader as a file.
+    const std::string text = py::module_::import("json").attr("dumps")(source, py::arg("indent") = 1).cast<std::string>();
+    return checked(cell::load_cell_text(text, "<dict>", base_dir.empty() ? std::string(".") : base_dir));
   }
+  const std::string path = py::str(py::module_::import("os").attr("fspath")(source));
+  if (!std::filesystem::is_regular_file(path)) raise_message("CellError", "*File not found*", path, path);
+  return checked(cell::load_cell_file(path));
 }
 
 robots::Configuration to_configuration(const py::object& o, const robots::Robot& robot, const robots::JointVector& q) {

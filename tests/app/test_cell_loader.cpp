@@ -2,14 +2,20 @@
 #include "asimov/collision/engine.hpp"
 
 #include "collision/src/voxel_grid.hpp"
+#include "support/result.hpp"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 
 using namespace asimov;
-using cell::CellError;
-using cell::load_cell_text;
+
+namespace {
+motion::Cell load_cell_text(const std::string& yaml, const std::string& name, const std::string& base = ".") {
+  return test::must(cell::load_cell_text(yaml, name, base));
+}
+motion::Cell load_cell_file(const std::string& path) { return test::must(cell::load_cell_file(path)); }
+}  // namespace
 
 TEST_CASE("the default cell has the PUMA, a table, a box and a tool body") {
   const auto cell = cell::default_cell();
@@ -60,57 +66,53 @@ TEST_CASE("collision settings and ignore pairs") {
 
 namespace {
 // The error for `yaml`, with its position.
-CellError error_of(const std::string& yaml) {
-  try {
-    load_cell_text(yaml, "bad.yaml");
-  } catch (const CellError& e) {
-    return e;
-  }
-  FAIL("no error for: " << yaml);
-  return CellError("", "", 0, 0);
+Error error_of(const std::string& yaml) {
+  auto cell = cell::load_cell_text(yaml, "bad.yaml");
+  if (cell) FAIL("no error for: " << yaml);
+  return cell.error();
 }
 }  // namespace
 
 TEST_CASE("bad cells are rejected with file, line and column") {
   auto e = error_of("robot: kuka\n");
-  CHECK(std::string(e.what()).find("unknown robot 'kuka'") != std::string::npos);
+  CHECK(e.message.find("unknown robot 'kuka'") != std::string::npos);
   CHECK(e.line == 1);
 
   e = error_of("objects:\n  - {name: a, box: [1, 2]}\n");
   CHECK(e.line == 2);
-  CHECK(e.format().rfind("bad.yaml:2:", 0) == 0);
+  CHECK(cell::format_cell_error(e).rfind("bad.yaml:2:", 0) == 0);
 
   e = error_of("objects:\n  - {name: a, box: [1, 1, 1]}\n  - {name: a, box: [1, 1, 1]}\n");
-  CHECK(std::string(e.what()).find("duplicate body name 'a'") != std::string::npos);
+  CHECK(e.message.find("duplicate body name 'a'") != std::string::npos);
   CHECK(e.line == 3);
 
   e = error_of("objects:\n  - {name: link3, box: [1, 1, 1]}\n");
-  CHECK(std::string(e.what()).find("duplicate") != std::string::npos);
+  CHECK(e.message.find("duplicate") != std::string::npos);
 
   e = error_of("collision: {ignore: [[link1, nothing]]}\n");
-  CHECK(std::string(e.what()).find("unknown body 'nothing'") != std::string::npos);
+  CHECK(e.message.find("unknown body 'nothing'") != std::string::npos);
 
   e = error_of("tabel: {}\n");
-  CHECK(std::string(e.what()).find("unknown key 'tabel'") != std::string::npos);
+  CHECK(e.message.find("unknown key 'tabel'") != std::string::npos);
 
   e = error_of("base: [0, 0, .nan, 0, 0, 0]\n");
-  CHECK(std::string(e.what()).find("finite") != std::string::npos);
+  CHECK(e.message.find("finite") != std::string::npos);
 
   e = error_of("collision: {step_mm: 0}\n");
-  CHECK(std::string(e.what()).find("> 0") != std::string::npos);
+  CHECK(e.message.find("> 0") != std::string::npos);
 
   e = error_of("objects: [{name: a, box: [1, 1, 1]]\n");  // YAML syntax
   CHECK(e.line == 1);
 
   e = error_of("start: [0, -90, 90, 0, 0, 999]\n");
-  CHECK(std::string(e.what()).find("J6") != std::string::npos);
+  CHECK(e.message.find("J6") != std::string::npos);
 
   e = error_of("objects:\n  - {name: a}\n");
-  CHECK(std::string(e.what()).find("needs a shape") != std::string::npos);
+  CHECK(e.message.find("needs a shape") != std::string::npos);
 }
 
 TEST_CASE("robot: a URDF file relative to the cell file") {
-  const auto cell = cell::load_cell_file(std::string(ASIMOV_SOURCE_DIR) + "/programs/cells/generic6_cell.yaml");
+  const auto cell = load_cell_file(std::string(ASIMOV_SOURCE_DIR) + "/programs/cells/generic6_cell.yaml");
   CHECK(cell.robot.is_chain());
   CHECK(cell.robot.joint_count() == 6);
   CHECK(cell.objects.size() == 2);
@@ -127,20 +129,20 @@ TEST_CASE("robot: built-in Adept arms by name; a packaged URDF by package:// thr
   CHECK(demo.robot.name == "demo6");
   auto e = error_of("robot: package://asimov_demo_support/urdf/demo6.urdf\npackages: [nowhere]\n");
   CHECK(e.line == 2);
-  CHECK(std::string(e.what()).find("packages: no folder") != std::string::npos);
+  CHECK(e.message.find("packages: no folder") != std::string::npos);
   e = error_of("packages: {a: 1}\nrobot: x.urdf\n");
-  CHECK(std::string(e.what()).find("packages must be a folder or a list") != std::string::npos);
+  CHECK(e.message.find("packages must be a folder or a list") != std::string::npos);
   e = error_of("robot: package://no_such_pkg/urdf/a.urdf\n");
   CHECK(e.line == 1);
-  CHECK(std::string(e.what()).find("package 'no_such_pkg' not found") != std::string::npos);
+  CHECK(e.message.find("package 'no_such_pkg' not found") != std::string::npos);
 }
 
 TEST_CASE("robot: a missing or non-URDF robot is a cell error at the robot key") {
   auto e = error_of("objects: []\nrobot: nowhere/arm.urdf\n");
   CHECK(e.line == 2);
-  CHECK(std::string(e.what()).find("arm.urdf") != std::string::npos);
+  CHECK(e.message.find("arm.urdf") != std::string::npos);
   e = error_of("robot: [1, 2]\n");
-  CHECK(std::string(e.what()).find("built-in arm (puma560, viper_s650, cobra_s600), a .urdf or .xacro file or a package:// URI") != std::string::npos);
+  CHECK(e.message.find("built-in arm (puma560, viper_s650, cobra_s600), a .urdf or .xacro file or a package:// URI") != std::string::npos);
 }
 
 namespace {
@@ -190,17 +192,14 @@ TEST_CASE("mesh problems: an open mesh warns, a NaN or a missing file is an erro
   CHECK(cell.warnings.front().find("open.stl") != std::string::npos);
 
   const auto nan = write_stl("nan.stl", false, "nan");
-  try {
-    load_cell_text("objects:\n  - {name: n, mesh: nan.stl}\n", "c.yaml", nan.parent_path().string());
-    FAIL("a NaN coordinate was accepted");
-  } catch (const CellError& e) {
-    CHECK(e.line == 2);
-    CHECK(std::string(e.what()).find("nan.stl") != std::string::npos);
-  }
+  const auto rejected = cell::load_cell_text("objects:\n  - {name: n, mesh: nan.stl}\n", "c.yaml", nan.parent_path().string());
+  REQUIRE_FALSE(rejected.ok());  // a NaN coordinate
+  CHECK(rejected.error().line == 2);
+  CHECK(rejected.error().message.find("nan.stl") != std::string::npos);
   auto e = error_of("objects:\n  - {name: m, mesh: nowhere.stl}\n");
   CHECK(e.line == 2);
   e = error_of("collision: {halvings: sometimes}\n");
-  CHECK(std::string(e.what()).find("auto") != std::string::npos);
+  CHECK(e.message.find("auto") != std::string::npos);
 }
 
 TEST_CASE("collision keys: contact-time tolerance, generated pairs with a cache beside the cell file") {
@@ -214,13 +213,13 @@ TEST_CASE("collision keys: contact-time tolerance, generated pairs with a cache 
   const auto dir = std::filesystem::temp_directory_path() / "asimov-cell-tests";
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "gen.yaml") << "collision: {pairs: generated}\n";
-  cell = cell::load_cell_file((dir / "gen.yaml").string());
+  cell = load_cell_file((dir / "gen.yaml").string());
   CHECK(cell.collision.pairs_cache == (dir / "gen.yaml").string() + ".pairs");
 
   auto e = error_of("collision: {pairs: sometimes}\n");
-  CHECK(std::string(e.what()).find("joined or generated") != std::string::npos);
+  CHECK(e.message.find("joined or generated") != std::string::npos);
   e = error_of("collision: {toc_tolerance_s: 0}\n");
-  CHECK(std::string(e.what()).find("> 0") != std::string::npos);
+  CHECK(e.message.find("> 0") != std::string::npos);
 }
 
 TEST_CASE("collision.stepping: gap by default, fixed or gap, anything else is a cell error") {
@@ -229,6 +228,6 @@ TEST_CASE("collision.stepping: gap by default, fixed or gap, anything else is a 
   CHECK(load_cell_text("collision: {stepping: fixed}\n", "c.yaml").collision.stepping == motion::Stepping::fixed);
   CHECK(load_cell_text("collision: {stepping: gap}\n", "c.yaml").collision.stepping == motion::Stepping::gap);
   const auto e = error_of("collision: {stepping: adaptive}\n");
-  CHECK(std::string(e.what()).find("fixed or gap") != std::string::npos);
+  CHECK(e.message.find("fixed or gap") != std::string::npos);
   CHECK(e.line == 1);
 }

@@ -1,20 +1,19 @@
 // The workcell keys of a cell file (docs/cell-format.md "Parts and devices").
 #include "asimov/cell/cell_loader.hpp"
 
+#include "support/result.hpp"
+
 #include <catch2/catch.hpp>
 
 using namespace asimov;
-using cell::CellError;
-using cell::load_cell_text;
 
 namespace {
 std::string message(const std::string& yaml) {
-  try {
-    load_cell_text(yaml, "w.yaml");
-  } catch (const CellError& e) {
-    return e.format();
-  }
-  return "";
+  const auto cell = cell::load_cell_text(yaml, "w.yaml");
+  return cell ? std::string() : cell::format_cell_error(cell.error());
+}
+motion::Cell load_cell_text(const std::string& yaml, const std::string& name, const std::string& base = ".") {
+  return test::must(cell::load_cell_text(yaml, name, base));
 }
 }  // namespace
 

@@ -383,10 +383,10 @@ TEST_CASE("V+ constructs that load but are not simulated", "[evaluator][vplus]")
   CHECK(r.error.detail.rfind("ATTACH \"SERIAL:1\"; network and serial I/O are not simulated", 0) == 0);
   CHECK(r.error.step == 6);
   CHECK(f.out.str() == "still running\n");
-  REQUIRE(r.warnings.size() == 2);  // ACCEL once, SELECT; the robot's ATTACH () is simulated (§7b)
-  CHECK(r.warnings[0].detail == "ACCEL");
+  REQUIRE(r.warnings.size() == 1);  // SELECT; ACCEL (docs/blending.md) and the robot's ATTACH () (§7b) are simulated
+  CHECK(r.warnings[0].detail == "SELECT");
   CHECK(r.warnings[0].warning);
-  CHECK(r.warnings[0].step == 1);
+  CHECK(r.warnings[0].step == 3);
   InterpreterFixture g;
   r = g.run(".PROGRAM main()\n  read = 2\n  TYPE read\n.END\n");  // not followed by "=": a name
   CHECK(r.status == RunStatus::completed);

@@ -134,3 +134,101 @@ TEST_CASE("the trace holds the carried part's pose; a grasp and a release leave 
   CHECK(cell_state->clock().parts()[0].holder == motion::Holder::world);
   CHECK(cell_state->clock().part_pose(0).translation().isApprox(collision::Vec3(500, 200, -390), 1e-9));
 }
+
+namespace {
+// Continuous path with a part in the gripper (docs/blending.md): the plate, lifted 150 mm, is
+// carried along +Y over where the post was and then down; the corner at (500, 60, -240) is
+// rounded. A small peg sits inside that corner: 3 mm below and beside the sharp corner's swept
+// plate (y 27..37 against the plate's edge at y 40 on the way down, z -263..-253 against its
+// underside at -250 on the way across), where the rounded corner (at SPEED 100 the plate's
+// centre passes about 15 mm inside the corner in y and in z) cuts. At x 610..630 it is under
+// the plate's end only: the gripper (x 475..525) sweeps down beside it.
+constexpr const char* kCorner =
+    ".PROGRAM main()\n"
+    "  SPEED 50 ALWAYS\n"
+    "  SET down = TRANS(0, 0, 0, 0, 180, 0)\n"
+    "  SET pick = TRANS(500, -200, -390):down\n"
+    "  APPRO pick, 100\n"
+    "  MOVES pick\n"
+    "  CLOSEI\n"
+    "  DEPARTS 150\n"
+    "  SPEED 100 ALWAYS\n"
+    "  MOVES TRANS(500, 60, -240):down\n"
+    "%"
+    "  MOVES TRANS(500, 60, -360):down\n"
+    ".END\n";
+
+motion::Cell peg_cell(bool with_plate, double step_mm = 1.0) {
+  motion::Cell cell = plate_cell(with_plate);
+  cell.objects.pop_back();  // no post
+  cell.objects.push_back({"peg", collision::make_box({20, 10, 10}), at(620, 32, -258)});
+  cell.collision.step_mm = step_mm;
+  return cell;
+}
+
+std::string corner_program(const char* between) {
+  std::string p = kCorner;
+  p.replace(p.find('%'), 1, between);
+  return p;
+}
+}  // namespace
+
+TEST_CASE("blending: the carried part is checked along the rounded corner, not the sharp one", "[blend]") {
+  SECTION("blended: the plate cuts the corner into the peg, inside the overlap") {
+    Run r(peg_cell(true));
+    const auto res = r.run(corner_program(""));
+    REQUIRE(res.status == interpreter::RunStatus::collision);
+    CHECK(res.collision.body_a == "peg");
+    CHECK(res.collision.body_b == "carried part:plate");
+    CHECK(res.line == 11);  // the overlap is walked with the motion that blends in: the second MOVES
+    REQUIRE(res.motion_times.size() == 5);
+    const interpreter::MotionTime &across = res.motion_times[3], &down = res.motion_times[4];
+    CHECK(down.blended);
+    CHECK(res.collision.time_s > down.start_s);
+    CHECK(res.collision.time_s < across.start_s + across.duration_s);
+    // The plate's underside (z <= -253 there) against the peg's top, or its edge against the peg's side.
+    CHECK(res.collision.point.z() <= -253 + 0.01);
+    CHECK(res.collision.point.y() <= 37 + 0.01);
+  }
+  SECTION("stopped at the corner (BREAK) the plate passes the peg") {
+    Run r(peg_cell(true));
+    const auto res = r.run(corner_program("  BREAK\n"));
+    CHECK(res.status == interpreter::RunStatus::completed);
+  }
+  SECTION("without the plate the arm and the gripper pass the peg on the rounded corner") {
+    Run r(peg_cell(false));
+    const auto res = r.run(corner_program(""));
+    CHECK(res.status == interpreter::RunStatus::completed);
+  }
+  SECTION("with a coarse step continuous checking still finds it on the overlap") {
+    Run r(peg_cell(true, 100.0));
+    const auto res = r.run(corner_program(""));
+    REQUIRE(res.status == interpreter::RunStatus::collision);
+    CHECK(res.collision.body_a == "peg");
+    CHECK(res.collision.body_b == "carried part:plate");
+  }
+}
+
+TEST_CASE("blending: a deferred CLOSE with a part to grasp stops the arm first", "[blend]") {
+  motion::Cell cell = plate_cell(true);
+  cell.objects.pop_back();
+  Run r(std::move(cell));
+  const auto res = r.run(".PROGRAM main()\n"
+                         "  SET down = TRANS(0, 0, 0, 0, 180, 0)\n"
+                         "  SET pick = TRANS(500, -200, -390):down\n"
+                         "  APPRO pick, 100\n"
+                         "  MOVES pick\n"
+                         "  CLOSE\n"
+                         "  DEPARTS 30\n"
+                         "  MOVES TRANS(500, 0, -360):down\n"
+                         ".END\n");
+  REQUIRE(res.status == interpreter::RunStatus::completed);
+  REQUIRE(res.motion_times.size() == 4);
+  CHECK(res.motion_times[1].blended);         // MOVES pick into APPRO: no hand change between
+  CHECK_FALSE(res.motion_times[2].blended);   // the grasp at pick: DEPARTS starts at rest
+  CHECK(res.motion_times[2].start_s == Approx(res.motion_times[1].start_s + res.motion_times[1].duration_s));
+  CHECK(res.motion_times[3].blended);         // carrying the plate, DEPARTS and MOVES blend again
+  const auto* cell_state = r.interp.cell_state();
+  REQUIRE(cell_state);
+  CHECK(cell_state->clock().parts()[0].holder == motion::Holder::carried);
+}

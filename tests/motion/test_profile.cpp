@@ -116,3 +116,34 @@ TEST_CASE("profile: path acceleration: the ratio scales as 1/k^2 and fitting bri
   CHECK(path_acceleration_ratio(ps, path, accel) <= 1 + 1e-9);
   CHECK(fit_path_acceleration(ps, path, accel).duration == ps.duration);
 }
+
+TEST_CASE("profile: ACCEL ramps scale the acceleration and the deceleration separately", "[profile]") {
+  // D = 100, V = 100, A = 100: U = W = 1. Ramps 50 % / 100 %: k = 1.5 > U^2, so a triangle with
+  // x = sqrt(1.5), y = W / (0.5 x), yd = W / x; T = x + (y + yd) / 2.
+  const ProfileAxis axis{100, 100, 100};
+  const Profile p = plan_profile(std::span(&axis, 1), 0, {0.5, 1});
+  CHECK(p.x == Approx(std::sqrt(1.5)));
+  CHECK(p.y == Approx(1 / (0.5 * std::sqrt(1.5))));
+  CHECK(p.yd == Approx(1 / std::sqrt(1.5)));
+  CHECK(p.duration == Approx(p.x + (p.y + p.yd) / 2));
+  CHECK(axis.distance / (p.x * p.y) == Approx(50));   // peak acceleration: 50 % of A
+  CHECK(axis.distance / (p.x * p.yd) == Approx(100)); // peak deceleration: all of A
+  CHECK(axis.distance / p.x <= axis.velocity * (1 + 1e-12));
+  // sigma is continuous and monotone, time_at its inverse, also across both ramp ends.
+  double prev = 0;
+  for (int i = 1; i <= 1000; ++i) {
+    const double t = p.duration * i / 1000, s = p.sigma(t);
+    CHECK(s >= prev);
+    CHECK(s - prev < 0.01);
+    CHECK(p.time_at(s) == Approx(t).margin(1e-9));
+    prev = s;
+  }
+  CHECK(p.sigma(p.duration) == 1);
+  // 100 %, 100 %: the symmetric trapezoid exactly.
+  const Profile q = plan_profile(std::span(&axis, 1), 0, {1, 1});
+  const Profile r = plan_profile(std::span(&axis, 1));
+  CHECK(q.x == r.x);
+  CHECK(q.y == r.y);
+  CHECK(q.yd == r.y);
+  CHECK(q.duration == r.duration);
+}

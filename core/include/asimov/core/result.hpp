@@ -16,6 +16,7 @@ struct Error {
   std::string detail;   // short detail after the message, may be empty
   std::string file;     // the file at fault, when there is one
   int line = 0;         // 1-based line in `file`, 0 if unknown
+  int column = 0;       // 1-based column in `line`, 0 if unknown
 };
 
 // A value or the Error that prevented it: a small std::expected (C++23) for C++20.

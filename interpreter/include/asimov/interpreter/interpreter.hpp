@@ -64,6 +64,18 @@ const MotionStep* motion_at_step(const std::vector<MotionStep>& motions, int ste
 // report_within_mm.
 std::string format_closest(const motion::Simulator& sim, const std::vector<MotionStep>& motions);
 
+// A motion the run started, on the simulated clock (the report's per-motion durations): its
+// start and planned duration; blended: it started while the previous motion was still
+// decelerating (continuous path, docs/blending.md).
+struct MotionTime {
+  int step = 0;
+  std::string program;
+  double start_s = 0;
+  double duration_s = 0;
+  bool blended = false;
+};
+constexpr std::size_t kMaxMotionTimes = 10000;  // per run; later motions are counted, not listed
+
 // How a run ended. error: a VAL error stopped it; interrupted: Ctrl-C (Limits::interrupt)
 // stopped it between two steps or inside a motion (*Program interrupted*); paused: PAUSE
 // (PROCEED continues with the next step); halted: HALT (cannot be resumed).
@@ -81,6 +93,8 @@ struct RunResult {
   std::optional<motion::InterruptReport> interrupt;
   std::vector<Diagnostic> warnings;   // V+ constructs ignored with a warning (dialect §7), once each
   std::vector<MotionStep> motions;    // the motion instructions started, once each, in first-run order
+  std::vector<MotionTime> motion_times;   // every motion started, in order (at most kMaxMotionTimes)
+  std::uint64_t motion_times_omitted = 0; // motions started beyond kMaxMotionTimes
   std::vector<TaskReport> tasks;      // every task when the run EXECUTEd others (dialect §7b); else empty
 };
 

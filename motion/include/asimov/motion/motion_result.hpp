@@ -42,6 +42,16 @@ struct InterruptReport {
   int step = 0;               // program step of the motion instruction
 };
 
+// When a motion runs on the simulated clock (the report's per-motion durations): start and
+// planned duration; blended: it started before the previous motion had stopped (continuous
+// path, docs/blending.md), overlapping it from start_s.
+struct MotionTiming {
+  int step = 0;
+  double start_s = 0;
+  double duration_s = 0;
+  bool blended = false;
+};
+
 struct MotionResult {
   MotionStatus status = MotionStatus::ok;
   MotionError error;            // when status == error

@@ -1,5 +1,6 @@
 // Synchronised minimum-time trapezoid (docs/kinematics.md §8): every axis follows q0 + sigma(t) * D_i
-// with one normalised profile sigma(t), so all axes start and stop together.
+// with one normalised profile sigma(t), so all axes start and stop together. ACCEL scales the
+// acceleration and the deceleration ramps separately (fractions a, d of each axis's A_i).
 #pragma once
 #include <span>
 
@@ -12,17 +13,25 @@ struct ProfileAxis {
 };
 
 struct Profile {
-  double x = 0;         // cruise end [s] (x = U, or sqrt(W) when triangular), after stretching
-  double y = 0;         // blend time [s]
-  double duration = 0;  // T = x + y [s]; 0 for a null motion
+  double x = 0;         // 1 / peak of sigma' [s] (x = U, or sqrt(k W) when triangular), after stretching
+  double y = 0;         // acceleration time [s]
+  double yd = 0;        // deceleration time [s] (= y unless ACCEL gives them different percentages)
+  double duration = 0;  // T = x + (y + yd) / 2 [s]; 0 for a null motion
 
   double sigma(double t) const;    // normalised position in [0, 1], monotone in t
   double time_at(double s) const;  // inverse of sigma on [0, 1]
 };
 
+// ACCEL: the fractions (0, 1] of every axis's acceleration used to speed up and to slow down.
+struct Ramps {
+  double accel = 1;
+  double decel = 1;
+};
+
 // Minimum-time profile over the axes, stretched uniformly in time to last at least
-// `min_duration` seconds (DURATION; 0 = off).
-Profile plan_profile(std::span<const ProfileAxis> axes, double min_duration = 0);
+// `min_duration` seconds (DURATION; 0 = off). With ramps a, d: k = (1/a + 1/d) / 2,
+// x = max(U, sqrt(k W)), y = W / (a x), yd = W / (d x) (a = d = 1: the symmetric trapezoid).
+Profile plan_profile(std::span<const ProfileAxis> axes, double min_duration = 0, Ramps ramps = {});
 
 // `p` stretched uniformly in time by k >= 1 (velocities / k, accelerations / k^2).
 Profile stretched(const Profile& p, double k);

@@ -5,7 +5,11 @@
 //
 // Forward processing (dialect §5): start_*() validates and plans a motion and returns at once;
 // the motion is carried out (clock advances, poses are checked) by finish_motion(), which the
-// interpreter calls before the next motion, at BREAK and at program end.
+// interpreter calls at BREAK, WAIT, the immediate hand instructions and program end, and by the
+// next start_*(). With continuous path on (settings().continuous_path, docs/blending.md) the next
+// start_*() blends: it plans the new motion from the pending one's target, carries the pending
+// one out only up to where the new one starts (its deceleration and the new acceleration
+// overlap), and the new one, overlap included, becomes the pending motion.
 //
 // Interruption (Ctrl-C): finish_motion polls an optional flag (set_interrupt) before each
 // checked pose; when it is set the arm stops at the last checked pose, the clock at that pose's
@@ -42,6 +46,9 @@ struct ArmSettings {
   Location base = Location::Identity();
   Location tool = Location::Identity();
   robots::ConfigurationRequest request;
+  // Continuous path (off by default here; the interpreter follows ENABLE / DISABLE CP, on by
+  // default as on the controller): a motion started while another is pending blends with it.
+  bool continuous_path = false;
 };
 
 class Simulator {
@@ -69,6 +76,12 @@ class Simulator {
   MotionResult start_joint_move(const robots::JointVector& target_display, SpeedSettings speed, int step);
   MotionResult start_move(const Location& target, bool straight, SpeedSettings speed, int step);
   MotionResult finish_motion();  // carries out the pending motion, if any
+  // Where the arm will be when the pending motion ends (the arm's joints / HERE when none):
+  // what relative motions (DEPART, DRAW, ALIGN, DRIVE) start from while one is pending.
+  const robots::JointVector& planned_joints() const;
+  Location planned_here() const;
+  // The pending motion's place on the clock (nullopt: none pending).
+  std::optional<MotionTiming> pending_timing() const;
 
   // Interruption. `flag` (null: none) is read (relaxed) before each checked pose of
   // finish_motion; when it is true the motion stops there (status interrupted). The caller owns

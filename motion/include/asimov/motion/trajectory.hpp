@@ -1,14 +1,16 @@
-// A planned motion as plain data: what the planner hands the walker. One segment today (a
-// joint move straight in joint space, or a straight line of the tool point), its speed profile
-// and where it starts on the simulated clock; the exact path at any time t (path_joints).
-//
-// Blending (#16) makes this a list of overlapping segments; the walker only needs the exact
-// path, the checked-pose grid and the stepping bounds from it (motion/README.md, extensions).
+// A planned motion as plain data: what the planner hands the walker. Its segment (a joint move
+// straight in joint space, or a straight line of the tool point), its speed profile and where
+// it starts on the simulated clock; with continuous path (docs/blending.md) also the motion it
+// blends out of (`previous`), which it overlaps from t0 until that one's end. The walker needs
+// only the exact path at time t (path_at) and a bound on the joint travel over an interval
+// (joint_travel), plus each segment's own checked-pose grid outside the overlap.
 #pragma once
 #include "asimov/motion/interpolation.hpp"
 #include "asimov/motion/profile.hpp"
 #include "asimov/motion/sampler.hpp"
 #include "asimov/robots/configuration.hpp"
+
+#include <memory>
 
 namespace asimov::motion {
 
@@ -17,6 +19,8 @@ struct SpeedSettings {
   double program = 100;  // program speed for this motion [%]
   double rotation = -1;  // program speed of straight-line rotation [%]; < 0: same as program
   double duration_s = 0; // DURATION: minimum motion time [s]; 0 = off
+  double accel = 100;    // ACCEL: acceleration [% of the robot's], (0, 100]
+  double decel = 100;    // ACCEL: deceleration [%]
 };
 
 enum class PathKind { joint, line };
@@ -35,9 +39,34 @@ struct Trajectory {
   double t0 = 0;                  // start on the simulated clock [s]
   int step = 0;                    // program step of the motion instruction
   Location target;                // DEST: the location the motion goes to
+  // Continuous path: the motion this one blends out of, still decelerating on
+  // [t0, previous->end_time()] (null: this motion starts at rest). Its own `previous` is
+  // dropped: at most two motions overlap at any instant (docs/blending.md).
+  std::shared_ptr<const Trajectory> previous;
 
   double end_time() const { return t0 + profile.duration; }
+  // End of the overlap with `previous` (t0 when there is none).
+  double blend_end() const { return previous ? previous->end_time() : t0; }
 };
+
+// Index of the last line sample at or before sigma (never the last of two or more samples).
+std::size_t sample_before(const std::vector<LineSample>& samples, double sigma);
+
+// One segment's joints at time t in joint space, as the overlap superposes them: joint moves
+// q(sigma); straight lines the joints interpolated between the solved samples around sigma.
+robots::JointVector segment_joints_at(const Trajectory& tr, double t);
+
+// Per joint, a bound on how far the segment's joint moves over [t1, t2] (its total variation):
+// |q(sigma2) - q(sigma1)| for joint moves, the sum over the samples crossed for straight lines.
+robots::JointVector segment_travel(const Trajectory& tr, double t1, double t2);
+
+// The blended path in the overlap t in [t0, blend_end()]: the displacements add,
+// q(t) = Q_prev(t) + Q(t) - q_C with q_C = previous->to, where both were to meet.
+robots::JointVector blended_joints_at(const Trajectory& tr, double t);
+
+// Per joint, a bound on the travel of the blended path over [t1, t2] inside the overlap: the
+// sum of both segments' travel (each joint's displacement is the sum of both).
+robots::JointVector blended_travel(const Trajectory& tr, double t1, double t2);
 
 // Joint moves: the joints at time t, q(sigma(t - t0)).
 robots::JointVector joint_path_at(const Trajectory& tr, double t);

@@ -33,6 +33,7 @@ struct Stretch {
   double sigma_from = 0, sigma_to = 0;  // path parameters
   std::size_t sample_from = 0, sample_to = 0;  // lines: indices into trajectory.line.samples
   double bound_mm = 0;                  // §6.3 bound on any body point's displacement over it
+  bool blended = false;                 // inside the overlap with the previous motion (blended_joints_at)
 };
 
 enum class QueryKind : std::uint8_t {

@@ -10,6 +10,7 @@
 #include "asimov/motion/world.hpp"
 
 #include <atomic>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -41,10 +42,12 @@ class Walker {
   // Read (relaxed) before each checked pose; when true the walk stops there (interrupted).
   void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
 
-  // Carries `tr` out from `state` (its joints must be tr.from). ok: the arm at tr.to, the clock
-  // at tr.end_time(). collision: the arm at the last free pose, the clock at the contact time.
-  // interrupted: the arm and clock at the last checked pose.
-  MotionResult walk(const Trajectory& tr, WalkState& state);
+  // Carries `tr` out from `state` (its joints and time: the path at state.time_s, which is
+  // tr.t0, or inside the motion when a walk up to `until_s` left it there). ok: the arm at
+  // tr.to, the clock at tr.end_time(); or, when until_s is earlier (the next motion blends in
+  // there, docs/blending.md), both on the path at until_s. collision: the arm at the last free
+  // pose, the clock at the contact time. interrupted: the arm and clock at the last checked pose.
+  MotionResult walk(const Trajectory& tr, WalkState& state, double until_s = std::numeric_limits<double>::infinity());
 
  private:
   struct Walk;
