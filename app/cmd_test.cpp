@@ -281,11 +281,23 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
     return kExitUsage;
   }
 
+  // The scratch folder goes on every way out of here: a return, an exception (the workers are
+  // stopped and joined first), Ctrl-C, SIGTERM / SIGHUP. Only SIGKILL leaves it.
+  struct RemoveFolder {
+    fs::path dir;
+    ~RemoveFolder() {
+      std::error_code ignored;
+      fs::remove_all(dir, ignored);
+    }
+  } remove_scratch{scratch};
+
   // Ctrl-C: running cases are killed, no new one starts, the scratch folder is removed and the
-  // command exits 130 after the lines of the cases that finished.
+  // command exits 130 after the lines of the cases that finished. SIGTERM and SIGHUP stop it the
+  // same way, then end it by that signal.
   std::atomic<bool>& interrupted = sigint_flag();
   interrupted.store(false);
   install_sigint(false);
+  install_termination();
 
   // Cases run on `jobs` threads, each waiting for its own `asimov run` process; lines are
   // printed in case order as soon as every earlier case is done.
@@ -302,7 +314,12 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
         if (next == cases.size() || interrupted.load()) return;
         i = next++;
       }
-      Outcome o = run_one(cases[i], opt, executable, scratch, i, interrupted);
+      Outcome o;
+      try {
+        o = run_one(cases[i], opt, executable, scratch, i, interrupted);
+      } catch (const std::exception& e) {  // a failed case, not a std::terminate of the whole run
+        o.diffs.push_back(fmt::format("*Internal error*  {}", e.what()));
+      }
       std::lock_guard lock(mutex);
       outcomes[i] = std::move(o);
       done[i] = true;
@@ -311,6 +328,16 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
   };
   const int jobs = std::clamp<int>(opt.jobs, 1, static_cast<int>(cases.size()));
   std::vector<std::thread> workers;
+  struct JoinWorkers {  // on an exception below: stop them, then join (a joinable thread terminates)
+    std::vector<std::thread>& workers;
+    std::atomic<bool>& stop;
+    ~JoinWorkers() {
+      for (auto& w : workers)
+        if (w.joinable()) stop.store(true);
+      for (auto& w : workers)
+        if (w.joinable()) w.join();
+    }
+  } join_workers{workers, interrupted};
   for (int j = 0; j < jobs; ++j) workers.emplace_back(worker);
 
   std::size_t width = 0, failed = 0, reported = 0;
@@ -345,8 +372,11 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
   if (interrupted.load()) {
     out << fmt::format("Interrupted: {} of {} case{} run, {} failed\n", reported, cases.size(),
                        cases.size() == 1 ? "" : "s", failed);
+    out.flush();
+    reraise_termination();  // ends the process if SIGTERM / SIGHUP stopped it
     return kExitInterrupted;
   }
+  reraise_termination();
 
   const double total_s = std::chrono::duration<double>(Clock::now() - start).count();
   out << fmt::format("{} passed, {} failed, {} case{} in {:.2f} s\n", cases.size() - failed, failed, cases.size(),

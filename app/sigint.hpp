@@ -14,4 +14,11 @@ std::atomic<bool>& sigint_flag();
 // batch run that does not reach its next check can still be killed).
 void install_sigint(bool once);
 
+// SIGTERM and SIGHUP handled as Ctrl-C (the flag above) by a command that must clean up before
+// it ends (`asimov test`'s scratch folder); the command then calls reraise_termination(), which
+// restores the default actions and, if one came, ends the process by that signal, as the sender
+// expects.
+void install_termination();
+void reraise_termination();
+
 }  // namespace asimov::app

@@ -5,8 +5,10 @@
 #include "asimov/collision/mesh_io.hpp"
 #include "asimov/collision/engine.hpp"
 #include "asimov/collision/text_file.hpp"
+#include "asimov/motion/scene.hpp"
 #include "asimov/robots/builtin.hpp"
 #include "asimov/robots/puma560.hpp"
+#include "asimov/robots/srdf.hpp"
 #include "asimov/robots/urdf_loader.hpp"
 
 #include <fmt/format.h>
@@ -170,31 +172,50 @@ class Reader : public Fields {
   // `packages`: folders (relative to the cell file) searched for package://NAME before
   // ROS_PACKAGE_PATH; a package is the folder whose package.xml names it.
   // `xacro_args`: {NAME: value} for $(arg NAME) of a .xacro description.
-  robots::Robot robot(const YAML::Node& node, const YAML::Node& packages, const YAML::Node& xacro_args) const {
-    if (!node) return robots::puma560();
-    const std::string usage = fmt::format("a built-in arm ({}), a .urdf or .xacro file or a package:// URI", robots::builtin_robot_names());
-    if (!node.IsScalar()) fail(node, "robot must be " + usage);
-    const auto name = node.Scalar();
-    if (auto builtin = robots::builtin_robot(name)) return std::move(*builtin);
+  std::vector<std::filesystem::path> package_roots(const YAML::Node& packages) const {
     std::vector<std::filesystem::path> roots;
-    if (packages) {
-      if (packages.IsScalar()) {
-        roots.push_back((base_dir_ / packages.Scalar()).lexically_normal());
-      } else {
-        if (!packages.IsSequence()) fail(packages, "packages must be a folder or a list of folders");
-        for (const auto& p : packages) {
-          if (!p.IsScalar()) fail(p, "packages entries are folder names");
-          roots.push_back((base_dir_ / p.Scalar()).lexically_normal());
-        }
-      }
-      for (std::size_t i = 0; i < roots.size(); ++i) {
-        std::error_code ec;
-        if (!std::filesystem::is_directory(roots[i], ec))
-          fail(packages.IsScalar() ? packages : packages[i], fmt::format("packages: no folder {}", roots[i].string()));
+    if (!packages) return roots;
+    if (packages.IsScalar()) {
+      roots.push_back((base_dir_ / packages.Scalar()).lexically_normal());
+    } else {
+      if (!packages.IsSequence()) fail(packages, "packages must be a folder or a list of folders");
+      for (const auto& p : packages) {
+        if (!p.IsScalar()) fail(p, "packages entries are folder names");
+        roots.push_back((base_dir_ / p.Scalar()).lexically_normal());
       }
     }
+    for (std::size_t i = 0; i < roots.size(); ++i) {
+      std::error_code ec;
+      if (!std::filesystem::is_directory(roots[i], ec))
+        fail(packages.IsScalar() ? packages : packages[i], fmt::format("packages: no folder {}", roots[i].string()));
+    }
+    return roots;
+  }
+
+  // `srdf: FILE` (relative to the cell, package:// or file://): read, structure checked.
+  std::optional<robots::Srdf> srdf(const YAML::Node& node, const robots::PackagePath& packages) const {
+    if (!node) return std::nullopt;
+    if (!node.IsScalar()) fail(node, "srdf must be a file name or a package:// URI");
+    std::string error;
+    const auto path = robots::resolve_uri(node.Scalar(), base_dir_, packages, error);
+    if (!error.empty()) fail(node, "srdf: " + error);
+    auto s = robots::load_srdf(path.string());
+    if (!s) fail(node, fmt::format("srdf: {}", s.error().message));
+    return std::move(*s);
+  }
+
+  robots::Robot robot(const YAML::Node& node, const robots::PackagePath& packages, const YAML::Node& xacro_args,
+                      const YAML::Node& tip, const std::string& srdf_tip) const {
+    const std::string usage = fmt::format("a built-in arm ({}), a .urdf or .xacro file or a package:// URI", robots::builtin_robot_names());
+    if (node && !node.IsScalar()) fail(node, "robot must be " + usage);
+    const auto name = node ? node.Scalar() : std::string("puma560");
+    if (auto builtin = robots::builtin_robot(name)) {
+      if (tip) fail(tip, "tip: names a link of a URDF description; a built-in arm has its own");
+      return std::move(*builtin);
+    }
     robots::UrdfOptions options;
-    options.packages = robots::PackagePath::with_environment(std::move(roots));
+    options.packages = packages;
+    options.tip = tip ? text(tip, "tip") : srdf_tip;
     if (xacro_args) {
       if (!xacro_args.IsMap()) fail(xacro_args, "xacro_args must be a map {name: value}");
       for (const auto& kv : xacro_args) {
@@ -207,7 +228,8 @@ class Reader : public Fields {
     if (!error.empty()) fail(node, "robot: " + error);
     if (path.extension() != ".urdf" && path.extension() != ".xacro") fail(node, fmt::format("unknown robot '{}' ({})", name, usage));
     auto robot = robots::load_urdf(path.string(), options);
-    if (!robot) fail(node, fmt::format("robot: {}", robot.error().message));
+    if (!robot) fail(tip && robot.error().message.find("tip: ") != std::string::npos ? tip : node,
+                     fmt::format("robot: {}", robot.error().message));
     return std::move(*robot);
   }
 
@@ -215,9 +237,10 @@ class Reader : public Fields {
   // 1e-16 of their size: at 1e18 mm a whole link rounds away) and overflow its products near
   // 1e150 mm (an arm inside a 1e150 mm box went unseen): a cell error (docs/stiff-cases.md).
   static constexpr double kMaxCoordinateMm = 1e9;
-  // Objects in one cell (docs/limits.md): far above a real cell; loading and the pair set-up
-  // of 20,000 take about a second, and the engine's participation matrix is n^2 bits (50 MB).
-  static constexpr std::size_t kMaxObjects = 20000;
+  // Objects in one cell (docs/limits.md): far above a real cell (hundreds). The pair set-up is
+  // linear (static objects pair only with the bodies that move, the matrix is sparse); what
+  // bounds it is the memory of the objects' meshes and pairs, and the YAML parse.
+  static constexpr std::size_t kMaxObjects = 100000;
   void within_extent(const YAML::Node& node, const collision::Polyhedron& mesh, const collision::Pose& pose,
                      const std::string& what) const {
     double far = pose.translation().cwiseAbs().maxCoeff();
@@ -229,12 +252,15 @@ class Reader : public Fields {
 
   motion::Cell cell(const YAML::Node& root) const {
     if (!root.IsMap()) fail(root, "a cell file is a YAML map (see docs/cell-format.md)");
-    expect_keys(root, {"robot", "packages", "xacro_args", "base", "tool", "tool_shape", "objects", "collision", "start", "parts",
+    expect_keys(root, {"robot", "packages", "xacro_args", "srdf", "tip", "base", "tool", "tool_shape", "objects", "collision", "start", "parts",
                        "gripper", "devices", "logic"},
                 "the cell");
     motion::Cell cell;
-    cell.robot = robot(root["robot"], root["packages"], root["xacro_args"]);
+    const robots::PackagePath packages = robots::PackagePath::with_environment(package_roots(root["packages"]));
+    const std::optional<robots::Srdf> semantic = srdf(root["srdf"], packages);
+    cell.robot = robot(root["robot"], packages, root["xacro_args"], root["tip"], semantic ? robots::srdf_tip(*semantic) : "");
     cell.warnings = cell.robot.warnings;  // URDF mesh notes, already prefixed with urdf:line
+    if (semantic) use_srdf(root["srdf"], *semantic, cell);
     cell.base = pose(root["base"], "base");
     within_extent(root["base"], {}, cell.base, "base");
     cell.tool = pose(root["tool"], "tool");
@@ -339,7 +365,37 @@ class Reader : public Fields {
         }
       }
     }
+    if (cell.collision.enabled) disable_start_contacts(cell);
     return cell;
+  }
+
+  // The SRDF's link names must be the robot's; its disabled pairs of bodies go to the pair
+  // matrix (source SRDF); its groups and end effectors are reported as a note.
+  void use_srdf(const YAML::Node& node, const robots::Srdf& s, motion::Cell& cell) const {
+    std::vector<std::string> bodies;
+    for (const auto& b : cell.robot.bodies) bodies.push_back(b.name);
+    if (auto ok = robots::check_srdf_links(s, cell.robot.links.empty() ? bodies : cell.robot.links); !ok)
+      fail(node, fmt::format("srdf: {}", ok.error().message));
+    cell.collision.srdf_disabled = robots::srdf_disabled_pairs(s, bodies);
+    for (const auto& w : s.warnings) cell.warnings.push_back(w);
+    cell.notes.push_back(fmt::format("{}: {}; {} body pairs disabled (SRDF)", s.file, robots::describe_srdf(s),
+                                     cell.collision.srdf_disabled.size()));
+  }
+
+  // The default pair policy (docs/cell-format.md "Pair selection"): the robot's own bodies that
+  // touch at the start joints are not tested (source DEFAULT), with one warning naming them, so
+  // no arm collides with itself at t = 0. A clearance that only warns does not count.
+  static void disable_start_contacts(motion::Cell& cell) {
+    const motion::Scene scene = motion::scene_bodies(cell);
+    const double clearance = cell.collision.on_clearance == motion::OnClearance::halt ? cell.collision.clearance_mm : 0;
+    std::string list;
+    for (const collision::BodyPair& p : motion::start_contacts(cell, scene, clearance)) {
+      const std::string &a = scene.bodies[p.a].name, &b = scene.bodies[p.b].name;
+      cell.collision.start_contacts.emplace_back(a, b);
+      list += (list.empty() ? "" : ", ") + a + " / " + b;
+    }
+    if (!list.empty())
+      cell.warnings.push_back(fmt::format("the robot touches itself at the start joints; not tested (DEFAULT): {}", list));
   }
 
  private:
@@ -479,6 +535,7 @@ std::optional<motion::Cell> load_cell_for_command(const std::string& path, std::
     return std::nullopt;
   }
   for (const auto& w : cell->warnings) err << "Warning: " << w << '\n';
+  for (const auto& n : cell->notes) err << "Note: " << n << '\n';
   return std::move(cell).value();
 }
 

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace asimov::cell {
@@ -94,8 +95,33 @@ void parts(const Fields& f, const YAML::Node& list, motion::Cell& cell, std::set
   }
 }
 
+// gripper.fingers: {JOINT: [closed, open]} (display mm, or deg for a revolute follower's
+// leader): the travel of the robot's fingers instead of their limits (CLOSE = lower, OPEN =
+// upper); followers follow.
+void fingers(const Fields& f, const YAML::Node& node, motion::Cell& cell) {
+  if (!node.IsMap()) f.fail(node, "gripper.fingers must be a map {finger_joint: [closed, open]}");
+  auto& hand = cell.robot.hand;
+  std::string known;
+  for (const auto& h : hand)
+    if (h.leader < 0) known += (known.empty() ? "" : ", ") + h.name;
+  for (const auto& kv : node) {
+    const std::string name = f.text(kv.first, "a finger joint in gripper.fingers");
+    const auto it = std::find_if(hand.begin(), hand.end(), [&](const robots::HandJoint& h) { return h.name == name && h.leader < 0; });
+    if (it == hand.end())
+      f.fail(kv.first, fmt::format("gripper.fingers: '{}' is no finger of the robot (fingers: {})", name, known.empty() ? "none" : known));
+    const auto v = f.numbers(kv.second, 2, "gripper.fingers." + name + " ([closed, open])");
+    for (const double x : v)
+      if (!(x >= it->lower && x <= it->upper))
+        f.fail(kv.second, fmt::format("gripper.fingers.{}: {} is outside the joint's limits [{}, {}]", name, x, it->lower, it->upper));
+    it->closed = v[0], it->open = v[1];
+  }
+  robots::update_hand_followers(cell.robot);
+}
+
 void gripper(const Fields& f, const YAML::Node& g, motion::Cell& cell) {
-  f.expect_keys(g, {"zone", "close_on_air"}, "gripper");
+  f.expect_keys(g, {"zone", "close_on_air", "fingers"}, "gripper");
+  if (const auto fs = g["fingers"]) fingers(f, fs, cell);
+  if (g["fingers"] && !g["zone"] && !g["close_on_air"]) return;  // finger travel only: no grasping
   auto& out = cell.workcell.gripper;
   out.declared = true;
   if (!g["zone"]) f.fail(g, "gripper needs zone: {box: [sx, sy, sz], at: [x, y, z, o, a, t]} (flange frame)");

@@ -13,7 +13,7 @@
 namespace asimov::collision {
 namespace {
 
-constexpr const char* kReasonNames[] = {"ENABLED", "RIGID", "ADJACENT", "DEFAULT", "ALWAYS", "NEVER", "USER_IGNORE", "USER_CHECK"};
+constexpr const char* kReasonNames[] = {"ENABLED", "RIGID", "ADJACENT", "DEFAULT", "ALWAYS", "NEVER", "USER_IGNORE", "USER_CHECK", "SRDF"};
 static_assert(std::size(kReasonNames) == kPairReasonCount);
 
 struct Fnv {
@@ -77,6 +77,7 @@ std::uint64_t content_key(const AutoPairsInput& in) {
     f.value(i < in.sampled.size() && in.sampled[i]);
   }
   f.pairs(in.adjacent);
+  f.pairs(in.srdf);
   f.pairs(in.user_ignore);
   f.pairs(in.user_check);
   f.text(in.pose_source);
@@ -103,6 +104,8 @@ AutoPairs generate_pairs(const AutoPairsInput& in) {
         e.reason = PairReason::rigid;
       else if (contains(in.adjacent, a, b))
         e.reason = PairReason::adjacent;
+      else if (contains(in.srdf, a, b))
+        e.reason = PairReason::srdf;
       out.entries.push_back(e);
     }
 

@@ -5,14 +5,17 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <numbers>
 #include <random>
 
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<FunctionInfo, 59> kFunctions = {{
+constexpr std::array<FunctionInfo, 65> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -27,13 +30,14 @@ constexpr std::array<FunctionInfo, 59> kFunctions = {{
     {"frame", 4, 4},    {"parameter", 1, 1}, {"switch", 1, 1},  {"inrange", 1, 1},
     {"state", 1, 1},    {"task", 0, 2},     {"error", 1, 2},   {"$error", 1, 1},
     {"select", 1, 1},   {"status", 1, 1},   {"getc", 1, 2},    {"iostat", 1, 2},
-    {"tas", 2, 2},      {"#pdest", 0, 0},   {"", 0, -1},
+    {"tas", 2, 2},      {"#pdest", 0, 0},   {"$lngb", 1, 1},   {"lngb", 1, 2},
+    {"$intb", 1, 1},    {"intb", 1, 2},     {"$fltb", 1, 1},   {"fltb", 1, 2},
+    {"", 0, -1},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
 // Dialect §7: functions that load, and stop the program with *Not supported in simulation*.
-constexpr std::string_view kVplusFunctions[] = {"$lngb", "lngb", "$fltb", "fltb",
-                                                "$intb", "intb", "$decode"};
+constexpr std::string_view kVplusFunctions[] = {"$decode"};
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
@@ -56,6 +60,34 @@ motion::Location rotation(int axis, double deg) {
   motion::Location t = motion::Location::Identity();
   t.linear() = Eigen::AngleAxisd(deg * kDeg, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
   return t;
+}
+
+// Binary records (V+ $LNGB / LNGB, $INTB / INTB, $FLTB / FLTB): big-endian bytes, the most
+// significant first. A value is rounded to an integer of the 32-bit range; $INTB packs its low
+// 16 bits as $LNGB packs 32 [assumption: the same range check].
+std::uint32_t bits32(double v, const char* name) {
+  const double r = std::round(v);
+  if (!(r >= -2147483648.0 && r <= 2147483647.0))
+    raise(Message::illegal_value, fmt::format("{}({}) is outside -^H80000000..^H7FFFFFFF", name, format_number(v)));
+  return static_cast<std::uint32_t>(static_cast<std::int32_t>(r));
+}
+
+std::string pack_bytes(std::uint32_t bits, int bytes) {
+  std::string s;
+  for (int k = bytes - 1; k >= 0; --k) s += static_cast<char>((bits >> (8 * k)) & 0xFF);
+  return s;
+}
+
+// The `bytes` bytes of $s from position first (omitted, 0 or 1: the first); beyond the end is
+// an error, as on the controller.
+std::uint32_t unpack_bytes(const std::vector<std::optional<Value>>& args, int bytes, const char* name) {
+  const std::string& s = to_string_value(arg(args, 0));
+  const int first = args.size() > 1 && args[1] ? std::max(1, to_index(to_real(*args[1]))) : 1;
+  if (static_cast<std::size_t>(first - 1 + bytes) > s.size())
+    raise(Message::illegal_value, fmt::format("{}: {} bytes from position {} of a {}-byte string", name, bytes, first, s.size()));
+  std::uint32_t bits = 0;
+  for (int k = 0; k < bytes; ++k) bits = (bits << 8) | static_cast<unsigned char>(s[static_cast<std::size_t>(first - 1 + k)]);
+  return bits;
 }
 
 double snap(double x) { return std::fabs(x) < 1e-15 ? 0.0 : x; }  // sin(180) -> 0, no -0 noise
@@ -167,10 +199,27 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
       return finite_location(t);
     }
     case Func::len: return static_cast<double>(to_string_value(arg(args, 0)).size());
-    case Func::chr: {
+    case Func::chr: {  // a string holds any byte 0..255 (binary records: $LNGB, GETC)
       const int c = to_index(x(0));
-      if (c < 32 || c > 126) raise(Message::illegal_value, fmt::format("$CHR({})", c));
+      if (c < 0 || c > 255) raise(Message::illegal_value, fmt::format("$CHR({})", c));
       return std::string(1, static_cast<char>(c));
+    }
+    case Func::lngb_s: return pack_bytes(bits32(x(0), "$LNGB"), 4);
+    case Func::intb_s: return pack_bytes(bits32(x(0), "$INTB"), 2);
+    case Func::lngb: return static_cast<double>(static_cast<std::int32_t>(unpack_bytes(args, 4, "LNGB")));
+    case Func::intb: return static_cast<double>(static_cast<std::int16_t>(unpack_bytes(args, 2, "INTB")));
+    case Func::fltb_s: {  // IEEE single precision, rounded to nearest
+      const double v = x(0);
+      if (!(std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max())))
+        raise(Message::illegal_value, fmt::format("$FLTB({}) is outside the single-precision range", format_number(v)));
+      return pack_bytes(std::bit_cast<std::uint32_t>(static_cast<float>(v)), 4);
+    }
+    case Func::fltb: {  // exponent 0: zero, 255: overflow (the controller's rule)
+      const std::uint32_t bits = unpack_bytes(args, 4, "FLTB");
+      const std::uint32_t exponent = (bits >> 23) & 0xFF;
+      if (exponent == 0xFF) raise(Message::illegal_value, "FLTB: exponent 255 (infinity or not a number)");
+      if (exponent == 0) return 0.0;
+      return static_cast<double>(std::bit_cast<float>(bits));
     }
     case Func::asc: {
       const std::string& s = to_string_value(arg(args, 0));

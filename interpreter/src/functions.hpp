@@ -15,7 +15,8 @@ enum class Func : int {
   false_, random, bmask, here, dest, null, trans, ppoint, inverse, rx, ry, rz, dx, dy, dz,
   distance, shift, tool, base, len, chr, asc, val, defined, sig, timer, mid, last, frame,
   parameter, switch_, inrange, state, task, error, error_text, select, status, getc, iostat, tas, pdest,
-  vplus,  // a V+ function that loads but is not simulated (dialect §7): $LNGB, $DECODE...
+  lngb_s, lngb, intb_s, intb, fltb_s, fltb,  // binary records: $LNGB LNGB $INTB INTB $FLTB FLTB
+  vplus,  // a V+ function that loads but is not simulated (dialect §7): $DECODE
   count
 };
 

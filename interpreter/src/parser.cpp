@@ -136,7 +136,7 @@ struct unsupported_table : x3::symbols<x3::unused_type> {
   unsupported_table() {
     for (const char* w : {"select",
                           "set.event", "clear.event", "lock", "priority", "react", "reacti", "reacte", "ignore",
-                          "teach", "calls"})
+                          "teach", "calls", "calibrate"})
       add(w);
   }
 } const unsupported_words;

@@ -12,18 +12,22 @@ namespace asimov::interpreter {
 double parameter_value(const std::string& name, const Settings& s, const motion::Simulator& sim) {
   if (name == "HAND.TIME") return s.hand_time_s;
   if (name == "COLLISION.CLEARANCE") return sim.cell().collision.clearance_mm;
+  if (name == "NOT.CALIBRATED") return 0;  // no robot uncalibrated: the simulated arm is calibrated
   raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
 }
 
 void set_parameter(const std::string& name, double value, Settings& s, motion::Simulator& sim) {
   if (!known_parameter(name)) raise(Message::illegal_value, fmt::format("unknown parameter {}", name));
+  if (name == "NOT.CALIBRATED") raise(Message::not_supported, "PARAMETER NOT.CALIBRATED = ...: the simulated arm stays calibrated");
   if (!(value >= 0) || !std::isfinite(value))
     raise(Message::illegal_value, fmt::format("{} = {}", name, format_number(value)));
   if (name == "HAND.TIME") s.hand_time_s = value;
   else sim.set_clearance(value);
 }
 
-bool known_parameter(const std::string& name) { return name == "HAND.TIME" || name == "COLLISION.CLEARANCE"; }
+bool known_parameter(const std::string& name) {
+  return name == "HAND.TIME" || name == "COLLISION.CLEARANCE" || name == "NOT.CALIBRATED";
+}
 
 bool known_switch(const std::string& name) {
   return name == "CP" || name == "COLLISION" || name == "POWER" || name == "DRY.RUN" || name == "SCALE.ACCEL";

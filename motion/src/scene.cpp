@@ -1,6 +1,7 @@
 // One scene construction for the simulator and `asimov pairs` (motion/README.md, collision scene).
 #include "asimov/motion/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -22,7 +23,7 @@ Scene scene_bodies(const Cell& cell) {
   };
   for (const auto& b : robot.bodies)
     add({.name = b.name, .mesh = b.mesh, .group = b.link == 0 ? kStaticGroup : b.link, .is_static = b.link == 0,
-         .robot = true, .link = b.link});
+         .robot = true, .link = b.link, .hand = b.hand});
   if (cell.tool_shape) add({.name = "tool", .mesh = *cell.tool_shape, .group = n, .robot = true, .link = n});
   for (std::size_t i = 0; i < cell.objects.size(); ++i)
     add({.name = cell.objects[i].name, .mesh = cell.objects[i].mesh, .group = kStaticGroup, .is_static = true,
@@ -36,15 +37,56 @@ Scene scene_bodies(const Cell& cell) {
   if (cell.tool_shape)
     for (std::uint32_t i = 0; i < robot_bodies; ++i)
       if (s.bodies[i].link >= n - 1) s.adjacent.push_back({i, robot_bodies});
-  for (const auto& [a, b] : cell.collision.ignore) {
-    const auto ia = by_name.find(a), ib = by_name.find(b);
-    if (ia == by_name.end() || ib == by_name.end()) {
-      s.unknown_ignored.push_back(ia == by_name.end() ? a : b);
-      continue;
+  const auto resolve = [&](const std::vector<std::pair<std::string, std::string>>& names,
+                           std::vector<collision::BodyPair>& out) {
+    for (const auto& [a, b] : names) {
+      const auto ia = by_name.find(a), ib = by_name.find(b);
+      if (ia == by_name.end() || ib == by_name.end()) {
+        s.unknown_ignored.push_back(ia == by_name.end() ? a : b);
+        continue;
+      }
+      if (ia->second != ib->second) out.push_back({std::min(ia->second, ib->second), std::max(ia->second, ib->second)});
     }
-    if (ia->second != ib->second) s.ignored.push_back({std::min(ia->second, ib->second), std::max(ia->second, ib->second)});
-  }
+  };
+  resolve(cell.collision.ignore, s.ignored);
+  resolve(cell.collision.srdf_disabled, s.srdf);
+  resolve(cell.collision.start_contacts, s.start_contacts);
   return s;
+}
+
+std::vector<collision::BodyPair> start_contacts(const Cell& cell, const Scene& scene, double clearance_mm) {
+  const auto listed = [](const std::vector<collision::BodyPair>& ps, std::uint32_t a, std::uint32_t b) {
+    return std::any_of(ps.begin(), ps.end(), [&](const collision::BodyPair& p) { return p.a == a && p.b == b; });
+  };
+  const auto n = static_cast<std::uint32_t>(scene.bodies.size());
+  std::vector<collision::BodyPair> candidates;
+  for (std::uint32_t a = 0; a < n; ++a)
+    for (std::uint32_t b = a + 1; b < n; ++b) {
+      const SceneBody &x = scene.bodies[a], &y = scene.bodies[b];
+      if (!x.robot || !y.robot || x.group == y.group) continue;
+      if (listed(scene.srdf, a, b) || listed(scene.ignored, a, b) || listed(scene.start_contacts, a, b)) continue;
+      if (listed(scene.adjacent, a, b) || listed(scene.adjacent, b, a)) continue;
+      candidates.push_back({a, b});
+    }
+  std::vector<collision::BodyPair> found;
+  if (candidates.empty()) return found;
+  collision::Engine engine;
+  std::vector<collision::Pose> frames, poses;
+  scene_poses(cell, scene, start_joints(cell), frames, poses);
+  std::vector<collision::BodyId> id(n, 0);  // robot bodies only take part
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const SceneBody& b = scene.bodies[i];
+    if (!b.robot) continue;
+    id[i] = engine.add_body({.name = b.name, .mesh = b.mesh, .halvings = collision::kAutoHalvings});
+    engine.set_pose(id[i], poses[i]);
+  }
+  collision::QueryResult r;
+  for (const collision::BodyPair& p : candidates) {
+    const collision::BodyPair q{id[p.a], id[p.b]};
+    engine.query({.clearance_mm = clearance_mm, .pairs = std::span(&q, 1)}, r);
+    if (r.collided) found.push_back(p);
+  }
+  return found;
 }
 
 void scene_poses(const Cell& cell, const Scene& scene, const robots::JointVector& q, std::vector<collision::Pose>& frames,
@@ -55,6 +97,7 @@ void scene_poses(const Cell& cell, const Scene& scene, const robots::JointVector
     const SceneBody& b = scene.bodies[i];
     poses[i] = b.object >= 0 ? cell.objects[static_cast<std::size_t>(b.object)].pose
                              : cell.base * frames[static_cast<std::size_t>(b.link)];
+    if (b.hand >= 0) poses[i] = poses[i] * robots::hand_offset(cell.robot, b.hand, false);  // the hand starts open
   }
 }
 
@@ -110,6 +153,7 @@ collision::AutoPairsInput auto_pairs_input(const Cell& cell, const Scene& scene,
     in.sampled.push_back(b.robot);
   }
   in.adjacent = scene.adjacent;
+  in.srdf = scene.srdf;
   in.user_ignore = scene.ignored;
   in.samples = samples;
   in.clearance_mm = cell.collision.clearance_mm;

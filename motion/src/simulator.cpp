@@ -135,8 +135,14 @@ struct Simulator::Impl {
     dest = plan.trajectory.target;
     pending = std::move(plan.trajectory);
     halted.reset();  // a new motion drops the rest of an interrupted one
-    if (hand.pending) hand.state = *hand.pending, hand.pending.reset();
+    if (hand.pending) set_hand(*hand.pending), hand.pending.reset();
     return {};
+  }
+
+  // RELAX leaves the fingers where they are (no force either way) [decision].
+  void set_hand(HandState s) {
+    hand.state = s;
+    if (s != HandState::relaxed) world.set_hand(s == HandState::closed);
   }
 };
 
@@ -224,7 +230,8 @@ const CellRuntime* Simulator::cell_runtime() const { return impl_->runtime ? &*i
 
 MotionResult Simulator::hand_immediate(HandState state, double hand_time_s) {
   if (MotionResult r = finish_motion(); r.status != MotionStatus::ok) return r;
-  impl_->hand = {state, std::nullopt};
+  impl_->hand.pending.reset();
+  impl_->set_hand(state);
   if (hand_time_s > 0) impl_->state.time_s += hand_time_s;
   return {};
 }

@@ -291,6 +291,27 @@ struct Walker::Walk {
 
   bool interrupt_requested() const { return w.interrupt_ && w.interrupt_->load(std::memory_order_relaxed); }
 
+  // The checked pose q at t, reached from the current joints at t_prev: true (with `stopped`)
+  // when a contact at it or on the stretch before it stops the walk; otherwise the arm is there.
+  template <class PathAt>
+  bool stopped_at(const JointVector& q, double t_prev, double t, CollisionReport& report, PathAt&& at,
+                  MotionResult& stopped) {
+    const bool was_free = st.last_free;
+    const bool hit = visit(q, t, report);
+    if (checker && was_free && continuous_contact(t_prev, t, q, report)) {
+      stopped = collision_result(std::move(report), 0);
+      return true;
+    }
+    if (hit) {
+      stopped = halt(std::move(report), t_prev, was_free, at);
+      return true;
+    }
+    st.joints = q;
+    advance_gaps();
+    if (engine) w.world_.free_pose_seen();
+    return false;
+  }
+
   // Stops at the current joints (the last checked pose, of time t_halt, at path parameter
   // `fraction`).
   MotionResult interrupt_halt(double t_halt, double fraction) {
@@ -424,13 +445,7 @@ struct Walker::Walk {
       q = at_last && to_end ? tr.to : interpolate_joints(tr.from, tr.to, sigma);
       const double t = at_last ? stop : tr.t0 + tr.profile.time_at(sigma);
       stretch({t_prev, t, sigma_from, sigma, 0, 0, k * body_max});
-      const bool was_free = st.last_free;
-      const bool hit = visit(q, t, report);
-      if (checker && was_free && continuous_contact(t_prev, t, q, report)) return collision_result(std::move(report), 0);
-      if (hit) return halt(std::move(report), t_prev, was_free, at);
-      st.joints = q;
-      advance_gaps();
-      if (engine) w.world_.free_pose_seen();
+      if (MotionResult r; stopped_at(q, t_prev, t, report, at, r)) return r;
       t_prev = t;
       sigma_from = sigma;
     }
@@ -466,13 +481,7 @@ struct Walker::Walk {
       if (!(t > t_prev)) t = std::min(stop, std::nextafter(t_prev, stop));
       const JointVector q = at(t, st.joints);
       stretch({t_prev, t, tr.profile.sigma(t_prev - tr.t0), tr.profile.sigma(t - tr.t0), 0, 0, body, true});
-      const bool was_free = st.last_free;
-      const bool hit = visit(q, t, report);
-      if (checker && was_free && continuous_contact(t_prev, t, q, report)) return collision_result(std::move(report), 0);
-      if (hit) return halt(std::move(report), t_prev, was_free, at);
-      st.joints = q;
-      advance_gaps();
-      if (engine) w.world_.free_pose_seen();
+      if (MotionResult r; stopped_at(q, t_prev, t, report, at, r)) return r;
       t_prev = t;
       dt *= 2;
     }

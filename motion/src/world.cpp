@@ -17,7 +17,17 @@ collision::BodyPair ordered(collision::BodyId a, collision::BodyId b) { return {
 World::World(const Cell& cell) : robot_(&cell.robot), base_(cell.base) {
   const auto& robot = cell.robot;
   frames_.reserve(static_cast<std::size_t>(robot.joint_count()) + 1);
-  for (const auto& b : robot.bodies) reach_.push_back(robots::body_reach(robot, b.mesh, b.link));
+  for (const auto& b : robot.bodies) {
+    robots::BodyReach r = robots::body_reach(robot, b.mesh, b.link);
+    if (b.hand >= 0)  // a finger: the farther of its open and closed places (the hand jumps between them)
+      for (const bool closed : {false, true}) {
+        const robots::BodyReach c =
+            robots::body_reach(robot, collision::transformed(b.mesh, robots::hand_offset(robot, b.hand, closed)), b.link);
+        for (std::size_t j = 0; j < r.radius.size(); ++j) r.radius[j] = std::max(r.radius[j], c.radius[j]);
+      }
+    reach_.push_back(r);
+  }
+  set_hand(false);  // V+ starts with the hand open
   if (cell.tool_shape) reach_.push_back(robots::body_reach(robot, *cell.tool_shape, robot.joint_count()));
   arm_bodies_ = reach_.size();
   flange_ = robot.joint_count();
@@ -47,7 +57,7 @@ void World::build_engine(const Cell& cell) {
   std::vector<std::string> object_names;
   for (SceneBody& b : scene.bodies) {  // ids are the scene indices (a fresh engine)
     const bool moves = b.object < 0 && b.link > 0;  // robot bodies past the base, the tool
-    mounts.push_back({moves ? b.link : -1});
+    mounts.push_back({moves ? b.link : -1, moves ? b.hand : -1});
     if (b.object >= 0) object_names.push_back(b.name);
     const collision::BodyId id = e.add_body({.name = std::move(b.name), .mesh = std::move(b.mesh), .group = b.group,
                                              .is_static = b.is_static, .halvings = cell.collision.halvings});
@@ -57,7 +67,8 @@ void World::build_engine(const Cell& cell) {
     collision::apply_pairs(*generated, e);
   } else {
     for (const collision::BodyPair& p : scene.adjacent) e.set_pair_enabled(p.a, p.b, false);
-    for (const collision::BodyPair& p : scene.ignored) e.set_pair_enabled(p.a, p.b, false);
+    for (const auto* list : {&scene.srdf, &scene.start_contacts, &scene.ignored})
+      for (const collision::BodyPair& p : *list) e.set_pair_enabled(p.a, p.b, false);
   }
   const std::vector<collision::BodyPair> cell_pairs(e.enabled_pairs().begin(), e.enabled_pairs().end());
   if (has_parts_) {
@@ -102,6 +113,11 @@ void World::build_engine(const Cell& cell) {
   engine_.emplace(std::move(e));
 }
 
+void World::set_hand(bool closed) {
+  hand_offsets_.clear();
+  for (std::size_t k = 0; k < robot_->hand.size(); ++k) hand_offsets_.push_back(robots::hand_offset(*robot_, static_cast<int>(k), closed));
+}
+
 std::span<const collision::BodyPair> World::pairs() const {
   if (has_parts_) return part_pairs_;
   return engine_ ? engine_->enabled_pairs() : std::span<const collision::BodyPair>();
@@ -119,8 +135,11 @@ collision::BodyId World::part_body(const PartState& p) const {
 
 void World::pose(const robots::JointVector& q, double t) {
   robots::link_frames(*robot_, q, frames_);
-  for (const collision::BodyId id : moving_)
-    engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(mounts_[id].frame)]);
+  for (const collision::BodyId id : moving_) {
+    const BodyMount& m = mounts_[id];
+    if (m.hand < 0) engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(m.frame)]);
+    else engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(m.frame)] * hand_offsets_[static_cast<std::size_t>(m.hand)]);
+  }
   if (!has_parts_ || !runtime_) return;
   DeviceClock& clock = runtime_->clock();
   if (t >= clock.time_s()) {

@@ -26,6 +26,33 @@ Pose dh_transform(const DhLink& l, double theta) {
   return t;
 }
 
+void update_hand_followers(Robot& robot) {
+  // A follower's leader may come later in the list: repeat until nothing changes (a chain of
+  // followers is at most the list long; the loader refuses mimic cycles).
+  for (std::size_t pass = 0; pass <= robot.hand.size(); ++pass)
+    for (HandJoint& h : robot.hand)
+      if (h.leader >= 0) {
+        const HandJoint& l = robot.hand[static_cast<std::size_t>(h.leader)];
+        h.open = h.multiplier * l.open + h.offset;
+        h.closed = h.multiplier * l.closed + h.offset;
+      }
+}
+
+Pose hand_offset(const Robot& robot, int k, bool closed) {
+  Pose out = Pose::Identity();
+  // Parents first in the list, so the walk up ends; the depth is bounded by the list's size.
+  for (std::size_t guard = 0; k >= 0 && guard <= robot.hand.size(); ++guard) {
+    const HandJoint& h = robot.hand[static_cast<std::size_t>(k)];
+    const double v = closed ? h.closed : h.open;
+    Pose m = Pose::Identity();
+    if (h.type == JointType::prismatic) m.translation() = h.axis * v;
+    else m.linear() = Eigen::AngleAxisd(v * kDeg, h.axis).toRotationMatrix();
+    out = h.origin * m * h.origin.inverse() * out;
+    k = h.parent;
+  }
+  return out;
+}
+
 double wrap_deg(double deg) {
   double w = std::remainder(deg, 360.0);  // [-180, 180]
   if (w <= -180) w += 360;

@@ -22,6 +22,7 @@
 #include <iterator>
 #include <map>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 namespace asimov::robots {
@@ -55,6 +56,8 @@ struct Joint {
   Vec3 axis = Vec3::UnitX();
   double lower = 0, upper = 0, velocity = 0;  // display units: deg, mm
   bool has_velocity = false;
+  std::string mimic;  // <mimic joint>: this joint follows that one
+  double mimic_multiplier = 1, mimic_offset = 0;  // URDF units (m or rad)
   int line = 0;
 };
 
@@ -192,6 +195,12 @@ class Parser {
       j.upper = number(lim, "upper") * unit;
       if (!(j.lower <= j.upper)) fail(lim, "joint '" + j.name + "': lower limit above the upper one");
     }
+    if (const XMLElement* m = e->FirstChildElement("mimic")) {
+      j.mimic = required(m, "joint");
+      if (j.mimic == j.name) fail(m, "joint '" + j.name + "' mimics itself");
+      if (m->Attribute("multiplier")) j.mimic_multiplier = number(m, "multiplier");
+      if (m->Attribute("offset")) j.mimic_offset = number(m, "offset");
+    }
     if (lim && lim->Attribute("velocity")) {
       j.velocity = positive(lim, "velocity") * unit;
       j.has_velocity = true;
@@ -252,56 +261,184 @@ class Parser {
                                                roots[0] + "' (the joints form a loop)");
     }
 
-    // Longest path in movable joints from each link (ties: the first joint in file order).
+    // Longest path in independent movable joints (not <mimic> followers) from each link.
+    const auto independent = [](const Joint& j) { return static_cast<int>(j.kind != Kind::fixed && j.mimic.empty()); };
     std::function<int(const std::string&, int)> depth = [&](const std::string& l, int guard) -> int {
       if (guard > static_cast<int>(joints.size())) fail(root, "the joints form a loop");
       int best = 0;
-      for (const Joint* j : children[l]) best = std::max(best, (j->kind != Kind::fixed) + depth(j->child, guard + 1));
+      for (const Joint* j : children[l]) best = std::max(best, independent(*j) + depth(j->child, guard + 1));
       return best;
     };
-    if (depth(roots[0], 0) > kMaxJoints)
-      fail(root, "more than " + std::to_string(kMaxJoints) + " movable joints in the chain");
-
     Robot r;
     r.name = root->Attribute("name") ? root->Attribute("name") : "urdf";
-    std::vector<Joint> chain;                       // movable joints, origins with fixed ones folded in
-    std::vector<std::pair<int, std::pair<std::string, Pose>>> placed;  // frame, (link, pose in frame)
-    std::function<void(const std::string&, int, const Pose&)> attach_fixed = [&](const std::string& l, int frame, const Pose& pose) {
-      placed.push_back({frame, {l, pose}});
-      for (const Joint* j : children[l]) {
-        if (j->kind != Kind::fixed)
-          throw UrdfError(source_, j->line, "joint '" + j->name + "' is on a side branch of the arm; only fixed side branches are supported");
-        attach_fixed(j->child, frame, pose * j->origin);
+    std::vector<Joint> chain;  // movable joints, origins with fixed ones folded in
+    struct Placed {
+      int frame;
+      std::string link;
+      Pose pose;      // link frame in the arm frame (a finger's: at its joints' 0)
+      int hand = -1;  // the hand joint moving it
+    };
+    std::vector<Placed> placed;
+    struct Branch {
+      const Joint* joint;
+      int frame;
+      Pose pose;  // the joint's parent link in the arm frame
+    };
+    std::vector<Branch> branches;  // joints leaving the chain, attached after the walk
+    // With a tip, the arm is the path from the root to it; everything below the tip hangs on the
+    // flange. Without one, the one chain of movable joints (a second movable branch makes the
+    // choice ambiguous: an error asking for tip:), continued by the first fixed joint in file order.
+    const std::string& tip = options_.tip;
+    std::set<std::string> to_tip;
+    if (!tip.empty()) {
+      if (!links.count(tip)) fail(root, "tip: the description has no link '" + tip + "'");
+      for (std::string l = tip;;) {
+        to_tip.insert(l);
+        const auto it = parent_of.find(l);
+        if (it == parent_of.end()) break;
+        l = it->second->parent;
       }
+    }
+    const auto movable_depth = [&](const Joint* j) { return independent(*j) + depth(j->child, 0); };
+    // The leaf a branch ends in, following its longest movable path (ties: file order).
+    const auto leaf_of = [&](const Joint* j) {
+      while (!children[j->child].empty()) {
+        const Joint* next = nullptr;
+        for (const Joint* c : children[j->child])
+          if (!next || movable_depth(c) > movable_depth(next)) next = c;
+        j = next;
+      }
+      return j->child;
     };
     std::string at = roots[0];
     Pose acc = Pose::Identity();  // from the current movable frame to link `at`
     int frame = 0;
-    placed.push_back({0, {at, acc}});
-    while (!children[at].empty()) {
+    placed.push_back({0, at, acc});
+    while (!children[at].empty() && at != tip) {
       const Joint* next = nullptr;
       int best = -1;
+      std::vector<const Joint*> movable;
       for (const Joint* j : children[at]) {
-        const int d = (j->kind != Kind::fixed) + depth(j->child, 0);
+        const int d = tip.empty() ? movable_depth(j) : static_cast<int>(to_tip.count(j->child));
         if (d > best) best = d, next = j;
+        if (movable_depth(j) > 0) movable.push_back(j);
+      }
+      if (tip.empty() && movable.size() > 1) {
+        std::string joints_list, leaves;
+        for (const Joint* j : movable) {
+          joints_list += (joints_list.empty() ? "'" : ", '") + j->name + "'";
+          leaves += (leaves.empty() ? "" : ", ") + leaf_of(j);
+        }
+        fail(root, "the arm is ambiguous: at link '" + at + "' the movable joints " + joints_list +
+                       " branch off; name the arm's last link with tip: in the cell (or an SRDF end effector). Candidate leaves: " +
+                       leaves);
+      }
+      if (tip.empty() && best == 0 && next->kind != Kind::fixed) {
+        // Past the last independent joint only fixed joints continue the flange (the first in
+        // file order); a follower there is a branch.
+        next = nullptr;
+        for (const Joint* j : children[at])
+          if (!next && j->kind == Kind::fixed) next = j;
+        if (!next) {
+          for (const Joint* j : children[at]) branches.push_back({j, frame, acc});
+          break;
+        }
       }
       for (const Joint* j : children[at])
-        if (j != next) attach_fixed(j->child, frame, acc * j->origin);
+        if (j != next) branches.push_back({j, frame, acc});
       if (next->kind == Kind::fixed) {
         acc = acc * next->origin;
       } else {
+        if (!next->mimic.empty())
+          throw UrdfError(source_, next->line, "joint '" + next->name + "' on the arm chain mimics '" + next->mimic +
+                                                   "': coupled arm joints are not modelled");
         Joint j = *next;
         j.origin = acc * next->origin;
         chain.push_back(j);
+        if (chain.size() > static_cast<std::size_t>(kMaxJoints))
+          fail(root, "more than " + std::to_string(kMaxJoints) + " movable joints in the chain");
         acc = Pose::Identity();
         ++frame;
       }
       at = next->child;
-      placed.push_back({frame, {at, acc}});
+      placed.push_back({frame, at, acc});
     }
+    if (at == tip)
+      for (const Joint* j : children[at]) branches.push_back({j, frame, acc});
     if (chain.empty()) fail(root, "no movable joint (revolute, continuous or prismatic)");
     const int n = static_cast<int>(chain.size());
     r.flange_offset = acc;
+    const Pose to_flange = r.flange_offset.inverse();  // frame n includes flange_offset
+    const auto in_frame = [&](int f, const Pose& p) { return f == n ? to_flange * p : p; };
+    if (tip.empty() && chain.back().kind == Kind::prismatic && n > 1 && chain[n - 2].kind != Kind::prismatic)
+      warnings_.push_back(source_ + ":" + std::to_string(chain.back().line) + ": joint '" + chain.back().name +
+                          "' (prismatic) is the arm's last axis, J" + std::to_string(n) +
+                          "; if it is a gripper finger, name the link it hangs on with tip: (OPEN/CLOSE then drive it)");
+
+    // Side branches: fixed joints stay rigid, prismatic joints are fingers the hand drives, and
+    // <mimic> followers of a finger follow it; any other movable joint is an error.
+    std::map<std::string, int> hand_of;  // joint name -> index into r.hand
+    const auto unit = [](const Joint& j) { return j.kind == Kind::prismatic ? kMm : kDeg; };
+    std::set<std::string> on_chain;
+    for (const Joint& j : chain) on_chain.insert(j.name);
+    std::vector<const Joint*> hand_joints;  // parallel to r.hand
+    std::function<void(const Joint*, int, const Pose&, int)> branch;
+    const std::function<void(const std::string&, int, const Pose&, int)> attach = [&](const std::string& l, int f, const Pose& pose,
+                                                                                       int hand) {
+      placed.push_back({f, l, pose, hand});
+      for (const Joint* j : children[l]) branch(j, f, pose, hand);
+    };
+    branch = [&](const Joint* j, int f, const Pose& pose, int hand) {
+      const Pose at_joint = pose * j->origin;
+      if (j->kind == Kind::fixed) return attach(j->child, f, at_joint, hand);
+      if (j->kind != Kind::prismatic && j->mimic.empty())
+        throw UrdfError(source_, j->line, "joint '" + j->name + "' (" + (j->kind == Kind::revolute ? "revolute" : "continuous") +
+                                              ") branches off the arm chain at link '" + j->parent +
+                                              "': only fixed joints, prismatic fingers and their <mimic> followers can; if it "
+                                              "belongs to the arm, name the arm's last link with tip:");
+      HandJoint h;
+      h.name = j->name;
+      h.frame = f;
+      h.parent = hand;
+      h.origin = in_frame(f, at_joint);
+      h.axis = j->axis;
+      h.type = j->kind == Kind::prismatic ? JointType::prismatic : JointType::revolute;
+      h.lower = j->lower, h.upper = j->upper;
+      h.open = j->upper, h.closed = j->lower;  // OPEN = the upper limit, CLOSE = the lower one
+      const int k = static_cast<int>(r.hand.size());
+      r.hand.push_back(h);
+      hand_joints.push_back(j);
+      hand_of[j->name] = k;
+      attach(j->child, f, at_joint, k);
+    };
+    for (const Branch& b : branches) branch(b.joint, b.frame, b.pose, -1);
+    // Followers: the leader must be a finger (or a follower of one), never an arm joint.
+    for (std::size_t k = 0; k < r.hand.size(); ++k) {
+      const Joint& j = *hand_joints[k];
+      if (j.mimic.empty()) continue;
+      const auto leader = hand_of.find(j.mimic);
+      if (leader == hand_of.end())
+        throw UrdfError(source_, j.line, "joint '" + j.name + "' mimics '" + j.mimic + "', " +
+                                             (!on_chain.count(j.mimic) ? "which is no finger of the hand (no such joint off the arm chain)"
+                                              : j.mimic == chain.back().name && chain.back().kind == Kind::prismatic
+                                                  ? "the arm's last axis: if '" + j.mimic +
+                                                        "' is a gripper finger, name the link the hand hangs on with tip:"
+                                                  : "an arm joint: a follower of an arm joint is not modelled"));
+      const Joint& l = *hand_joints[static_cast<std::size_t>(leader->second)];
+      HandJoint& h = r.hand[k];
+      h.leader = leader->second;
+      h.multiplier = j.mimic_multiplier * unit(j) / unit(l);
+      h.offset = j.mimic_offset * unit(j);
+    }
+    for (std::size_t k = 0; k < r.hand.size(); ++k) {  // no cycle of followers
+      int at_k = static_cast<int>(k);
+      for (std::size_t steps = 0; at_k >= 0 && r.hand[static_cast<std::size_t>(at_k)].leader >= 0; ++steps) {
+        if (steps > r.hand.size())
+          throw UrdfError(source_, hand_joints[k]->line, "joint '" + r.hand[k].name + "': its <mimic> joints form a cycle");
+        at_k = r.hand[static_cast<std::size_t>(at_k)].leader;
+      }
+    }
+    update_hand_followers(r);
     r.lower.resize(n), r.upper.resize(n), r.max_velocity.resize(n), r.max_acceleration.resize(n), r.ready.resize(n);
     for (int i = 0; i < n; ++i) {
       const Joint& j = chain[static_cast<std::size_t>(i)];
@@ -313,17 +450,16 @@ class Parser {
       r.max_acceleration[i] = 4 * v;
       r.ready[i] = std::clamp(0.0, j.lower, j.upper);
     }
-    // Bodies: one per URDF link with collision geometry, in the frame of its movable joint;
-    // frame n includes flange_offset, so the last frame's geometry is mapped back through it.
-    const Pose to_flange = r.flange_offset.inverse();
-    for (const auto& [f, item] : placed) {
-      const Link& l = links.at(item.first);
+    // Bodies: one per URDF link with collision geometry, in the frame of its movable joint.
+    for (const Placed& p : placed) {
+      const Link& l = links.at(p.link);
       if (l.geometry.empty()) continue;
       collision::Polyhedron body;
-      const Pose in_frame = f == n ? to_flange * item.second : item.second;
-      for (const auto& g : l.geometry) body = collision::merged(body, collision::transformed(g.mesh, in_frame * g.pose));
-      r.bodies.push_back({f, l.name, std::move(body)});
+      const Pose pose = in_frame(p.frame, p.pose);
+      for (const auto& g : l.geometry) body = collision::merged(body, collision::transformed(g.mesh, pose * g.pose));
+      r.bodies.push_back({p.frame, l.name, std::move(body), p.hand});
     }
+    for (const auto& [name, l] : links) r.links.push_back(name);
     r.warnings = warnings_;
     return r;
   }

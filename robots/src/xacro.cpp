@@ -1,22 +1,27 @@
-// xacro -> URDF text, on the tinyxml2 DOM. Properties are evaluated when defined (document
-// order), macros expand in a scope holding their parameters over the global one.
+// xacro -> URDF text, on the tinyxml2 DOM, as ROS xacro evaluates it: properties are stored
+// unevaluated and evaluated on first use (so a property may name one defined after it), macros
+// expand in a scope holding their parameters over the caller's (xacro's dynamic scoping),
+// ${} is a Python expression subset with numbers, strings, lists and dicts (load_yaml).
 #include "xacro.hpp"
 
 #include "asimov/collision/text_file.hpp"
 #include "asimov/robots/urdf_loader.hpp"
 
 #include <tinyxml2.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
-#include <sstream>
 #include <memory>
 #include <numbers>
+#include <optional>
+#include <sstream>
 #include <vector>
 
 namespace asimov::robots {
@@ -26,57 +31,132 @@ using tinyxml2::XMLElement;
 using tinyxml2::XMLNode;
 namespace fs = std::filesystem;
 
+// Nesting of YAML documents, expressions and lists: far above real descriptions, and a bound on
+// the recursion of the readers below.
+constexpr int kMaxNesting = 200;
+
+struct Value;
+using List = std::vector<Value>;
+using Dict = std::vector<std::pair<std::string, Value>>;  // insertion order, as Python's dict
+
 struct Value {
-  enum Kind { number, text, boolean } kind = number;
+  enum Kind { none, number, text, boolean, list, dict } kind = number;
   double num = 0;
   bool integer = false;
   std::string str;
+  std::shared_ptr<const List> items;
+  std::shared_ptr<const Dict> entries;
 };
 
+Value number_value(double d, bool integer = false) { return {Value::number, d, integer, {}, {}, {}}; }
+Value text_value(std::string s) { return {Value::text, 0, false, std::move(s), {}, {}}; }
+Value bool_value(bool b) { return {Value::boolean, b ? 1.0 : 0.0, false, {}, {}, {}}; }
+
+std::string format(const Value& v);
+
+std::string repr(const Value& v) {
+  if (v.kind != Value::text) return format(v);
+  std::string out = "'";
+  for (char c : v.str) out += c == '\'' ? std::string("\\'") : std::string(1, c);
+  return out + "'";
+}
+
+// str() of a value, as xacro writes it into the document.
 std::string format(const Value& v) {
-  if (v.kind == Value::text) return v.str;
-  if (v.kind == Value::boolean) return v.num != 0 ? "True" : "False";
+  switch (v.kind) {
+    case Value::text: return v.str;
+    case Value::none: return "None";
+    case Value::boolean: return v.num != 0 ? "True" : "False";
+    case Value::list: {
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.items->size(); ++i) out += (i ? ", " : "") + repr((*v.items)[i]);
+      return out + "]";
+    }
+    case Value::dict: {
+      std::string out = "{";
+      for (std::size_t i = 0; i < v.entries->size(); ++i)
+        out += (i ? ", '" : "'") + (*v.entries)[i].first + "': " + repr((*v.entries)[i].second);
+      return out + "}";
+    }
+    case Value::number: break;
+  }
   if (v.integer && std::abs(v.num) < 1e15) return std::to_string(static_cast<long long>(v.num));
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, v.num);  // shortest round trip
-  return std::string(buf, r.ptr);
+  std::string s(buf, r.ptr);
+  if (s.find_first_of(".eni") == std::string::npos) s += ".0";  // Python writes floats with a point
+  return s;
 }
 
-// A property's text read back in an expression: a number when it is one, else a string.
+// A text read back as a value, as xacro does for property texts: a number when it is one
+// (integers stay integers), True/False, else the text.
 Value from_text(const std::string& s) {
-  Value v;
   const char* b = s.data();
   const char* e = b + s.size();
   while (b < e && *b == ' ') ++b;
   while (e > b && e[-1] == ' ') --e;
   double d = 0;
   auto r = std::from_chars(b, e, d);
-  if (b != e && r.ec == std::errc() && r.ptr == e && std::isfinite(d)) {
-    v.num = d;
-    v.integer = std::none_of(b, e, [](char c) { return c == '.' || c == 'e' || c == 'E'; });
+  if (b != e && r.ec == std::errc() && r.ptr == e && std::isfinite(d))
+    return number_value(d, std::none_of(b, e, [](char c) { return c == '.' || c == 'e' || c == 'E'; }));
+  if (s == "True" || s == "true") return bool_value(true);
+  if (s == "False" || s == "false") return bool_value(false);
+  return text_value(s);
+}
+
+// A YAML document as xacro.load_yaml gives it: maps are dicts, sequences lists, scalars numbers,
+// booleans (true/false, True/False), null or text.
+Value from_yaml(const YAML::Node& n, int depth, const std::function<void(const std::string&)>& fail) {
+  if (depth > kMaxNesting) fail("load_yaml: nested more than " + std::to_string(kMaxNesting) + " levels");
+  if (n.IsMap()) {
+    auto d = std::make_shared<Dict>();
+    for (const auto& kv : n) d->emplace_back(kv.first.Scalar(), from_yaml(kv.second, depth + 1, fail));
+    Value v;
+    v.kind = Value::dict;
+    v.entries = std::move(d);
     return v;
   }
-  if (s == "True" || s == "true") return {Value::boolean, 1, false, {}};
-  if (s == "False" || s == "false") return {Value::boolean, 0, false, {}};
-  v.kind = Value::text;
-  v.str = s;
+  if (n.IsSequence()) {
+    auto l = std::make_shared<List>();
+    for (const auto& item : n) l->push_back(from_yaml(item, depth + 1, fail));
+    Value v;
+    v.kind = Value::list;
+    v.items = std::move(l);
+    return v;
+  }
+  if (n.IsNull()) return Value{Value::none, 0, false, {}, {}, {}};
+  const std::string& s = n.Scalar();
+  if (n.Tag() == "!") return text_value(s);  // quoted in the file
+  if (s == "true" || s == "True" || s == "TRUE") return bool_value(true);
+  if (s == "false" || s == "False" || s == "FALSE") return bool_value(false);
+  Value v = from_text(s);
+  if (v.kind == Value::boolean) return text_value(s);
   return v;
 }
 
 struct Macro {
   const XMLElement* def = nullptr;
   std::string file;
-  std::vector<std::string> params;  // "name", "name:=default", "*block", "**block"
+  std::vector<std::string> params;  // "name", "name:=default", "name:=^", "name:=^|default", "*block", "**block"
+};
+
+// A property: its text, evaluated on first use in the scope it was defined in, or a value.
+struct Prop {
+  std::string text;
+  std::optional<Value> value;
+  std::string file;  // where it was defined, for messages
+  int line = 0;
+  bool busy = false;  // being evaluated: a property that needs itself
 };
 
 struct Scope {
-  std::map<std::string, std::string> props;
+  std::map<std::string, Prop> props;
   std::map<std::string, const XMLElement*> blocks;
-  const Scope* parent = nullptr;
-  const std::string* find(const std::string& n) const {
-    for (const Scope* s = this; s; s = s->parent)
-      if (auto it = s->props.find(n); it != s->props.end()) return &it->second;
-    return nullptr;
+  Scope* parent = nullptr;
+  std::pair<Prop*, Scope*> find(const std::string& n) {
+    for (Scope* s = this; s; s = s->parent)
+      if (auto it = s->props.find(n); it != s->props.end()) return {&it->second, s};
+    return {nullptr, nullptr};
   }
   const XMLElement* block(const std::string& n) const {
     for (const Scope* s = this; s; s = s->parent)
@@ -85,15 +165,42 @@ struct Scope {
   }
 };
 
-class Expander;
+// What an expression reaches outside itself: names and the functions that need the expander.
+struct ExprContext {
+  std::function<std::optional<Value>(const std::string&)> name;
+  std::function<std::optional<Value>(const std::string&, const std::vector<Value>&)> call;  // nullopt: not such a function
+  std::function<void(const std::string&)> fail;  // throws UrdfError
+};
 
-// Recursive descent over one ${...} expression (Python's precedence for the subset).
+// Position of the `close` matching the `open` at text[start] (brackets nested, quotes skipped),
+// or npos.
+std::size_t matching(const std::string& text, std::size_t start, char open, char close) {
+  int depth = 0;
+  char quote = 0;
+  for (std::size_t i = start; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+    } else if (c == open) {
+      ++depth;
+    } else if (c == close && --depth == 0) {
+      return i;
+    }
+  }
+  return std::string::npos;
+}
+
+// Recursive descent over one ${...} expression (Python's grammar and precedence for the subset;
+// docs/robots.md "xacro descriptions").
 class Expr {
  public:
-  Expr(const std::string& text, const Scope& scope, const std::function<void(const std::string&)>& fail)
-      : s_(text), scope_(scope), fail_(fail) {}
+  Expr(const std::string& text, const ExprContext& cx, int depth = 0) : s_(text), cx_(cx), depth_(depth) {
+    if (depth_ > kMaxNesting) die("expression nested too deeply");
+  }
   Value run() {
-    Value v = disjunction();
+    Value v = conditional();
     skip();
     if (i_ != s_.size()) die("unexpected '" + s_.substr(i_) + "' in ${" + s_ + "}");
     return v;
@@ -101,7 +208,7 @@ class Expr {
 
  private:
   [[noreturn]] void die(const std::string& m) const {
-    fail_(m);  // throws UrdfError
+    cx_.fail(m);  // throws UrdfError
     throw std::logic_error(m);
   }
   void skip() {
@@ -119,20 +226,93 @@ class Expr {
     skip();
     const std::size_t n = std::strlen(o);
     if (s_.compare(i_, n, o) != 0) return false;
-    if (n == 1 && (o[0] == '*' || o[0] == '/' || o[0] == '<' || o[0] == '>') && i_ + 1 < s_.size() &&
+    if (n == 1 && (o[0] == '*' || o[0] == '/' || o[0] == '<' || o[0] == '>' || o[0] == '=') && i_ + 1 < s_.size() &&
         (s_[i_ + 1] == o[0] || s_[i_ + 1] == '='))
-      return false;  // '**', '//', '<=' are other operators
+      return false;  // '**', '//', '<=', '==' are other operators
     i_ += n;
     return true;
   }
   double num(const Value& v, const char* what) {
-    if (v.kind == Value::text) die(std::string("'") + v.str + "' is not a number (" + what + ") in ${" + s_ + "}");
-    return v.num;
+    if (v.kind == Value::number || v.kind == Value::boolean) return v.num;
+    die("'" + format(v) + "' is not a number (" + what + ") in ${" + s_ + "}");
   }
-  static bool truth(const Value& v) { return v.kind == Value::text ? !v.str.empty() : v.num != 0; }
-  static Value boolean(bool b) { return {Value::boolean, b ? 1.0 : 0.0, false, {}}; }
-  static Value number(double d, bool integer = false) { return {Value::number, d, integer, {}}; }
+  static bool truth(const Value& v) {
+    switch (v.kind) {
+      case Value::text: return !v.str.empty();
+      case Value::none: return false;
+      case Value::list: return !v.items->empty();
+      case Value::dict: return !v.entries->empty();
+      default: return v.num != 0;
+    }
+  }
 
+  // The end of the operand that starts at i_ and stops at a depth-0 keyword `kw` or at the end
+  // (brackets and quotes skipped): the branches of `a if c else b` are cut this way so that only
+  // the branch taken is evaluated, as Python does.
+  std::size_t find_keyword(std::size_t from, const char* kw) const {
+    const std::size_t n = std::strlen(kw);
+    int depth = 0;
+    char quote = 0;
+    for (std::size_t k = from; k < s_.size(); ++k) {
+      const char c = s_[k];
+      if (quote) {
+        if (c == quote) quote = 0;
+        continue;
+      }
+      if (c == '\'' || c == '"') quote = c;
+      else if (c == '(' || c == '[' || c == '{') ++depth;
+      else if (c == ')' || c == ']' || c == '}') {
+        if (--depth < 0) return std::string::npos;
+      } else if (depth == 0 && s_.compare(k, n, kw) == 0 && (k == 0 || !(std::isalnum(static_cast<unsigned char>(s_[k - 1])) || s_[k - 1] == '_')) &&
+                 (k + n >= s_.size() || !(std::isalnum(static_cast<unsigned char>(s_[k + n])) || s_[k + n] == '_')))
+        return k;
+    }
+    return std::string::npos;
+  }
+  // The end of the current (sub)expression: the first depth-0 ')', ']', '}' or ',' from i_.
+  std::size_t operand_end(std::size_t from) const {
+    int depth = 0;
+    char quote = 0;
+    for (std::size_t k = from; k < s_.size(); ++k) {
+      const char c = s_[k];
+      if (quote) {
+        if (c == quote) quote = 0;
+        continue;
+      }
+      if (c == '\'' || c == '"') quote = c;
+      else if (c == '(' || c == '[' || c == '{') ++depth;
+      else if (c == ')' || c == ']' || c == '}') {
+        if (depth-- == 0) return k;
+      } else if ((c == ',' || c == ':') && depth == 0) return k;
+    }
+    return s_.size();
+  }
+  Value sub(std::size_t b, std::size_t e) { return Expr(s_.substr(b, e - b), cx_, depth_ + 1).run(); }
+
+  // Every recursion of the grammar passes here or through unary() / negation(): one bound
+  // on the nesting of brackets, calls, '-' and 'not' (a hostile ${[[[[...]]]]} ends here).
+  struct Nest {
+    Expr& x;
+    explicit Nest(Expr& e) : x(e) {
+      if (++x.nest_ > kMaxNesting) x.die("expression nested more than " + std::to_string(kMaxNesting) + " deep");
+    }
+    ~Nest() { --x.nest_; }
+  };
+
+  // a if c else b: c first, then the branch taken only.
+  Value conditional() {
+    const Nest guard(*this);
+    skip();
+    const std::size_t end = operand_end(i_);
+    const std::size_t kif = find_keyword(i_, "if");
+    if (kif == std::string::npos || kif >= end) return disjunction();
+    const std::size_t kelse = find_keyword(kif + 2, "else");
+    if (kelse == std::string::npos || kelse >= end) die("'if' without 'else' in ${" + s_ + "}");
+    const bool c = truth(sub(kif + 2, kelse));
+    const std::size_t a = i_;
+    i_ = end;
+    return c ? sub(a, kif) : sub(kelse + 4, end);
+  }
   Value disjunction() {
     Value v = conjunction();
     while (word("or")) {
@@ -150,41 +330,72 @@ class Expr {
     return v;
   }
   Value negation() {
-    if (word("not")) return boolean(!truth(negation()));
+    const Nest guard(*this);
+    if (word("not")) return bool_value(!truth(negation()));
     return comparison();
+  }
+  static bool equal(const Value& a, const Value& b) {
+    const bool an = a.kind == Value::number || a.kind == Value::boolean, bn = b.kind == Value::number || b.kind == Value::boolean;
+    if (an && bn) return a.num == b.num;
+    if (an != bn) return false;
+    return format(a) == format(b);
+  }
+  bool contains(const Value& hay, const Value& needle) {
+    if (hay.kind == Value::text) return hay.str.find(format(needle)) != std::string::npos;
+    if (hay.kind == Value::list)
+      return std::any_of(hay.items->begin(), hay.items->end(), [&](const Value& x) { return equal(x, needle); });
+    if (hay.kind == Value::dict)
+      return std::any_of(hay.entries->begin(), hay.entries->end(), [&](const auto& kv) { return kv.first == format(needle); });
+    die("'in' needs a string, list or dict in ${" + s_ + "}");
   }
   Value comparison() {
     Value a = sum();
-    for (const char* o : {"==", "!=", "<=", ">=", "<", ">"}) {
-      if (!op(o)) continue;
-      Value b = sum();
-      const std::string so = o;
-      if (a.kind == Value::text || b.kind == Value::text) {
-        const std::string x = format(a), y = format(b);
-        if (so == "==") return boolean(x == y);
-        if (so == "!=") return boolean(x != y);
-        die("'" + so + "' between strings in ${" + s_ + "}");
+    for (;;) {
+      if (word("in")) {
+        a = bool_value(contains(sum(), a));
+        continue;
       }
-      const double x = a.num, y = b.num;
-      if (so == "==") return boolean(x == y);
-      if (so == "!=") return boolean(x != y);
-      if (so == "<=") return boolean(x <= y);
-      if (so == ">=") return boolean(x >= y);
-      if (so == "<") return boolean(x < y);
-      return boolean(x > y);
+      if (word("not")) {
+        if (!word("in")) die("'not' without 'in' in ${" + s_ + "}");
+        a = bool_value(!contains(sum(), a));
+        continue;
+      }
+      bool matched = false;
+      for (const char* o : {"==", "!=", "<=", ">=", "<", ">"}) {
+        if (!op(o)) continue;
+        matched = true;
+        Value b = sum();
+        const std::string so = o;
+        if (so == "==") a = bool_value(equal(a, b));
+        else if (so == "!=") a = bool_value(!equal(a, b));
+        else if (a.kind == Value::text && b.kind == Value::text)
+          a = bool_value(so == "<=" ? a.str <= b.str : so == ">=" ? a.str >= b.str : so == "<" ? a.str < b.str : a.str > b.str);
+        else {
+          const double x = num(a, o), y = num(b, o);
+          a = bool_value(so == "<=" ? x <= y : so == ">=" ? x >= y : so == "<" ? x < y : x > y);
+        }
+        break;
+      }
+      if (!matched) return a;
     }
-    return a;
   }
   Value sum() {
     Value v = product();
     for (;;) {
       if (op("+")) {
         Value r = product();
-        if (v.kind == Value::text && r.kind == Value::text) v.str += r.str;
-        else v = number(num(v, "+") + num(r, "+"), v.integer && r.integer);
+        if (v.kind == Value::text && r.kind == Value::text) {
+          v.str += r.str;
+        } else if (v.kind == Value::list && r.kind == Value::list) {
+          auto l = std::make_shared<List>(*v.items);
+          l->insert(l->end(), r.items->begin(), r.items->end());
+          v.items = std::move(l);
+        } else {
+          v = number_value(num(v, "+") + num(r, "+"), v.integer && r.integer);
+        }
       } else if (op("-")) {
         Value r = product();
-        v = number(num(v, "-") - num(r, "-"), v.integer && r.integer);
+        v = number_value(num(v, "-") - num(r, "-"), v.integer && r.integer);
       } else {
         return v;
       }
@@ -195,57 +406,112 @@ class Expr {
     for (;;) {
       if (op("*")) {
         Value r = unary();
-        v = number(num(v, "*") * num(r, "*"), v.integer && r.integer);
+        v = number_value(num(v, "*") * num(r, "*"), v.integer && r.integer);
+      } else if (op("//")) {
+        Value r = unary();
+        const double d = num(r, "//");
+        if (d == 0) die("division by zero in ${" + s_ + "}");
+        v = number_value(std::floor(num(v, "//") / d), v.integer && r.integer);
       } else if (op("/")) {
         Value r = unary();
         const double d = num(r, "/");
         if (d == 0) die("division by zero in ${" + s_ + "}");
-        v = number(num(v, "/") / d);
+        v = number_value(num(v, "/") / d);
       } else if (op("%")) {
         Value r = unary();
         const double d = num(r, "%");
         if (d == 0) die("modulo by zero in ${" + s_ + "}");
         const double x = num(v, "%");
-        v = number(x - d * std::floor(x / d), v.integer && r.integer);
+        v = number_value(x - d * std::floor(x / d), v.integer && r.integer);
       } else {
         return v;
       }
     }
   }
   Value unary() {
+    const Nest guard(*this);
     if (op("-")) {
       Value v = unary();
-      return number(-num(v, "-"), v.integer);
+      return number_value(-num(v, "-"), v.integer);
     }
-    if (op("+")) return number(num(unary(), "+"));
+    if (op("+")) {
+      Value v = unary();
+      return number_value(num(v, "+"), v.integer);
+    }
     return power();
   }
   Value power() {
-    Value v = primary();
+    Value v = postfix();
     if (op("**")) {
       Value r = unary();  // right associative, binds tighter than a unary minus on its left
       const double p = std::pow(num(v, "**"), num(r, "**"));
       if (!std::isfinite(p)) die("'**' gives no finite number in ${" + s_ + "}");
-      return number(p, v.integer && r.integer && r.num >= 0);
+      return number_value(p, v.integer && r.integer && r.num >= 0);
     }
     return v;
+  }
+  // Indexing and attributes: x[0], x['key'], x.key (dicts from load_yaml allow both).
+  Value postfix() {
+    Value v = primary();
+    for (;;) {
+      skip();
+      if (i_ < s_.size() && s_[i_] == '[') {
+        ++i_;
+        Value k = conditional();
+        if (!op("]")) die("missing ']' in ${" + s_ + "}");
+        v = index(v, k);
+      } else if (i_ + 1 < s_.size() && s_[i_] == '.' && (std::isalpha(static_cast<unsigned char>(s_[i_ + 1])) || s_[i_ + 1] == '_')) {
+        ++i_;
+        std::size_t j = i_;
+        while (j < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[j])) || s_[j] == '_')) ++j;
+        const std::string name = s_.substr(i_, j - i_);
+        i_ = j;
+        v = attribute(v, name);
+      } else {
+        return v;
+      }
+    }
+  }
+  Value index(const Value& v, const Value& k) {
+    if (v.kind == Value::dict) {
+      const std::string key = format(k);
+      for (const auto& [name, x] : *v.entries)
+        if (name == key) return x;
+      die("no key '" + key + "' in ${" + s_ + "}");
+    }
+    if (v.kind == Value::list || v.kind == Value::text) {
+      if (k.kind != Value::number || !k.integer) die("a list index must be an integer in ${" + s_ + "}");
+      const long long n = v.kind == Value::list ? static_cast<long long>(v.items->size()) : static_cast<long long>(v.str.size());
+      long long i = static_cast<long long>(k.num);
+      if (i < 0) i += n;
+      if (i < 0 || i >= n) die("index " + format(k) + " out of range in ${" + s_ + "}");
+      return v.kind == Value::list ? (*v.items)[static_cast<std::size_t>(i)] : text_value(std::string(1, v.str[static_cast<std::size_t>(i)]));
+    }
+    die("'" + format(v) + "' cannot be indexed in ${" + s_ + "}");
+  }
+  Value attribute(const Value& v, const std::string& name) {
+    if (v.kind != Value::dict) die("'" + format(v) + "' has no attribute '" + name + "' in ${" + s_ + "}");
+    for (const auto& [key, x] : *v.entries)
+      if (key == name) return x;
+    die("no key '" + name + "' in ${" + s_ + "}");
   }
   Value primary() {
     skip();
     if (i_ >= s_.size()) die("incomplete expression ${" + s_ + "}");
     const char c = s_[i_];
     if (c == '(') {
-      ++i_;
-      if (++depth_ > 200) die("expression nested too deeply");
-      Value v = disjunction();
-      --depth_;
-      if (!op(")")) die("missing ')' in ${" + s_ + "}");
+      const std::size_t close = matching(s_, i_, '(', ')');
+      if (close == std::string::npos) die("missing ')' in ${" + s_ + "}");
+      Value v = sub(i_ + 1, close);
+      i_ = close + 1;
       return v;
     }
+    if (c == '[') return list_literal();
+    if (c == '{') return dict_literal();
     if (c == '\'' || c == '"') {
       const std::size_t end = s_.find(c, i_ + 1);
       if (end == std::string::npos) die("unterminated string in ${" + s_ + "}");
-      Value v{Value::text, 0, false, s_.substr(i_ + 1, end - i_ - 1)};
+      Value v = text_value(s_.substr(i_ + 1, end - i_ - 1));
       i_ = end + 1;
       return v;
     }
@@ -253,76 +519,210 @@ class Expr {
       double d = 0;
       auto r = std::from_chars(s_.data() + i_, s_.data() + s_.size(), d);
       if (r.ec != std::errc() || !std::isfinite(d)) die("bad number in ${" + s_ + "}");
-      const bool integer = std::none_of(s_.data() + i_, r.ptr, [](char ch) { return ch == '.' || ch == 'e' || ch == 'E'; });
+      const char* begin = s_.data() + i_;
+      const bool integer = std::none_of(begin, r.ptr, [](char ch) { return ch == '.' || ch == 'e' || ch == 'E'; });
       i_ = static_cast<std::size_t>(r.ptr - s_.data());
-      return number(d, integer);
+      return number_value(d, integer);
     }
     if (!(std::isalpha(static_cast<unsigned char>(c)) || c == '_')) die(std::string("unexpected '") + c + "' in ${" + s_ + "}");
     std::size_t j = i_;
-    while (j < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[j])) || s_[j] == '_' || s_[j] == '.')) ++j;
+    while (j < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[j])) || s_[j] == '_')) ++j;
     std::string name = s_.substr(i_, j - i_);
     i_ = j;
-    if (name.rfind("math.", 0) == 0) name = name.substr(5);
+    // math.x and xacro.x are namespaces of functions and constants, not properties.
+    for (const char* ns : {"math", "xacro"})
+      if (name == ns && i_ < s_.size() && s_[i_] == '.') {
+        std::size_t k = ++i_;
+        while (k < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[k])) || s_[k] == '_')) ++k;
+        name = s_.substr(i_, k - i_);
+        i_ = k;
+      }
     skip();
     if (i_ < s_.size() && s_[i_] == '(') return call(name);
-    if (name == "pi") return number(std::numbers::pi);
-    if (name == "e") return number(std::numbers::e);
-    if (name == "True" || name == "true") return boolean(true);
-    if (name == "False" || name == "false") return boolean(false);
-    if (const std::string* p = scope_.find(name)) return from_text(*p);
+    if (name == "pi") return number_value(std::numbers::pi);
+    if (name == "e") return number_value(std::numbers::e);
+    if (name == "inf") return number_value(std::numeric_limits<double>::infinity());
+    if (name == "True" || name == "true") return bool_value(true);
+    if (name == "False" || name == "false") return bool_value(false);
+    if (name == "None") return Value{Value::none, 0, false, {}, {}, {}};
+    if (auto v = cx_.name(name)) return *v;
     die("unknown property '" + name + "' in ${" + s_ + "}");
   }
-  Value call(const std::string& name) {
-    ++i_;  // '('
-    std::vector<Value> args;
+  Value list_literal() {
+    const std::size_t close = matching(s_, i_, '[', ']');
+    if (close == std::string::npos) die("missing ']' in ${" + s_ + "}");
+    ++i_;
+    auto l = std::make_shared<List>();
     skip();
-    if (!op(")")) {
-      do args.push_back(disjunction());
-      while (op(","));
-      if (!op(")")) die("missing ')' after the arguments of " + name + "() in ${" + s_ + "}");
+    while (i_ < close) {
+      l->push_back(conditional());
+      skip();
+      if (i_ < close && !op(",")) die("expected ',' in the list in ${" + s_ + "}");
+      skip();
     }
-    if (name == "xacro.load_yaml" || name == "load_yaml")
-      die("load_yaml is not supported (docs/robots.md): write the values as xacro:property");
+    i_ = close + 1;
+    Value v;
+    v.kind = Value::list;
+    v.items = std::move(l);
+    return v;
+  }
+  Value dict_literal() {
+    const std::size_t close = matching(s_, i_, '{', '}');
+    if (close == std::string::npos) die("missing '}' in ${" + s_ + "}");
+    ++i_;
+    auto d = std::make_shared<Dict>();
+    skip();
+    while (i_ < close) {
+      const Value k = conditional();
+      if (!op(":")) die("expected ':' in the dict in ${" + s_ + "}");
+      d->emplace_back(format(k), conditional());
+      skip();
+      if (i_ < close && !op(",")) die("expected ',' in the dict in ${" + s_ + "}");
+      skip();
+    }
+    i_ = close + 1;
+    Value v;
+    v.kind = Value::dict;
+    v.entries = std::move(d);
+    return v;
+  }
+  Value call(const std::string& name) {
+    const std::size_t close = matching(s_, i_, '(', ')');
+    if (close == std::string::npos) die("missing ')' after the arguments of " + name + "() in ${" + s_ + "}");
+    ++i_;
+    std::vector<Value> args;
+    auto keywords = std::make_shared<Dict>();  // dict(a=1, b=2)
+    skip();
+    while (i_ < close) {
+      std::size_t j = i_;
+      while (j < close && (std::isalnum(static_cast<unsigned char>(s_[j])) || s_[j] == '_')) ++j;
+      std::size_t k = j;
+      while (k < close && s_[k] == ' ') ++k;
+      if (j > i_ && k < close && s_[k] == '=' && (k + 1 >= s_.size() || s_[k + 1] != '=')) {
+        const std::string key = s_.substr(i_, j - i_);
+        i_ = k + 1;
+        keywords->emplace_back(key, conditional());
+      } else {
+        args.push_back(conditional());
+      }
+      skip();
+      if (i_ < close && !op(",")) die("expected ',' between the arguments of " + name + "() in ${" + s_ + "}");
+      skip();
+    }
+    i_ = close + 1;
+    if (!keywords->empty() && name != "dict") die(name + "() takes no keyword arguments in ${" + s_ + "}");
+    return apply(name, args, keywords);
+  }
+  Value apply(const std::string& name, const std::vector<Value>& args, const std::shared_ptr<Dict>& keywords) {
     auto one = [&](const char* what) {
       if (args.size() != 1) die(name + "() takes one argument in ${" + s_ + "}");
       return num(args[0], what);
     };
     auto checked = [&](double v) {
       if (!std::isfinite(v)) die(name + "() gives no finite number in ${" + s_ + "}");
-      return number(v);
+      return number_value(v);
     };
-    if (name == "radians") return number(one("radians") * std::numbers::pi / 180);
-    if (name == "degrees") return number(one("degrees") * 180 / std::numbers::pi);
-    if (name == "sin") return number(std::sin(one("sin")));
-    if (name == "cos") return number(std::cos(one("cos")));
+    if (name == "dict") {
+      if (!args.empty()) die("dict() takes keyword arguments only in ${" + s_ + "}");
+      Value v;
+      v.kind = Value::dict;
+      v.entries = keywords;
+      return v;
+    }
+    if (name == "radians") return number_value(one("radians") * std::numbers::pi / 180);
+    if (name == "degrees") return number_value(one("degrees") * 180 / std::numbers::pi);
+    if (name == "sin") return number_value(std::sin(one("sin")));
+    if (name == "cos") return number_value(std::cos(one("cos")));
     if (name == "tan") return checked(std::tan(one("tan")));
     if (name == "asin") return checked(std::asin(one("asin")));
     if (name == "acos") return checked(std::acos(one("acos")));
-    if (name == "atan") return number(std::atan(one("atan")));
+    if (name == "atan") return number_value(std::atan(one("atan")));
     if (name == "sqrt") return checked(std::sqrt(one("sqrt")));
     if (name == "abs" || name == "fabs") {
-      Value v = args.size() == 1 ? args[0] : Value{};
-      return number(std::abs(one("abs")), v.integer);
+      const double v = one("abs");
+      return number_value(std::abs(v), args[0].integer && name == "abs");
     }
-    if (name == "floor") return number(std::floor(one("floor")), true);
-    if (name == "ceil") return number(std::ceil(one("ceil")), true);
-    if (name == "atan2" || name == "pow" || name == "min" || name == "max") {
+    if (name == "floor") return number_value(std::floor(one("floor")), true);
+    if (name == "ceil") return number_value(std::ceil(one("ceil")), true);
+    if (name == "int") {
+      if (args.size() == 1 && args[0].kind == Value::text) {
+        const Value v = from_text(args[0].str);
+        if (v.kind != Value::number) die("int('" + args[0].str + "'): not a number in ${" + s_ + "}");
+        return number_value(std::trunc(v.num), true);
+      }
+      return number_value(std::trunc(one("int")), true);
+    }
+    if (name == "float") {
+      if (args.size() == 1 && args[0].kind == Value::text) {
+        const Value v = from_text(args[0].str);
+        if (v.kind != Value::number) die("float('" + args[0].str + "'): not a number in ${" + s_ + "}");
+        return number_value(v.num);
+      }
+      return number_value(one("float"));
+    }
+    if (name == "round") return number_value(std::nearbyint(one("round")), true);
+    if (name == "str") {
+      if (args.size() != 1) die("str() takes one argument in ${" + s_ + "}");
+      return text_value(format(args[0]));
+    }
+    if (name == "bool") {
+      if (args.size() != 1) die("bool() takes one argument in ${" + s_ + "}");
+      return bool_value(truth(args[0]));
+    }
+    if (name == "len") {
+      if (args.size() != 1) die("len() takes one argument in ${" + s_ + "}");
+      const Value& a = args[0];
+      if (a.kind == Value::text) return number_value(static_cast<double>(a.str.size()), true);
+      if (a.kind == Value::list) return number_value(static_cast<double>(a.items->size()), true);
+      if (a.kind == Value::dict) return number_value(static_cast<double>(a.entries->size()), true);
+      die("len() of a number in ${" + s_ + "}");
+    }
+    if (name == "atan2" || name == "pow" || name == "min" || name == "max" || name == "copysign" || name == "fmod") {
       if (args.size() != 2) die(name + "() takes two arguments in ${" + s_ + "}");
       const double a = num(args[0], name.c_str()), b = num(args[1], name.c_str());
-      if (name == "atan2") return number(std::atan2(a, b));
+      if (name == "atan2") return number_value(std::atan2(a, b));
       if (name == "pow") return checked(std::pow(a, b));
+      if (name == "copysign") return number_value(std::copysign(a, b));
+      if (name == "fmod") return checked(std::fmod(a, b));
       const bool integer = args[0].integer && args[1].integer;
-      return number(name == "min" ? std::min(a, b) : std::max(a, b), integer);
+      return number_value(name == "min" ? std::min(a, b) : std::max(a, b), integer);
     }
+    if (auto v = cx_.call(name, args)) return *v;
     die("unsupported function " + name + "() in ${" + s_ + "}");
   }
 
-  const std::string& s_;
-  const Scope& scope_;
-  const std::function<void(const std::string&)>& fail_;
+  std::string s_;
+  const ExprContext& cx_;
   std::size_t i_ = 0;
   int depth_ = 0;
+  int nest_ = 0;
 };
+
+// Macro parameters, split at blanks outside quotes; a quoted default (p:='a b', p:='') loses
+// its quotes, as xacro reads it.
+std::vector<std::string> split_params(const std::string& text) {
+  std::vector<std::string> out;
+  std::string cur;
+  char quote = 0;
+  bool quoted = false;
+  for (const char c : text) {
+    if (quote) {
+      if (c == quote) quote = 0;
+      else cur += c;
+    } else if ((c == '\'' || c == '"') && cur.find(":=") != std::string::npos) {
+      quote = c;
+      quoted = true;
+    } else if (std::isspace(static_cast<unsigned char>(c))) {
+      if (!cur.empty() || quoted) out.push_back(cur);
+      cur.clear();
+      quoted = false;
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty() || quoted) out.push_back(cur);
+  return out;
+}
 
 class Expander {
  public:
@@ -335,9 +735,10 @@ class Expander {
     if (!root) throw UrdfError(path, 0, "xacro: no root element");
     XMLElement* out_root = out_.NewElement(root->Name());
     out_.InsertEndChild(out_root);
-    copy_attributes(root, out_root, path);
     files_.push_back(path);
     children(root, out_root, global_);
+    // The root's attributes last: <robot name="$(arg name)"> may use an arg declared inside.
+    copy_attributes(root, out_root, global_);
     files_.pop_back();
     tinyxml2::XMLPrinter printer(nullptr, true);  // compact: no whitespace added to text
     out_.Print(&printer);
@@ -372,11 +773,104 @@ class Expander {
       fail(e, "xacro: the expansion exceeds " + std::to_string(kMaxXacroOutputBytes >> 20) + " MiB (docs/limits.md)");
   }
 
-  // $(find pkg), $(arg name) and ${expr} in attribute or text values; $${ and $$( stay literal.
-  std::string eval(const std::string& text, const XMLElement* e, const Scope& scope) {
+  // The context of an expression in `scope`: its properties (evaluated on first use in the scope
+  // that holds them) and load_yaml.
+  ExprContext context(const XMLElement* e, Scope& scope) {
+    ExprContext cx;
+    cx.fail = [this, e](const std::string& m) { fail(e, "xacro: " + m); };
+    cx.name = [this, &scope](const std::string& n) -> std::optional<Value> {
+      auto [p, holder] = scope.find(n);
+      if (!p) return std::nullopt;
+      return property_value(*p, *holder);
+    };
+    cx.call = [this, e](const std::string& name, const std::vector<Value>& args) -> std::optional<Value> {
+      if (name != "load_yaml") return std::nullopt;
+      if (args.size() != 1 || args[0].kind != Value::text) fail(e, "xacro: load_yaml() takes one file name");
+      return load_yaml(args[0].str, e);
+    };
+    return cx;
+  }
+
+  Value property_value(Prop& p, Scope& holder) {
+    if (p.value) return *p.value;
+    if (p.busy) throw UrdfError(p.file, p.line, "xacro: property defined by itself (a cycle of properties)");
+    if (++eval_depth_ > kMaxNesting) throw UrdfError(p.file, p.line, "xacro: properties nested more than " + std::to_string(kMaxNesting) + " deep");
+    p.busy = true;
+    files_.push_back(p.file);
+    struct Restore {
+      Expander& x;
+      Prop& p;
+      ~Restore() {
+        x.files_.pop_back();
+        p.busy = false;
+        --x.eval_depth_;
+      }
+    } restore{*this, p};
+    // Evaluated where it was defined; `line` from the definition for messages.
+    Value v = value_of(p.text, nullptr, holder, p.line);
+    p.value = v;
+    return v;
+  }
+
+  Value load_yaml(const std::string& name, const XMLElement* e) {
+    fs::path p = name;
+    if (name.rfind("package://", 0) == 0 || name.rfind("file://", 0) == 0) {
+      std::string error;
+      p = resolve_uri(name, fs::path(files_.back()).parent_path(), packages_, error);
+      if (!error.empty()) fail(e, "xacro: load_yaml('" + name + "'): " + error);
+    } else if (p.is_relative()) {
+      p = fs::path(files_.back()).parent_path() / p;
+    }
+    Result<std::string> text = collision::read_file_bounded(p.string(), collision::kMaxTextFileBytes);
+    if (!text) fail(e, "xacro: load_yaml('" + name + "'): " + text.error().message);
+    YAML::Node doc;
+    try {
+      // yaml-cpp recurses per level: a document that may nest deeper than kMaxNesting is refused
+      // first. Over-counted: open brackets, plus per line its indent and its "- " / "? " entries.
+      int brackets = 0, deepest = 0, line_depth = 0;
+      bool at_start = true;
+      for (std::size_t k = 0; k < text->size(); ++k) {
+        const char c = (*text)[k];
+        const bool entry = (c == '-' || c == '?') && k + 1 < text->size() && (*text)[k + 1] == ' ';
+        if (c == '\n') line_depth = 0, at_start = true;
+        else if (c == ' ' && at_start) ++line_depth;
+        else if (entry) ++line_depth;
+        else at_start = false;
+        if (c == '[' || c == '{') ++brackets;
+        else if ((c == ']' || c == '}') && brackets > 0) --brackets;
+        deepest = std::max(deepest, brackets + line_depth);
+      }
+      if (deepest > 2 * kMaxNesting)
+        fail(e, "xacro: load_yaml('" + name + "'): nested more than " + std::to_string(kMaxNesting) + " levels");
+      doc = YAML::Load(*text);
+    } catch (const YAML::Exception& x) {
+      fail(e, "xacro: load_yaml('" + name + "'): " + p.string() + ":" + std::to_string(x.mark.line + 1) + ": " + x.msg);
+    }
+    return from_yaml(doc, 0, [&](const std::string& m) { fail(e, "xacro: " + m + " in " + p.string()); });
+  }
+
+  // The value of a text: one ${expr} spanning all of it keeps the expression's value (a dict, a
+  // list, a number); anything else is the substituted text, read back as a number when it is one.
+  Value value_of(const std::string& text, const XMLElement* e, Scope& scope, int line = 0) {
+    std::string t = text;
+    const std::size_t b = t.find_first_not_of(" \t\n\r");
+    if (b != std::string::npos && t.compare(b, 2, "${") == 0) {
+      const std::size_t close = matching(t, b + 1, '{', '}');
+      if (close != std::string::npos && t.find_first_not_of(" \t\n\r", close + 1) == std::string::npos) {
+        ExprContext cx = context(e, scope);
+        if (line) cx.fail = [this, line](const std::string& m) { throw UrdfError(files_.back(), line, "xacro: " + m); };
+        return Expr(t.substr(b + 2, close - b - 2), cx).run();
+      }
+    }
+    return from_text(eval(text, e, scope, line));
+  }
+
+  // $(...) substitutions and ${expr} in attribute or text values; $${ and $$( stay literal.
+  std::string eval(const std::string& text, const XMLElement* e, Scope& scope, int line = 0) {
     if (text.find('$') == std::string::npos) return text;
     std::string out;
-    const std::function<void(const std::string&)> f = [&](const std::string& m) { fail(e, "xacro: " + m); };
+    ExprContext cx = context(e, scope);
+    if (line) cx.fail = [this, line](const std::string& m) { throw UrdfError(files_.back(), line, "xacro: " + m); };
     for (std::size_t i = 0; i < text.size();) {
       if (text[i] != '$' || i + 1 >= text.size()) {
         out += text[i++];
@@ -393,41 +887,84 @@ class Expander {
         out += text[i++];
         continue;
       }
-      const std::size_t end = text.find(open == '{' ? '}' : ')', i + 2);
-      if (end == std::string::npos) f(std::string("unterminated ") + (open == '{' ? "${" : "$(") + " in \"" + text + "\"");
+      const std::size_t end = matching(text, i + 1, open, open == '{' ? '}' : ')');
+      if (end == std::string::npos) cx.fail(std::string("unterminated ") + (open == '{' ? "${" : "$(") + " in \"" + text + "\"");
       const std::string inner = text.substr(i + 2, end - i - 2);
-      if (open == '{') {
-        out += format(Expr(inner, scope, f).run());
-      } else {
-        out += substitution(inner, e, scope);
-      }
+      if (open == '{') out += format(Expr(inner, cx).run());
+      else out += substitution(inner, e, scope, cx);
       i = end + 1;
     }
     return out;
   }
 
-  std::string substitution(const std::string& inner, const XMLElement* e, const Scope& scope) {
+  std::string substitution(const std::string& raw, const XMLElement* e, Scope& scope, const ExprContext& cx) {
     std::string kind, arg;
     {
-      const std::string s = eval(inner, e, scope);
-      const std::size_t sp = s.find(' ');
+      std::size_t sp = raw.find_first_of(" \t");
+      kind = raw.substr(0, sp);
+      if (kind == "eval") return format(eval_substitution(sp == std::string::npos ? "" : raw.substr(sp + 1), cx));
+      const std::string s = eval(raw, e, scope);
+      sp = s.find_first_of(" \t");
       kind = s.substr(0, sp);
-      if (sp != std::string::npos) arg = s.substr(s.find_first_not_of(' ', sp) == std::string::npos ? s.size() : s.find_first_not_of(' ', sp));
-      while (!arg.empty() && arg.back() == ' ') arg.pop_back();
+      if (sp != std::string::npos) {
+        const std::size_t b = s.find_first_not_of(" \t", sp);
+        arg = b == std::string::npos ? "" : s.substr(b);
+      }
+      while (!arg.empty() && (arg.back() == ' ' || arg.back() == '\t')) arg.pop_back();
     }
     if (kind == "find") {
       if (auto dir = packages_.find(arg)) return fs::absolute(*dir).lexically_normal().string();  // not relative to the includer
-      fail(e, "xacro: $(find " + arg + "): no package '" + arg + "' on the package path (cell packages:, ROS_PACKAGE_PATH)");
+      cx.fail("$(find " + arg + "): no package '" + arg + "' on the package path (cell packages:, ROS_PACKAGE_PATH)");
     }
     if (kind == "arg") {
       if (auto it = args_.find(arg); it != args_.end()) return it->second;
-      fail(e, "xacro: $(arg " + arg + "): no value (give xacro_args: in the cell or <xacro:arg name=\"" + arg +
-                  "\" default=...>)");
+      cx.fail("$(arg " + arg + "): no value (give xacro_args: in the cell or <xacro:arg name=\"" + arg + "\" default=...>)");
     }
-    fail(e, "xacro: unsupported substitution $(" + inner + ") (find, arg)");
+    if (kind == "env") {
+      if (const char* v = std::getenv(arg.c_str())) return v;
+      cx.fail("$(env " + arg + "): the environment variable is not set");
+    }
+    if (kind == "optenv") {
+      const std::size_t sp = arg.find_first_of(" \t");
+      const std::string var = arg.substr(0, sp);
+      if (const char* v = std::getenv(var.c_str())) return v;
+      return sp == std::string::npos ? std::string() : arg.substr(arg.find_first_not_of(" \t", sp));
+    }
+    if (kind == "dirname") return fs::absolute(fs::path(files_.back()).parent_path()).lexically_normal().string();
+    if (kind == "cwd") return fs::current_path().string();
+    cx.fail("unsupported substitution $(" + raw + ") (find, arg, env, optenv, eval, dirname, cwd)");
+    throw std::logic_error("unreachable");  // fail throws
   }
 
-  std::string attr(const XMLElement* e, const char* name, const Scope& scope, bool needed = true) {
+  // $(eval expr): Python over the args (bare names), with arg(), env(), optenv(), find().
+  Value eval_substitution(const std::string& expr, const ExprContext& outer) {
+    ExprContext cx;
+    cx.fail = outer.fail;
+    cx.name = [this](const std::string& n) -> std::optional<Value> {  // args are strings there, as in roslaunch
+      if (auto it = args_.find(n); it != args_.end()) return text_value(it->second);
+      return std::nullopt;
+    };
+    cx.call = [this, &cx](const std::string& name, const std::vector<Value>& a) -> std::optional<Value> {
+      const auto text_arg = [&](std::size_t k) { return k < a.size() ? format(a[k]) : std::string(); };
+      if (name == "arg") {
+        if (auto it = args_.find(text_arg(0)); it != args_.end()) return text_value(it->second);
+        cx.fail("$(eval arg('" + text_arg(0) + "')): no value");
+      }
+      if (name == "env" || name == "optenv") {
+        if (const char* v = std::getenv(text_arg(0).c_str())) return text_value(v);
+        if (name == "optenv") return text_value(text_arg(1));
+        cx.fail("$(eval env('" + text_arg(0) + "')): the environment variable is not set");
+      }
+      if (name == "find") {
+        if (auto dir = packages_.find(text_arg(0))) return text_value(fs::absolute(*dir).lexically_normal().string());
+        cx.fail("$(eval find('" + text_arg(0) + "')): no package '" + text_arg(0) + "'");
+      }
+      return std::nullopt;
+    };
+    return Expr(expr, cx).run();
+  }
+
+  std::string attr(const XMLElement* e, const char* name, Scope& scope, bool needed = true) {
     const char* v = e->Attribute(name);
     if (!v) {
       if (needed) fail(e, std::string("<") + e->Name() + "> needs the attribute '" + name + "'");
@@ -436,10 +973,10 @@ class Expander {
     return eval(v, e, scope);
   }
 
-  void copy_attributes(const XMLElement* from, XMLElement* to, const std::string&) {
+  void copy_attributes(const XMLElement* from, XMLElement* to, Scope& scope) {
     for (const tinyxml2::XMLAttribute* a = from->FirstAttribute(); a; a = a->Next()) {
-      if (std::strncmp(a->Name(), "xmlns", 5) == 0) continue;
-      const std::string v = eval(a->Value(), from, global_);
+      if (std::strncmp(a->Name(), "xmlns", 5) == 0 || std::strncmp(a->Name(), "xacro:", 6) == 0) continue;
+      const std::string v = eval(a->Value(), from, scope);
       grow(v.size() + std::strlen(a->Name()) + 4, from);
       to->SetAttribute(a->Name(), v.c_str());
     }
@@ -460,15 +997,20 @@ class Expander {
     // comments, declarations: dropped
   }
 
+  // The scope a scope="parent" / "global" property goes to.
+  Scope& target_scope(const XMLElement* e, Scope& scope) {
+    const char* s = e->Attribute("scope");
+    if (!s || std::strcmp(s, "local") == 0) return scope;
+    if (std::strcmp(s, "global") == 0) return global_;
+    if (std::strcmp(s, "parent") == 0) return scope.parent ? *scope.parent : scope;
+    fail(e, std::string("<xacro:property scope=\"") + s + "\">: local, parent or global");
+  }
+
   void element(const XMLElement* e, XMLNode* out, Scope& scope) {
     if (!is_xacro(e)) {
       XMLElement* copy = out_.NewElement(e->Name());
       grow(std::strlen(e->Name()) * 2 + 5, e);
-      for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
-        const std::string v = eval(a->Value(), e, scope);
-        grow(v.size() + std::strlen(a->Name()) + 4, e);
-        copy->SetAttribute(a->Name(), v.c_str());
-      }
+      copy_attributes(e, copy, scope);
       out->InsertEndChild(copy);
       children(e, copy, scope);
       return;
@@ -476,12 +1018,23 @@ class Expander {
     const std::string tag = e->Name() + 6;
     if (tag == "property") {
       const std::string name = attr(e, "name", scope);
-      if (e->Attribute("value")) {
-        scope.props[name] = attr(e, "value", scope);
-      } else if (e->Attribute("default")) {
-        if (!scope.find(name)) scope.props[name] = attr(e, "default", scope);
+      Scope& into = target_scope(e, scope);
+      const bool eager = &into != &scope;  // xacro evaluates a property for another scope at once
+      Prop p;
+      p.file = files_.back();
+      p.line = e->GetLineNum();
+      if (const char* v = e->Attribute("value")) {
+        p.text = v;
+        if (eager) p.value = value_of(v, e, scope);
+        into.props[name] = std::move(p);
+      } else if (const char* d = e->Attribute("default")) {
+        if (!scope.find(name).first) {
+          p.text = d;
+          if (eager) p.value = value_of(d, e, scope);
+          into.props[name] = std::move(p);
+        }
       } else {
-        scope.blocks[name] = e;  // block property: its children
+        into.blocks[name] = e;  // block property: its children
       }
       return;
     }
@@ -497,28 +1050,17 @@ class Expander {
       Macro m;
       m.def = e;
       m.file = files_.back();
-      const std::string name = attr(e, "name", scope);
-      std::string params = e->Attribute("params") ? e->Attribute("params") : "";
-      std::istringstream in(params);
-      for (std::string p; in >> p;) {
-        if (p.find(":=^") != std::string::npos || p.find("^|") != std::string::npos)
-          fail(e, "<xacro:macro name=\"" + name + "\">: parameter '" + p + "': ^ (outer scope) defaults are not supported");
-        m.params.push_back(p);
-      }
+      const std::string name = ns_ + attr(e, "name", scope);
+      m.params = split_params(e->Attribute("params") ? e->Attribute("params") : "");
       macros_[name] = std::move(m);
       return;
     }
     if (tag == "include") return include(e, out, scope);
     if (tag == "if" || tag == "unless") {
-      const std::string v = attr(e, "value", scope);
+      const Value x = value_of(e->Attribute("value") ? e->Attribute("value") : "", e, scope);
       bool b = false;
-      if (v == "true" || v == "True") b = true;
-      else if (v == "false" || v == "False") b = false;
-      else {
-        const Value x = from_text(v);
-        if (x.kind == Value::text) fail(e, "<xacro:" + tag + " value=\"" + v + "\">: a boolean or a number is expected");
-        b = x.num != 0;
-      }
+      if (x.kind == Value::boolean || x.kind == Value::number) b = x.num != 0;
+      else fail(e, "<xacro:" + tag + " value=\"" + format(x) + "\">: a boolean or a number is expected");
       if (b == (tag == "if")) children(e, out, scope);
       return;
     }
@@ -536,7 +1078,33 @@ class Expander {
       --block_depth_;
       return;
     }
-    if (auto it = macros_.find(tag); it != macros_.end()) return call(e, it->second, out, scope);
+    if (tag == "element") {
+      const char* n = e->Attribute("xacro:name");
+      if (!n) fail(e, "<xacro:element> needs the attribute 'xacro:name'");
+      const std::string name = eval(n, e, scope);
+      if (name.empty() || name.find_first_of(" <>\"'&") != std::string::npos) fail(e, "<xacro:element>: bad element name '" + name + "'");
+      XMLElement* copy = out_.NewElement(name.c_str());
+      grow(name.size() * 2 + 5, e);
+      copy_attributes(e, copy, scope);
+      out->InsertEndChild(copy);
+      children(e, copy, scope);
+      return;
+    }
+    if (tag == "attribute") {
+      XMLElement* target = out->ToElement();
+      if (!target) fail(e, "<xacro:attribute> must be inside an element");
+      const std::string name = attr(e, "name", scope), value = attr(e, "value", scope);
+      if (name.empty() || name.find_first_of(" <>\"'&=") != std::string::npos) fail(e, "<xacro:attribute>: bad attribute name '" + name + "'");
+      grow(name.size() + value.size() + 4, e);
+      target->SetAttribute(name.c_str(), value.c_str());
+      return;
+    }
+    if (tag == "call") {
+      const std::string name = attr(e, "macro", scope);
+      if (auto it = macros_.find(name); it != macros_.end()) return call(e, it->second, out, scope, true);
+      fail(e, "<xacro:call macro=\"" + name + "\">: unknown macro");
+    }
+    if (auto it = macros_.find(tag); it != macros_.end()) return call(e, it->second, out, scope, false);
     fail(e, "<" + std::string(e->Name()) + ">: unsupported xacro construct or unknown macro (docs/robots.md)");
   }
 
@@ -559,20 +1127,31 @@ class Expander {
     const XMLDocument& doc = load(file, e, files_.back());
     const XMLElement* root = doc.RootElement();
     if (!root) throw UrdfError(file, 0, "xacro: no root element");
+    // ns="name": the file's macros are called as name.macro (its properties stay shared).
+    const std::string saved_ns = ns_;
+    if (const char* ns = e->Attribute("ns")) ns_ += eval(ns, e, scope) + ".";
     files_.push_back(file);
     children(root, out, scope);
     files_.pop_back();
+    ns_ = saved_ns;
   }
 
-  void call(const XMLElement* e, const Macro& m, XMLNode* out, Scope& caller) {
+  void call(const XMLElement* e, const Macro& m, XMLNode* out, Scope& caller, bool via_call) {
     if (macro_depth_ >= kMaxXacroMacroDepth)
       fail(e, "<" + std::string(e->Name()) + ">: macros nested more than " + std::to_string(kMaxXacroMacroDepth) + " deep (recursion?)");
     Scope local;
-    local.parent = &global_;
+    local.parent = &caller;  // xacro's dynamic scoping: the body sees the caller's properties
     std::vector<const XMLElement*> given;
     for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) given.push_back(c);
     std::size_t next = 0;
     std::map<std::string, bool> known;
+    const auto param = [&](const std::string& name, const Value& v) {
+      Prop p;
+      p.value = v;
+      p.file = files_.back();
+      p.line = e->GetLineNum();
+      local.props[name] = std::move(p);
+    };
     for (const std::string& p : m.params) {
       if (p[0] == '*') {  // *name: the next child element; **name: that element's content
         const bool content = p.rfind("**", 0) == 0;
@@ -589,15 +1168,28 @@ class Expander {
       const std::string name = p.substr(0, d);
       known[name] = true;
       if (const char* v = e->Attribute(name.c_str())) {
-        local.props[name] = eval(v, e, caller);
-      } else if (d != std::string::npos) {
-        local.props[name] = eval(p.substr(d + 2), m.def, global_);
-      } else {
-        fail(e, "<" + std::string(e->Name()) + ">: missing the parameter '" + name + "'");
+        param(name, value_of(v, e, caller));
+        continue;
       }
+      if (d == std::string::npos) fail(e, "<" + std::string(e->Name()) + ">: missing the parameter '" + name + "'");
+      std::string def = p.substr(d + 2);
+      if (def.rfind("^", 0) == 0) {  // ^: the caller's property of that name; ^|x: else x
+        if (auto [prop, holder] = caller.find(name); prop) {
+          param(name, property_value(*prop, *holder));
+          continue;
+        }
+        if (def.rfind("^|", 0) != 0)
+          fail(e, "<" + std::string(e->Name()) + ">: parameter '" + p + "': no property '" + name + "' in the caller's scope");
+        def = def.substr(2);
+      }
+      files_.push_back(m.file);
+      const Value v = value_of(def, m.def, caller);
+      files_.pop_back();
+      param(name, v);
     }
     for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next())
-      if (!known.count(a->Name())) fail(e, "<" + std::string(e->Name()) + ">: the macro has no parameter '" + a->Name() + "'");
+      if (!known.count(a->Name()) && !(via_call && std::strcmp(a->Name(), "macro") == 0))
+        fail(e, "<" + std::string(e->Name()) + ">: the macro has no parameter '" + a->Name() + "'");
     ++macro_depth_;
     files_.push_back(m.file);
     children(m.def, out, local);
@@ -610,11 +1202,13 @@ class Expander {
   std::vector<std::unique_ptr<XMLDocument>> docs_;
   std::vector<std::string> files_;  // the include stack: the file whose elements are expanded
   std::map<std::string, Macro> macros_;
+  std::string ns_;  // the namespace prefix of an include with ns= ("" or "name.")
   Scope global_;
   XMLDocument out_;
   std::size_t out_bytes_ = 0;
   int macro_depth_ = 0;
   int block_depth_ = 0;
+  int eval_depth_ = 0;
 };
 }  // namespace
 

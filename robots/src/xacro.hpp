@@ -1,6 +1,7 @@
-// An in-process xacro expander (the subset robot support packages use; docs/robots.md):
-// properties (value and block), ${} expressions, macros with defaults and block parameters,
-// includes ($(find pkg), relative), $(arg) with xacro:arg defaults, xacro:if / xacro:unless.
+// An in-process xacro expander (what the UR and ROS-Industrial description packages use;
+// docs/robots.md "xacro descriptions"): lazily evaluated properties with scopes, ${} Python
+// expressions with lists, dicts and load_yaml, macros with ^ defaults and block parameters,
+// includes, $(find/arg/env/optenv/eval), xacro:if / unless / element / attribute / call.
 // Errors throw UrdfError naming file, line and construct.
 #pragma once
 #include "asimov/robots/package_path.hpp"

@@ -129,7 +129,7 @@ TEST_CASE("aliases that multiply (billion laughs) stay shared and end at once", 
   CHECK(seconds(t0) < 5);
 }
 
-TEST_CASE("20,000 objects load in seconds; more are refused", "[cell][hostile]") {
+TEST_CASE("20,000 objects load in seconds; more than 100,000 are refused", "[cell][hostile]") {
   std::string yaml = "objects:\n";
   for (int i = 0; i < 20000; ++i)
     yaml += "  - {name: o" + std::to_string(i) + ", box: [1, 1, 1], at: [" + std::to_string(i % 100 * 3 + 400) + ", " +
@@ -139,9 +139,9 @@ TEST_CASE("20,000 objects load in seconds; more are refused", "[cell][hostile]")
   CHECK(cell.objects.size() == 20000);
   CHECK(seconds(t0) < 10);
   std::string too_many = "objects: [";
-  for (int i = 0; i <= 20000; ++i) too_many += i ? ", 1" : "1";
+  for (int i = 0; i <= 100000; ++i) too_many += i ? ", 1" : "1";
   too_many += "]\n";
-  CHECK(std::string(cell_error(too_many).message) == "20001 objects; a cell has at most 20000");
+  CHECK(cell_error(too_many).message == "100001 objects; a cell has at most 100000");
 }
 
 TEST_CASE("cell files that are folders, devices or missing: bounded reads", "[cell][hostile]") {

@@ -8,7 +8,10 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <iostream>
+#include <string>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -80,12 +83,15 @@ TEST_CASE("run: --cell that is a folder or /dev/zero, a program that is a folder
   CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 30);
 }
 
-TEST_CASE("an interrupted asimov test removes its scratch folder and exits 130", "[cli][hostile][suite]") {
-  const auto dir = test::scratch_dir() / "interrupted-suite";
+// Starts `asimov test` on a case that never ends, sends `signal` once the case runs and returns
+// the wait status; `scratch` is the command's scratch folder, `log` its stdout.
+int interrupt_suite(int signal, std::filesystem::path& scratch, std::string& log_text) {
+  const auto dir = test::scratch_dir() / ("interrupted-suite-" + std::to_string(signal));
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "spin.v2") << ".PROGRAM spin()\n  WHILE TRUE DO\n  END\n.END\n";
   std::ofstream(dir / "spin.expect.json") << R"({"exit": 0, "stdout": []})";
   const auto log = dir / "log.txt";
+  std::fflush(nullptr);
   const pid_t pid = ::fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
@@ -93,17 +99,73 @@ TEST_CASE("an interrupted asimov test removes its scratch folder and exits 130",
     ::execl(ASIMOV_BINARY, ASIMOV_BINARY, "test", dir.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
-  const auto scratch = std::filesystem::temp_directory_path() / ("asimov-test-" + std::to_string(pid));
-  // Wait until the case runs (its scratch folder exists), then Ctrl-C.
+  scratch = std::filesystem::temp_directory_path() / ("asimov-test-" + std::to_string(pid));
+  // Wait until the case runs (its scratch folder exists), then the signal.
   for (int i = 0; i < 200 && !std::filesystem::exists(scratch); ++i) ::usleep(50000);
   CHECK(std::filesystem::exists(scratch));
   ::usleep(300000);
-  ::kill(pid, SIGINT);
+  ::kill(pid, signal);
   int status = 0;
   REQUIRE(::waitpid(pid, &status, 0) == pid);
+  log_text = test::slurp(log);
+  std::filesystem::remove_all(dir);
+  return status;
+}
+
+TEST_CASE("an interrupted asimov test removes its scratch folder and exits 130", "[cli][hostile][suite]") {
+  std::filesystem::path scratch;
+  std::string log;
+  const int status = interrupt_suite(SIGINT, scratch, log);
   REQUIRE(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 130);
   CHECK_FALSE(std::filesystem::exists(scratch));
-  CHECK(test::slurp(log) == "Interrupted: 0 of 1 case run, 0 failed\n");
-  std::filesystem::remove_all(dir);
+  CHECK(log == "Interrupted: 0 of 1 case run, 0 failed\n");
+}
+
+TEST_CASE("asimov test stopped by SIGTERM or SIGHUP removes its scratch folder, then ends by that signal",
+          "[cli][hostile][suite]") {
+  for (const int signal : {SIGTERM, SIGHUP}) {
+    CAPTURE(signal);
+    std::filesystem::path scratch;
+    std::string log;
+    const int status = interrupt_suite(signal, scratch, log);
+    REQUIRE(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == signal);
+    CHECK_FALSE(std::filesystem::exists(scratch));
+    CHECK(log == "Interrupted: 0 of 1 case run, 0 failed\n");
+  }
+}
+
+// Run by the test below as a child process (hidden: not part of the suite).
+TEST_CASE("scratch probe: fills the scratch folder, prints it", "[.scratch-probe]") {
+  const auto dir = test::scratch_dir("probe");
+  std::ofstream(dir / "file.txt") << "x";
+  std::cout << "scratch: " << test::scratch_dir().string() << std::endl;
+  if (std::getenv("ASIMOV_PROBE_FAIL")) CHECK(false);
+}
+
+TEST_CASE("a test process removes its scratch folder when it exits, passed or failed", "[cli][suite]") {
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  REQUIRE_FALSE(ec);
+  for (const char* fail : {"", "ASIMOV_PROBE_FAIL=1 "}) {
+    CAPTURE(fail);
+    std::string cmd = fail;
+    cmd.append("'").append(self.string()).append("' '[.scratch-probe]' 2>&1");
+    std::fflush(nullptr);
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    REQUIRE(pipe != nullptr);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, pipe)) out += buf;
+    const int status = ::pclose(pipe);
+    CHECK(WEXITSTATUS(status) == (*fail ? 1 : 0));
+    const auto at = out.find("scratch: ");
+    REQUIRE(at != std::string::npos);
+    const auto folder = out.substr(at + 9, out.find('\n', at) - at - 9);
+    const auto prefix = (std::filesystem::temp_directory_path() / "asimov-test-").string();
+    REQUIRE(folder.rfind(prefix, 0) == 0);  // the child's own folder, not ours
+    CHECK(folder != test::scratch_dir().string());
+    CHECK_FALSE(std::filesystem::exists(folder));
+  }
 }

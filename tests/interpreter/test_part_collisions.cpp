@@ -26,14 +26,16 @@ motion::Cell plate_cell(bool with_plate) {
   return cell;
 }
 
-constexpr const char* kSlide =
+// Down to the plate and grip it.
+const std::string kPick =
     ".PROGRAM main()\n"
     "  SPEED 50 ALWAYS\n"
     "  SET down = TRANS(0, 0, 0, 0, 180, 0)\n"
     "  SET pick = TRANS(500, -200, -390):down\n"
     "  APPRO pick, 100\n"
     "  MOVES pick\n"
-    "  CLOSEI\n"
+    "  CLOSEI\n";
+const std::string kSlide = kPick +
     "  DEPARTS 30\n"
     "  MOVES TRANS(500, 200, -360):down\n"
     ".END\n";
@@ -143,14 +145,7 @@ namespace {
 // underside at -250 on the way across), where the rounded corner (at SPEED 100 the plate's
 // centre passes about 15 mm inside the corner in y and in z) cuts. At x 610..630 it is under
 // the plate's end only: the gripper (x 475..525) sweeps down beside it.
-constexpr const char* kCorner =
-    ".PROGRAM main()\n"
-    "  SPEED 50 ALWAYS\n"
-    "  SET down = TRANS(0, 0, 0, 0, 180, 0)\n"
-    "  SET pick = TRANS(500, -200, -390):down\n"
-    "  APPRO pick, 100\n"
-    "  MOVES pick\n"
-    "  CLOSEI\n"
+const std::string kCorner = kPick +
     "  DEPARTS 150\n"
     "  SPEED 100 ALWAYS\n"
     "  MOVES TRANS(500, 60, -240):down\n"

@@ -245,10 +245,9 @@ TEST_CASE("DURATION sets a minimum motion time, once or ALWAYS", "[statements]")
 TEST_CASE("SPEED ... MMPS, V+ functions and statements stop the program", "[statements]") {
   CHECK(outcome("SPEED 50 MMPS") == "ERROR *Not supported in simulation* SPEED MMPS");
   CHECK(outcome("SPEED 50 IPS ALWAYS") == "ERROR *Not supported in simulation* SPEED IPS");
-  CHECK(outcome("TYPE \"a\"\nx = FLTB($s)") == "a\nERROR *Not supported in simulation* FLTB");
+  CHECK(outcome("TYPE \"a\"\n$s = \"1,2\"\n$t = $DECODE($s, \",\", 0)") == "a\nERROR *Not supported in simulation* $DECODE");
   CHECK(outcome("TYPE IOSTAT(1), IOSTAT(1, 0)") == "0 0\n");  // nothing done on unit 1 yet
   CHECK(outcome("x = IOSTAT(1, 2)") == "ERROR *Not supported in simulation* IOSTAT(lun, 2)");
-  CHECK(outcome("$s = $LNGB(1)") == "ERROR *Not supported in simulation* $LNGB");
   CHECK(outcome("FOPEN (5) \"x\"").rfind("ERROR *Not supported in simulation* FOPEN; network", 0) == 0);
   InterpreterFixture f;
   CHECK_FALSE(f.load(program("MOVE a MMPS")).empty());  // units only after SPEED
@@ -332,16 +331,13 @@ TEST_CASE("every V+ statement and function of dialect §7 loads and stops or war
   for (const char* line : {"SELECT TASK = 2", "SET.EVENT 1", "CLEAR.EVENT 1",
                            "LOCK 1", "PRIORITY 5",
                            "REACT 1001, handler", "REACTI 1001, handler", "REACTE handler", "IGNORE 1001",
-                           "TEACH p", "CALLS $name"}) {
+                           "TEACH p", "CALLS $name", "CALIBRATE , status"}) {
     const std::string text = line;
     std::string keyword;
     for (char c : text.substr(0, text.find(' '))) keyword += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     CHECK(outcome(text) == "ERROR *Not supported in simulation* " + keyword);
   }
-  for (const char* f : {"LNGB($s)", "FLTB($s)", "INTB($s)"})
-    CHECK(outcome(std::string("x = ") + f).find("ERROR *Not supported in simulation* ") == 0);
-  for (const char* f : {"$LNGB(1)", "$FLTB(1)", "$INTB(1)", "$DECODE($s, \",\", 0)"})
-    CHECK(outcome(std::string("$s = \"\"\n$t = ") + f).find("ERROR *Not supported in simulation* $") == 0);
+  CHECK(outcome("$s = \"\"\n$t = $DECODE($s, \",\", 0)").find("ERROR *Not supported in simulation* $DECODE") == 0);
   // Warn once per execution and continue; the robot's ATTACH () / DETACH () are simulated (§7b).
   InterpreterFixture f;
   const auto r = f.run(program("ATTACH ()\nDETACH ()\nSELECT ROBOT = 1\nACCEL 50, 50\nACCEL 60\nATTACH ()\nTYPE \"on\""));
@@ -352,4 +348,37 @@ TEST_CASE("every V+ statement and function of dialect §7 loads and stops or war
   // Devices other than the disk stop; network and serial ones with the hint (dialect §7a).
   CHECK(outcome("ATTACH (lun) \"dev\"") == "ERROR *Not supported in simulation* ATTACH \"DEV\"");
   CHECK(outcome("ATTACH (lun) \"SERIAL:1\"").find("SERIAL:1\"; network and serial I/O are not simulated") != std::string::npos);
+}
+
+TEST_CASE("binary records: $LNGB LNGB $INTB INTB $FLTB FLTB as the V+ reference defines them", "[statements][vplus]") {
+  // The reference's own examples.
+  CHECK(outcome("TYPE LNGB($INTB(1)+$INTB(5))") == "65541\n");
+  CHECK(outcome("TYPE $LNGB(67*65536+12345) == $INTB(67)+$INTB(12345)") == "-1\n");
+  CHECK(outcome("TYPE FLTB($CHR(^H3F)+$CHR(^H80)+$CHR(0)+$CHR(0)), FLTB($CHR(^HC0)+$CHR(^H40)+$CHR(0)+$CHR(0))") == "1 -3\n");
+  CHECK(outcome("TYPE INTB($CHR(10)+$CHR(5)), INTB($CHR(255)+$CHR(255)), INTB($CHR(255)+$CHR(255)) BAND ^HFFFF") == "2565 -1 65535\n");
+  // Big-endian bytes, two's complement; the real is rounded (halves away from zero).
+  CHECK(outcome("$s = $LNGB(-2)\nTYPE LEN($s), ASC($s, 1), ASC($s, 4), LNGB($s)") == "4 255 254 -2\n");
+  CHECK(outcome("TYPE LNGB($LNGB(2.5)), LNGB($LNGB(-2147483648)), LNGB($LNGB(2147483647))") == "3 -2147483648 2147483647\n");
+  CHECK(outcome("TYPE LEN($INTB(1)), INTB($INTB(70000))") == "2 4464\n");  // the low 16 bits
+  // first_char: omitted, 0 or 1 the first byte; past the end an error.
+  CHECK(outcome("$s = \"ab\"+$LNGB(7)\nTYPE LNGB($s, 3), INTB($s, 5), LNGB($LNGB(9), 0)") == "7 7 9\n");
+  CHECK(outcome("x = LNGB(\"abc\")") == "ERROR *Illegal value* LNGB: 4 bytes from position 1 of a 3-byte string");
+  CHECK(outcome("x = INTB($INTB(1), 2)") == "ERROR *Illegal value* INTB: 2 bytes from position 2 of a 2-byte string");
+  CHECK(outcome("$s = $LNGB(2147483648)").rfind("ERROR *Illegal value* $LNGB(2147483648) is outside", 0) == 0);
+  // IEEE single precision: rounded to the nearest single; exponent 0 reads as 0, 255 is an error.
+  CHECK(outcome("TYPE FLTB($FLTB(0.1)) == 0.1, ABS(FLTB($FLTB(0.1)) - 0.1) < 1E-8, FLTB($FLTB(-1.5E30)) == -1.5E30") == "0 -1 0\n");
+  CHECK(outcome("TYPE FLTB($FLTB(1.5)), FLTB($FLTB(-1E-30)), FLTB($CHR(0)+$CHR(0)+$CHR(0)+$CHR(1))") == "1.5 -1e-30 0\n");
+  CHECK(outcome("x = FLTB($CHR(^H7F)+$CHR(^H80)+$CHR(0)+$CHR(0))") == "ERROR *Illegal value* FLTB: exponent 255 (infinity or not a number)");
+  CHECK(outcome("$s = $FLTB(1E39)").rfind("ERROR *Illegal value* $FLTB(", 0) == 0);
+  // A string holds any byte: $CHR takes 0..255.
+  CHECK(outcome("TYPE ASC($CHR(0)), ASC($CHR(255)), LEN($CHR(0)+$CHR(0))") == "0 255 2\n");
+  CHECK(outcome("$s = $CHR(256)") == "ERROR *Illegal value* $CHR(256)");
+  CHECK(outcome("$s = $CHR(-1)") == "ERROR *Illegal value* $CHR(-1)");
+}
+
+TEST_CASE("PARAMETER(NOT.CALIBRATED): no robot is uncalibrated in simulation", "[statements][vplus]") {
+  // As ACE-generated start-up code reads it: IF PARAMETER(NOT.CALIBRATED) <> 0 THEN CALIBRATE ...
+  CHECK(outcome("TYPE PARAMETER(NOT.CALIBRATED)\nIF PARAMETER(NOT.CALIBRATED) <> 0 THEN\n  CALIBRATE , err\nEND\nTYPE \"ready\"")
+        == "0\nready\n");
+  CHECK(outcome("PARAMETER NOT.CALIBRATED = 1").rfind("ERROR *Not supported in simulation* PARAMETER NOT.CALIBRATED", 0) == 0);
 }

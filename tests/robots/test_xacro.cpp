@@ -51,6 +51,7 @@ std::string error_of(const std::string& body, const std::string& name = "t.xacro
 
 void has(const std::string& what, const std::string& part) {
   INFO(what);
+  INFO("expected: " << part);
   CHECK(what.find(part) != std::string::npos);
 }
 
@@ -142,6 +143,50 @@ TEST_CASE("xacro: macros, defaults, blocks, conditionals, args", "[urdf][xacro]"
             .find("<s v=\"right\"/>") != std::string::npos);
 }
 
+TEST_CASE("xacro: the constructs of the UR and ROS-Industrial packages", "[urdf][xacro]") {
+  write("cfg/limits.yaml", "joint_limits:\n  shoulder: {max_position: 3.14, has: true}\n  names: [a, 'b c']\nhash: calib_1\n");
+  setenv("ASIMOV_XACRO_TEST_VAR", "from_env", 1);
+  const std::string x = expand(
+      "<xacro:arg name=\"side_n\" default=\"3\"/><xacro:arg name=\"side\" default=\"left\"/>"
+      // lazily evaluated: `late` is defined after `early`, which uses it
+      "<xacro:property name=\"early\" value=\"${late * 2}\"/><xacro:property name=\"late\" value=\"21\"/>"
+      "<xacro:property name=\"cfg\" value=\"${xacro.load_yaml('cfg/limits.yaml')}\"/>"
+      "<xacro:property name=\"lim\" value=\"${cfg['joint_limits']}\"/>"
+      "<e a=\"${early}\" b=\"${cfg['joint_limits']['shoulder']['max_position']}\" c=\"${cfg.joint_limits.shoulder.has}\""
+      " d=\"${lim['names'][1]}\" e=\"${len(lim['names'])}\" f=\"${cfg.hash}\" g=\"${1 if late > 20 else nope}\""
+      " h=\"${'x' if False else 'y'}\" i=\"${[1, 2] + [3]}\" j=\"${{'k': 1}['k']}\" k=\"${'a' in ['a', 'b']}\""
+      " l=\"${dict(p=1.5, q='w')['q']}\" m=\"${2 not in [1]}\" n=\"${7 // 2}\" o=\"${float('2.5') + int('3')}\""
+      " p=\"$(env ASIMOV_XACRO_TEST_VAR)\" q=\"$(optenv ASIMOV_SURELY_UNSET_VARIABLE fall back)\" r=\"$(eval int(side_n) * 2 + 1)\""
+      " s=\"$(eval arg('side') + '_x')\" t=\"${(3 if late else 4) * 2}\" u=\"${None}\" v=\"${str(0.5)}\" w=\"${-lim['names'].__len__ if False else 0}\"/>"
+      // ^ defaults and scope="parent" (UR's get_visual_params / read_model_data)
+      "<xacro:macro name=\"reader\" params=\"v\"><xacro:property name=\"got\" value=\"${v * 10}\" scope=\"parent\"/>"
+      "<xacro:property name=\"glob\" value=\"g${v}\" scope=\"global\"/></xacro:macro>"
+      "<xacro:macro name=\"user\" params=\"v\"><xacro:reader v=\"${v}\"/><u got=\"${got}\"/><xacro:inner/></xacro:macro>"
+      "<xacro:macro name=\"inner\" params=\"v:=^ w:=^|dflt got:=^\"><in v=\"${v}\" w=\"${w}\" got=\"${got}\"/></xacro:macro>"
+      "<xacro:user v=\"4\"/><after glob=\"${glob}\"/>"
+      // xacro:element, xacro:attribute, xacro:call
+      "<xacro:property name=\"tag\" value=\"made\"/><xacro:element xacro:name=\"${tag}_el\" k=\"1\"><xacro:attribute name=\"extra\" value=\"${late}\"/></xacro:element>"
+      "<xacro:macro name=\"named\" params=\"q\"><n q=\"${q}\"/></xacro:macro><xacro:call macro=\"${'na' + 'med'}\" q=\"9\"/>"
+      // a macro parameter keeps a dict value
+      "<xacro:macro name=\"takes\" params=\"d:=${dict(a=1,b=2)}\"><t b=\"${d['b']}\"/></xacro:macro><xacro:takes/>"
+      "<xacro:takes d=\"${dict(b=5)}\"/>"
+      // quoted defaults, as ur10_macro.xacro writes prefix:=''
+      "<xacro:macro name=\"quoted\" params=\"a:='x y' b:=''\"><q a=\"${a}\" b=\"[${b}]\"/></xacro:macro><xacro:quoted/>\n");
+  for (const char* want : {"a=\"42\"", "b=\"3.14\"", "c=\"True\"", "d=\"b c\"", "e=\"2\"", "f=\"calib_1\"", "g=\"1\"",
+                           "h=\"y\"", "i=\"[1, 2, 3]\"", "j=\"1\"", "k=\"True\"", "l=\"w\"", "m=\"True\"", "n=\"3\"",
+                           "o=\"5.5\"", "p=\"from_env\"", "q=\"fall back\"", "r=\"7\"", "s=\"left_x\"", "t=\"6\"",
+                           "u=\"None\"", "v=\"0.5\"", "w=\"0\"", "<u got=\"40\"/>", "<in v=\"4\" w=\"dflt\" got=\"40\"/>",
+                           "<after glob=\"g4\"/>", "<q a=\"x y\" b=\"[]\"/>", "<made_el k=\"1\" extra=\"21\"/>", "<n q=\"9\"/>", "<t b=\"2\"/>", "<t b=\"5\"/>"})
+    has(x, want);
+  // The untaken branch is never evaluated (`nope` is unknown); the root's attributes may use
+  // an arg declared inside it.
+  write("rootarg.xacro", "<robot xmlns:xacro=\"http://wiki.ros.org/xacro\" name=\"$(arg n)\"><xacro:arg name=\"n\" default=\"named\"/></robot>\n");
+  has(expand_xacro((scratch() / "rootarg.xacro").string(), PackagePath{}, {}), "<robot name=\"named\"/>");
+  // ns= includes: the file's macros as ns.macro.
+  write("nsinc.xacro", std::string(kNs) + "<xacro:macro name=\"part\" params=\"\"><from_ns/></xacro:macro></robot>\n");
+  has(expand("<xacro:include filename=\"nsinc.xacro\" ns=\"lib\"/><xacro:lib.part/>"), "<from_ns/>");
+}
+
 TEST_CASE("xacro: a robot through relative includes loads with the computed values", "[urdf][xacro]") {
   write("inc/part.xacro", std::string(kNs) + "<xacro:property name=\"z\" value=\"${0.1 * 3}\"/></robot>\n");
   const fs::path top = write("rel.xacro", std::string(kNs) + "<xacro:include filename=\"inc/part.xacro\"/>" +
@@ -161,18 +206,38 @@ TEST_CASE("xacro: errors name file, line and construct", "[urdf][xacro]") {
   has(error_of("<e v=\"${'a' * 2}\"/>"), "'a' is not a number");
   has(error_of("<e v=\"${sqrt(-1)}\"/>"), "sqrt() gives no finite number");
   has(error_of("<e v=\"${10 ** 400}\"/>"), "no finite number");
-  has(error_of("<e v=\"${xacro.load_yaml('j.yaml')}\"/>"), "load_yaml is not supported");
-  has(error_of("<e v=\"${1 if True else 2}\"/>"), "unexpected 'if True else 2'");
-  has(error_of("<e v=\"$(env HOME)\"/>"), "unsupported substitution $(env HOME)");
+  has(error_of("<e v=\"${xacro.load_yaml('none.yaml')}\"/>"), "load_yaml('none.yaml')");
+  write("bad.yaml", "a: [1, 2\n");
+  has(error_of("\n<e v=\"${load_yaml('bad.yaml')['a']}\"/>"), "t.xacro:3: xacro: load_yaml('bad.yaml')");
+  write("deep.yaml", std::string(500, '[') + std::string(500, ']') + "\n");
+  has(error_of("<e v=\"${load_yaml('deep.yaml')}\"/>"), "nested more than 200 levels");
+  std::string dashes;
+  for (int i = 0; i < 5000; ++i) dashes += "- ";
+  write("dashes.yaml", dashes + "x\n");
+  has(error_of("<e v=\"${load_yaml('dashes.yaml')}\"/>"), "nested more than 200 levels");
+  std::string indented;
+  for (int i = 0; i < 3000; ++i) indented += std::string(static_cast<std::size_t>(i), ' ') + "k:\n";
+  write("indented.yaml", indented);
+  has(error_of("<e v=\"${load_yaml('indented.yaml')}\"/>"), "nested more than 200 levels");
+  has(error_of("<e v=\"${1 if True}\"/>"), "'if' without 'else'");
+  has(error_of("<e v=\"$(env ASIMOV_SURELY_UNSET_VARIABLE)\"/>"), "the environment variable is not set");
+  has(error_of("<e v=\"$(anon x)\"/>"), "unsupported substitution $(anon x)");
+  has(error_of("<e v=\"${[1, 2][5]}\"/>"), "index 5 out of range");
+  has(error_of("<e v=\"${dict(a=1)['b']}\"/>"), "no key 'b'");
+  has(error_of("<e v=\"${(1).x}\"/>"), "has no attribute 'x'");
+  has(error_of("\n<xacro:property name=\"p\" value=\"${p + 1}\"/><e v=\"${p}\"/>"), "t.xacro:3: xacro: property defined by itself");
+  has(error_of("<xacro:element/>"), "needs the attribute 'xacro:name'");
+  has(error_of("<e><xacro:attribute name=\"a b\" value=\"1\"/></e>"), "bad attribute name 'a b'");
+  has(error_of("<xacro:element xacro:name=\"a&lt;b\"/>"), "bad element name 'a<b'");
+  has(error_of("<xacro:call macro=\"none\"/>"), "<xacro:call macro=\"none\">: unknown macro");
   has(error_of("<e v=\"$(arg missing)\"/>"), "$(arg missing): no value");
   has(error_of("<e v=\"$(find no_such_pkg)\"/>"), "no package 'no_such_pkg'");
   has(error_of("<e v=\"${1\"/>"), "unterminated ${");
-  has(error_of("\n\n<xacro:element xacro:name=\"x\"/>"), "t.xacro:4: <xacro:element>: unsupported xacro construct");
   has(error_of("<xacro:nomacro/>"), "unknown macro");
   has(error_of("<xacro:macro name=\"m\" params=\"a\"/><xacro:m/>"), "missing the parameter 'a'");
   has(error_of("<xacro:macro name=\"m\" params=\"a\"/><xacro:m a=\"1\" b=\"2\"/>"), "no parameter 'b'");
   has(error_of("<xacro:macro name=\"m\" params=\"*o\"/><xacro:m/>"), "missing the block parameter '*o'");
-  has(error_of("<xacro:macro name=\"m\" params=\"a:=^\"/>"), "^ (outer scope) defaults are not supported");
+  has(error_of("<xacro:macro name=\"m\" params=\"a:=^\"/><xacro:m/>"), "parameter 'a:=^': no property 'a' in the caller's scope");
   has(error_of("<xacro:insert_block name=\"none\"/>"), "no such block");
   has(error_of("<xacro:if value=\"maybe\"/>"), "a boolean or a number is expected");
   has(error_of("<xacro:arg name=\"q\"/>"), "no default and no value");
@@ -198,6 +263,18 @@ TEST_CASE("xacro: hostile input: cycles, recursion, include depth, size", "[urdf
   }
   // A macro calling itself.
   has(error_of("<xacro:macro name=\"r\" params=\"\"><xacro:r/></xacro:macro><xacro:r/>"), "macros nested more than 64 deep");
+  // Expressions nested 100,000 deep (brackets, minus signs, 'not'), properties defined by a
+  // 1,000-long chain of properties: bounded, an error each, no stack overflow.
+  has(error_of("<e v=\"${" + std::string(100000, '[') + std::string(100000, ']') + "}\"/>"), "nested more than 200 deep");
+  has(error_of("<e v=\"${" + std::string(100000, '-') + "1}\"/>"), "nested more than 200 deep");
+  std::string nots;
+  for (int i = 0; i < 20000; ++i) nots += "not ";
+  has(error_of("<e v=\"${" + nots + "1}\"/>"), "nested more than 200 deep");
+  has(error_of("<e v=\"${" + std::string(100000, '(') + "1" + std::string(100000, ')') + "}\"/>"), "nested too deeply");
+  std::string chain = "<xacro:property name=\"p0\" value=\"1\"/>";
+  for (int i = 1; i <= 1000; ++i)
+    chain += "<xacro:property name=\"p" + std::to_string(i) + "\" value=\"${p" + std::to_string(i - 1) + " + 1}\"/>";
+  has(error_of(chain + "<e v=\"${p1000}\"/>"), "properties nested more than 200 deep");
   // Exponential growth: each level doubles (2^40 elements): stopped at the size bound, quickly.
   std::string body = "<xacro:macro name=\"m0\" params=\"\"><leaf long=\"" + std::string(10000, 'x') + "\"/></xacro:macro>";
   for (int i = 1; i <= 40; ++i)

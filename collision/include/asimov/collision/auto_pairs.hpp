@@ -6,6 +6,7 @@
 // Reasons, in the order they are decided (the first that applies wins, user overrides last):
 //   RIGID        same rigid group or both static: never tested (not an override target)
 //   ADJACENT     joined by a joint (the caller's adjacency list)
+//   SRDF         disabled by the description's SRDF (<disable_collisions>, the caller's list)
 //   DEFAULT      in contact at the default pose
 //   ALWAYS       in contact in >= 95 % of random poses (batches of 200 until a batch adds no
 //                new pair to the set)
@@ -25,8 +26,8 @@
 
 namespace asimov::collision {
 
-enum class PairReason : std::uint8_t { enabled, rigid, adjacent, default_pose, always, never, user_ignore, user_check };
-inline constexpr int kPairReasonCount = 8;
+enum class PairReason : std::uint8_t { enabled, rigid, adjacent, default_pose, always, never, user_ignore, user_check, srdf };
+inline constexpr int kPairReasonCount = 9;
 const char* to_string(PairReason r);  // "ENABLED", "RIGID", "ADJACENT", "DEFAULT", ...
 bool is_tested(PairReason r);         // enabled or user_check
 
@@ -37,6 +38,7 @@ struct AutoPairsInput {
   std::vector<bool> is_static;        // per body
   std::vector<bool> sampled;          // per body: its pairs with other sampled bodies are sampled
   std::vector<BodyPair> adjacent;     // joined bodies (either order)
+  std::vector<BodyPair> srdf;         // disabled by an SRDF (either order)
   std::vector<BodyPair> user_ignore;  // overrides (either order)
   std::vector<BodyPair> user_check;
   // Poses of every body (world frame) at the default configuration, and at a random one drawn

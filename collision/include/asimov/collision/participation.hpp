@@ -1,8 +1,10 @@
 // Step 1: the participation matrix. One flag per body pair says whether it is ever tested;
 // the enabled pairs are also kept as a sorted list (i < j), which is what step 2 walks.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <unordered_set>
 #include <vector>
 
 namespace asimov::collision {
@@ -13,23 +15,23 @@ struct BodyPair {
   friend auto operator<=>(const BodyPair&, const BodyPair&) = default;
 };
 
+// Sparse: a cell of 10^5 static objects has ~10^6 enabled pairs (objects x moving bodies) out
+// of 5 * 10^9, so a bit per pair (1.25 GB) would cost more than the bodies (docs/limits.md).
 class Participation {
  public:
   // Grows the matrix to n bodies; new pairs start disabled, existing flags are kept.
-  void resize(std::size_t n);
+  void resize(std::size_t n) { n_ = std::max(n_, n); }
   std::size_t size() const { return n_; }
   void set(std::uint32_t a, std::uint32_t b, bool enabled);  // a != b, either order
   bool enabled(std::uint32_t a, std::uint32_t b) const;
   const std::vector<BodyPair>& pairs() const;  // sorted, a < b
 
  private:
-  std::size_t bit(std::uint32_t a, std::uint32_t b) const { return std::size_t{a} * stride_ + b; }
-  void sort() const;
+  static std::uint64_t key(std::uint32_t a, std::uint32_t b) { return std::uint64_t{a} << 32 | b; }  // a < b
   std::size_t n_ = 0;
-  std::size_t stride_ = 0;           // capacity: rows and columns allocated
-  std::vector<std::uint64_t> bits_;  // row-major stride x stride, both halves kept in sync
+  std::unordered_set<std::uint64_t> enabled_;  // key(a, b) of each enabled pair
   mutable std::vector<BodyPair> pairs_;
-  mutable bool sorted_ = true;       // pairs_ is sorted (set() appends; pairs() sorts)
+  mutable bool tidy_ = true;  // pairs_ is sorted and lists the enabled pairs once (else pairs() tidies it)
 };
 
 }  // namespace asimov::collision

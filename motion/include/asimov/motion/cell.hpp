@@ -36,9 +36,14 @@ struct CollisionSettings {
   double clearance_mm = 0.0;   // contact when distance <= clearance
   double toc_tolerance_s = 1e-6;  // contact time: bisect until t_hit - t_free <= this (docs/collision-method.md §6.4)
   std::vector<std::pair<std::string, std::string>> ignore;  // user-disabled pairs (body names)
+  // Robot self-pairs that are not tested whatever `pairs` says (body names): the SRDF's
+  // <disable_collisions> (matrix source SRDF), and the pairs in contact at the start joints
+  // (source DEFAULT; the cell loader finds them with motion::start_contacts and warns once).
+  std::vector<std::pair<std::string, std::string>> srdf_disabled;
+  std::vector<std::pair<std::string, std::string>> start_contacts;
   bool enabled = true;
-  // Step 1. false: joined pairs (adjacent links, tool-link n-1) and `ignore` are disabled, every
-  // other pair is tested. true: the generated matrix of `asimov pairs` (collision/auto_pairs.hpp:
+  // Step 1. false: joined pairs (adjacent links, tool-link n-1), `srdf_disabled`,
+  // `start_contacts` and `ignore` are disabled, every other pair is tested. true: the generated matrix of `asimov pairs` (collision/auto_pairs.hpp:
   // robot self-pairs touching at the start joints, in >= 95 % or in none of `pair_samples`
   // random poses are disabled too; robot-object pairs stay tested).
   bool generated_pairs = false;
@@ -61,6 +66,7 @@ struct Cell {
   CollisionSettings collision;
   robots::JointVector start_joints;      // display [deg]; READY unless the cell says otherwise
   std::vector<std::string> warnings;     // load-time notes on the cell's data (e.g. open meshes)
+  std::vector<std::string> notes;        // load-time information (the SRDF's groups and end effectors)
   Workcell workcell;                     // parts, gripper, devices, logic; empty for a static cell
 };
 

@@ -20,6 +20,7 @@ struct SceneBody {
   bool is_static = false;       // link 0 and objects
   bool robot = false;           // a robot part (link body or tool): its self-pairs may be sampled
   int link = -1;                // robot bodies: frame index (the tool: joint_count()); objects: -1
+  int hand = -1;                // a gripper finger's body: its robots::HandJoint (posed open)
   int object = -1;              // objects: index into cell.objects
 };
 
@@ -27,6 +28,8 @@ struct Scene {
   std::vector<SceneBody> bodies;                // engine order: robot bodies, "tool", objects
   std::vector<collision::BodyPair> adjacent;    // joined: links k and k +/- 1, the tool and link n-1
   std::vector<collision::BodyPair> ignored;     // cell.collision.ignore resolved by name
+  std::vector<collision::BodyPair> srdf;        // cell.collision.srdf_disabled resolved by name
+  std::vector<collision::BodyPair> start_contacts;  // cell.collision.start_contacts resolved by name
   std::vector<std::string> unknown_ignored;     // ignore entries naming no body (for warnings)
 };
 
@@ -34,6 +37,12 @@ struct Scene {
 // joint_count()) and joined to link n-1 (the J5 body of a 6-axis arm), adjacent links touch at
 // their joint.
 Scene scene_bodies(const Cell& cell);
+
+// The robot's self-pairs (link bodies and tool) that touch, or come within `clearance_mm`, at
+// the start joints and that nothing else disables yet (rigid, joined, SRDF, ignore): the pairs
+// the default policy leaves untested (source DEFAULT), so an arm never collides with itself at
+// t = 0. Exact (the engine's face test), in (a, b) order, a < b.
+std::vector<collision::BodyPair> start_contacts(const Cell& cell, const Scene& scene, double clearance_mm);
 
 // The joints a cell starts at: cell.start_joints, or READY when they do not fit the robot.
 robots::JointVector start_joints(const Cell& cell);

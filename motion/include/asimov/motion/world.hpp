@@ -31,6 +31,7 @@ namespace asimov::motion {
 // the flange). Parts move as their state says (World: carried, on a running conveyor, resting).
 struct BodyMount {
   int frame = -1;  // index into robots::link_frames (the tool: joint_count()); -1: fixed pose
+  int hand = -1;   // a gripper finger's body: its robots::HandJoint (posed as the hand is)
 };
 
 // The carried part at a pose of the arm (trace, replay).
@@ -74,6 +75,9 @@ class World {
   // devices' clock is advanced to t; earlier times, as contact-time bisection asks, are posed
   // from the state before the last advance). Needs the engine.
   void pose(const robots::JointVector& q, double t = 0);
+  // The hand opened or closed (docs/robots.md "Grippers and side branches"): the fingers' bodies
+  // are posed so from the next pose() on.
+  void set_hand(bool closed);
   // The engine's query on pairs(): request.pairs nullopt means pairs(); a given list loses the
   // pairs of parts absent at the posed time.
   void query(const collision::QueryRequest& request, collision::QueryResult& out);
@@ -111,6 +115,7 @@ class World {
   std::vector<collision::BodyPair> moving_pairs_, arm_moving_pairs_;
   std::vector<GapPair> gap_pairs_;
   std::vector<collision::Pose> frames_;           // link_frames scratch
+  std::vector<collision::Pose> hand_offsets_;     // per robots::HandJoint at the hand's state
   std::vector<collision::BodyId> moving_;         // ids with a frame (posed by pose())
   std::vector<collision::BodyId> unprepared_;     // bodies whose voxel grid is not built yet
   std::optional<collision::Engine> engine_;

@@ -42,7 +42,25 @@ struct ChainJoint {
 struct LinkBody {
   int link = 0;                  // 0 = base column (fixed), k = moves with DH frame k
   std::string name;              // "link0" ... "link6"
-  collision::Polyhedron mesh;    // in frame `link` (DH frame, or chain frame)
+  collision::Polyhedron mesh;    // in frame `link` (DH frame, or chain frame); a finger: at its joint's 0
+  int hand = -1;                 // the hand joint (Robot::hand) that moves it, or -1: rigid in frame `link`
+};
+
+// A joint off the arm chain that the hand drives (docs/robots.md "Grippers and side branches"):
+// a prismatic finger, or a <mimic> follower of one. Its bodies are stored at joint value 0; at
+// value v their pose in frame `frame` is hand_offset(): the parent's offset . origin . motion(v)
+// . origin^-1.
+struct HandJoint {
+  std::string name;
+  int frame = 0;                   // the arm frame it hangs on
+  int parent = -1;                 // the hand joint it hangs on (a finger on a finger), or -1
+  Pose origin = Pose::Identity();  // its joint frame in frame `frame` [mm], parents at 0
+  Vec3 axis = Vec3::UnitZ();       // unit, in its joint frame
+  JointType type = JointType::prismatic;
+  double open = 0, closed = 0;     // display values (mm; deg for a revolute follower) at OPEN, CLOSE
+  double lower = 0, upper = 0;     // its limits (display)
+  int leader = -1;                 // a <mimic> follower: value = multiplier * leader's + offset (display)
+  double multiplier = 1, offset = 0;
 };
 
 struct Robot {
@@ -60,6 +78,8 @@ struct Robot {
   double max_tool_rot_speed = 90;   // straight-line rotation [deg/s]
   double max_tool_rot_accel = 360;  // [deg/s^2]
   std::vector<LinkBody> bodies;
+  std::vector<HandJoint> hand;        // fingers and their followers, parents first
+  std::vector<std::string> links;     // every link of the description (URDF), bodies or not; built-in: empty
   std::vector<std::string> warnings;  // load-time warnings (URDF mesh problems), for the user
   int joint_count() const { return static_cast<int>(chain.empty() ? dh.size() : chain.size()); }
   bool is_chain() const { return !chain.empty(); }
@@ -98,6 +118,14 @@ Pose joint_transform(const Robot& robot, int k, double q);
 Pose dh_transform(const DhLink& link, double theta);
 // Flange pose from internal values (DH angles [rad]; chain: rad / mm), no display mapping.
 Pose flange_pose_dh(const Robot& robot, const JointVector& dh);
+
+// Sets each follower's open and closed values from its leader's (leaders first; followers of
+// followers resolved in turn).
+void update_hand_followers(Robot& robot);
+
+// Pose of hand joint k's bodies in its frame `frame` with the hand closed or open (the joints
+// above it too); identity for k < 0.
+Pose hand_offset(const Robot& robot, int k, bool closed);
 
 // Angle helpers [deg]: wrap into (-180, 180].
 double wrap_deg(double deg);

@@ -2,10 +2,13 @@
 // origins, axes and limits; collision geometry from box / cylinder / sphere (tessellated) and
 // STL meshes. Units are converted once, here: metres -> mm, radians -> display degrees.
 //
-// The arm is the longest chain of movable joints from the root link. Fixed joints are folded
-// into the next movable joint's origin (or into Robot::flange_offset after the last one), and
-// the geometry of every link is expressed in the frame of the movable joint that carries it.
-// Side branches are allowed only when they contain fixed joints (their geometry is attached).
+// The arm is the path from the root link to options.tip, or without a tip the one chain of
+// independent movable joints (an ambiguous tree is an error listing the candidate leaves).
+// Fixed joints are folded into the next movable joint's origin (or into Robot::flange_offset
+// after the last one), and the geometry of every link is expressed in the frame of the movable
+// joint that carries it. Off the chain: fixed joints are rigid, prismatic joints and their
+// <mimic> followers become Robot::hand joints (OPEN = upper limit, CLOSE = lower), any other
+// movable joint is an error naming it.
 #pragma once
 #include "asimov/robots/package_path.hpp"
 #include "asimov/robots/robot.hpp"
@@ -19,6 +22,7 @@ namespace asimov::robots {
 struct UrdfOptions {
   PackagePath packages;
   std::map<std::string, std::string> xacro_args;  // $(arg NAME) values of a .xacro description
+  std::string tip;  // the arm's last link (the cell's `tip:`, or the SRDF end effector's parent); empty: chosen
 };
 
 // Loads `path`. Mesh file names: package://NAME/... (options.packages), file://..., or relative
