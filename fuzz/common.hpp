@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 
 namespace asimov::fuzz {
 
@@ -16,7 +17,7 @@ inline std::string text(const std::uint8_t* data, std::size_t size) {
 }
 
 // The PUMA 560 alone: nothing to hit, so a run goes as far as its limits let it.
-inline motion::Cell empty_cell() { return cell::load_cell_text("robot: puma560\n", "<fuzz cell>"); }
+inline motion::Cell empty_cell() { return std::move(cell::load_cell_text("robot: puma560\n", "<fuzz cell>")).value(); }
 
 // Small limits: an input must end in well under a second, whatever it loops on.
 inline void small_limits(interpreter::Interpreter& interp) {
