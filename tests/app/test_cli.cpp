@@ -1,4 +1,4 @@
-// End-to-end: the asimov executable as users and suites call it (README "Command line").
+// End-to-end: the asimov executable as users and suites call it (docs/cli.md).
 #include "asimov/cell/cell_loader.hpp"
 #include "support/cell_bodies.hpp"
 #include "support/geometry.hpp"

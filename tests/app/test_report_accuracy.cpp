@@ -1,4 +1,4 @@
-// The --report "accuracy" and "timing" objects (README "--report") on the demos, with fixed and
+// The --report "accuracy" and "timing" objects (docs/cli.md "--report") on the demos, with fixed and
 // gap stepping (docs/collision.md §10): sane values, and the same contact either way.
 #include "support/run_cli.hpp"
 

@@ -30,7 +30,7 @@ struct ReplaySample {
   bool checked = false;         // a checked pose (also in the trace)
 };
 
-// What the run's settings cost in accuracy, measured along the run (README "accuracy").
+// What the run's settings cost in accuracy, measured along the run (docs/cli.md "accuracy").
 struct RunAccuracy {
   // Largest docs/collision-method.md §6.3 bound on the displacement of any body point (links, tool) between
   // two consecutive checked poses [mm]: an upper bound, real points move less.
