@@ -2,7 +2,7 @@
 #include "asimov/collision/engine.hpp"
 
 #include "collision/src/voxel_grid.hpp"
-#include "support/result.hpp"
+#include "support/cell.hpp"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -10,12 +10,8 @@
 
 using namespace asimov;
 
-namespace {
-motion::Cell load_cell_text(const std::string& yaml, const std::string& name, const std::string& base = ".") {
-  return test::must(cell::load_cell_text(yaml, name, base));
-}
-motion::Cell load_cell_file(const std::string& path) { return test::must(cell::load_cell_file(path)); }
-}  // namespace
+using test::load_cell_file;
+using test::load_cell_text;
 
 TEST_CASE("the default cell has the PUMA, a table, a box and a tool body") {
   const auto cell = cell::default_cell();
@@ -66,11 +62,7 @@ TEST_CASE("collision settings and ignore pairs") {
 
 namespace {
 // The error for `yaml`, with its position.
-Error error_of(const std::string& yaml) {
-  auto cell = cell::load_cell_text(yaml, "bad.yaml");
-  if (cell) FAIL("no error for: " << yaml);
-  return cell.error();
-}
+Error error_of(const std::string& yaml) { return test::cell_error(yaml); }
 }  // namespace
 
 TEST_CASE("bad cells are rejected with file, line and column") {

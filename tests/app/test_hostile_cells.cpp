@@ -2,7 +2,7 @@
 // never a crash, a hang or a message a user cannot act on.
 #include "asimov/cell/cell_loader.hpp"
 #include "asimov/collision/mesh_io.hpp"
-#include "support/result.hpp"
+#include "support/cell.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -15,11 +15,7 @@ using namespace asimov;
 
 namespace {
 
-Error cell_error(const std::string& yaml) {
-  auto cell = cell::load_cell_text(yaml, "bad.yaml");
-  if (cell) FAIL("no error for: " << yaml.substr(0, 200));
-  return cell.error();
-}
+using test::cell_error;
 
 double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -79,7 +75,7 @@ TEST_CASE("NaN and infinity anywhere in a cell's numbers", "[cell][hostile]") {
 TEST_CASE("step_mm below the simulator's finest step is refused, not silently raised", "[cell][hostile]") {
   const auto e = cell_error("collision: {step_mm: 1e-4}\n");
   CHECK(e.message == "collision.step_mm must be >= 0.001, got 0.0001");
-  CHECK(test::must(cell::load_cell_text("collision: {step_mm: 0.001}\n", "ok.yaml")).collision.step_mm == 0.001);
+  CHECK(test::load_cell_text("collision: {step_mm: 0.001}\n", "ok.yaml").collision.step_mm == 0.001);
 }
 
 TEST_CASE("a sphere past the face budget is an error at once", "[cell][hostile]") {
@@ -91,7 +87,7 @@ TEST_CASE("a sphere past the face budget is an error at once", "[cell][hostile]"
         "for one primitive; use a larger tolerance_mm");
   CHECK(e.line == 2);
   // Just inside the budget it is built, and within it.
-  const auto ok = test::must(cell::load_cell_text("objects:\n  - {name: s, sphere: {radius: 1000, tolerance_mm: 0.1}}\n", "ok.yaml"));
+  const auto ok = test::load_cell_text("objects:\n  - {name: s, sphere: {radius: 1000, tolerance_mm: 0.1}}\n", "ok.yaml");
   CHECK(ok.objects[0].mesh.triangles.size() <= collision::kMaxPrimitiveFaces);
   CHECK(ok.objects[0].mesh.triangles.size() > 10000);
 }
@@ -135,7 +131,7 @@ TEST_CASE("20,000 objects load in seconds; more than 100,000 are refused", "[cel
     yaml += "  - {name: o" + std::to_string(i) + ", box: [1, 1, 1], at: [" + std::to_string(i % 100 * 3 + 400) + ", " +
             std::to_string(i / 100 * 3) + ", -500, 0, 0, 0]}\n";
   const auto t0 = std::chrono::steady_clock::now();
-  const auto cell = test::must(cell::load_cell_text(yaml, "many.yaml"));
+  const auto cell = test::load_cell_text(yaml, "many.yaml");
   CHECK(cell.objects.size() == 20000);
   CHECK(seconds(t0) < 10);
   std::string too_many = "objects: [";

@@ -1,7 +1,7 @@
 // The workcell keys of a cell file (docs/cell-format.md "Parts and devices").
 #include "asimov/cell/cell_loader.hpp"
 
-#include "support/result.hpp"
+#include "support/cell.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -12,9 +12,7 @@ std::string message(const std::string& yaml) {
   const auto cell = cell::load_cell_text(yaml, "w.yaml");
   return cell ? std::string() : cell::format_cell_error(cell.error());
 }
-motion::Cell load_cell_text(const std::string& yaml, const std::string& name, const std::string& base = ".") {
-  return test::must(cell::load_cell_text(yaml, name, base));
-}
+using test::load_cell_text;
 }  // namespace
 
 TEST_CASE("a cell without parts or devices has an empty workcell") {
