@@ -1127,7 +1127,9 @@ void Evaluator::io(const Instr& in) {
       files_.write(lun, text, error);
       return check();
     }
-    case IoOp::attach: break;
+    case IoOp::attach:  // handled above
+    case IoOp::abort: case IoOp::kill: case IoOp::cycle_end: case IoOp::release:  // task_instruction
+      break;
   }
 }
 
