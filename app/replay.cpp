@@ -2,6 +2,7 @@
 
 #include "app/report.hpp"
 
+#include "asimov/motion/cell_runtime.hpp"
 #include "asimov/motion/scene.hpp"
 
 #include <fmt/format.h>
@@ -9,8 +10,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -59,6 +62,149 @@ nlohmann::json step_lines(const std::vector<interpreter::MotionStep>& motions, c
   return out;
 }
 
+// The parts' states as the page names them (the report's names, app/workcell_report.cpp).
+constexpr const char* kPartStates[] = {"resting", "on_conveyor", "carried", "removed"};
+std::uint8_t state_code(motion::Holder h) {
+  switch (h) {
+    case motion::Holder::world: return 0;
+    case motion::Holder::conveyor: return 1;
+    case motion::Holder::carried: return 2;
+    case motion::Holder::removed: return 3;
+  }
+  return 0;
+}
+
+void push_pose64(std::vector<double>& out, const collision::Pose& p) {
+  const Eigen::Quaterniond q(p.rotation());
+  const auto& t = p.translation();
+  for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) out.push_back(v);
+}
+
+nlohmann::json region_json(const char* kind, const std::string& name, const motion::Region& r) {
+  return {{"kind", kind}, {"name", name}, {"pose", pose_json(r.pose)}, {"size", {r.size.x(), r.size.y(), r.size.z()}}};
+}
+
+// A cell with parts or devices (docs/cell-format.md "Parts and devices"): its parts (one mesh per
+// distinct shape), every state of every part up to end_s (PartSegment: the viewer poses a part at
+// any instant from them), the devices' regions, and the events up to end_s (signal changes among
+// them: the viewer folds them into the signal states). The carried part's world pose per frame
+// goes into `frames` (only when a part was ever carried).
+nlohmann::json workcell_data(const motion::Cell& cell, const motion::CellRuntime& runtime, motion::PartHistory history,
+                             const std::vector<motion::ReplaySample>& samples, double end_s, nlohmann::json& frames) {
+  history.observe(runtime);  // the state at the end of the run
+  const motion::DeviceClock& clock = runtime.clock();
+  const motion::Workcell& w = cell.workcell;
+
+  auto meshes = nlohmann::json::array();
+  std::vector<const collision::Polyhedron*> distinct;
+  auto parts = nlohmann::json::array();
+  for (const motion::PartState& p : clock.parts()) {
+    const collision::Polyhedron& m = p.def.mesh;
+    std::size_t k = 0;
+    while (k < distinct.size() && !(distinct[k]->vertices == m.vertices && distinct[k]->triangles == m.triangles)) ++k;
+    if (k == distinct.size()) {
+      distinct.push_back(&m);
+      std::vector<float> v;
+      v.reserve(m.vertices.size() * 3);
+      for (const auto& x : m.vertices)
+        for (double c : {x.x(), x.y(), x.z()}) v.push_back(static_cast<float>(c));
+      std::vector<std::uint32_t> tri;
+      tri.reserve(m.triangles.size() * 3);
+      for (const auto& t : m.triangles) tri.insert(tri.end(), t.begin(), t.end());
+      meshes.push_back({{"vertex_count", m.vertices.size()},
+                        {"triangle_count", m.triangles.size()},
+                        {"vertices", b64(v)},
+                        {"triangles", b64(tri)}});
+    }
+    nlohmann::json j = {{"name", p.def.name}, {"mesh", k}};
+    if (!p.def.colour.empty()) j["colour"] = p.def.colour;
+    if (p.feeder >= 0) j["feeder"] = w.feeders[static_cast<std::size_t>(p.feeder)].name;
+    parts.push_back(std::move(j));
+  }
+
+  // Segments per part in time order (PartHistory interleaves the parts).
+  std::vector<const motion::PartSegment*> segs;
+  for (const motion::PartSegment& s : history.segments)
+    if (s.time_s <= end_s) segs.push_back(&s);
+  std::stable_sort(segs.begin(), segs.end(), [](const auto* a, const auto* b) { return a->part < b->part; });
+  std::vector<std::int32_t> seg_part;
+  std::vector<std::uint8_t> seg_state;
+  std::vector<double> seg_time, seg_pose, seg_velocity, seg_end;
+  struct Carry {
+    double from, to;
+    motion::Location grip;
+  };
+  std::vector<Carry> carries;
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    const motion::PartSegment& s = *segs[i];
+    seg_part.push_back(s.part);
+    seg_state.push_back(state_code(s.holder));
+    seg_time.push_back(s.time_s);
+    push_pose64(seg_pose, s.pose);
+    for (int c = 0; c < 3; ++c) seg_velocity.push_back(s.velocity[c]);
+    seg_end.push_back(s.end_s);
+    if (s.holder == motion::Holder::carried) {
+      const bool next = i + 1 < segs.size() && segs[i + 1]->part == s.part;
+      carries.push_back({s.time_s, next ? segs[i + 1]->time_s : std::numeric_limits<double>::infinity(), s.pose});
+    }
+  }
+  if (!carries.empty()) {  // the carried part follows the flange: its pose at every frame
+    std::sort(carries.begin(), carries.end(), [](const Carry& a, const Carry& b) { return a.from < b.from; });
+    std::vector<float> carried;
+    carried.reserve(samples.size() * 7);
+    std::size_t k = 0;
+    for (const motion::ReplaySample& s : samples) {
+      while (k < carries.size() && carries[k].to <= s.time_s) ++k;
+      if (k < carries.size() && carries[k].from <= s.time_s)
+        push_pose(carried, cell.base * robots::flange_pose(cell.robot, s.joints) * carries[k].grip);
+      else
+        carried.insert(carried.end(), 7, 0.0f);
+    }
+    frames["carried"] = b64(carried);  // Float32, count x 7: world pose of the carried part (zeros: none)
+  }
+
+  auto devices = nlohmann::json::array();
+  for (const motion::Conveyor& c : w.conveyors) {
+    nlohmann::json j = region_json("conveyor", c.name, c.body);
+    j["direction"] = {c.direction.x(), c.direction.y(), c.direction.z()};
+    j["speed_mm_s"] = c.speed_mm_s;
+    j["signal"] = c.signal;
+    devices.push_back(std::move(j));
+  }
+  for (const motion::Sensor& s : w.sensors) {
+    nlohmann::json j = region_json("sensor", s.name, s.region);
+    j["signal"] = s.signal;
+    devices.push_back(std::move(j));
+  }
+  for (const motion::Sink& s : w.sinks) devices.push_back(region_json("sink", s.name, s.region));
+  for (const motion::Feeder& f : w.feeders) {
+    nlohmann::json j = region_json("feeder", f.name, f.spot);
+    j["signal"] = f.signal;
+    devices.push_back(std::move(j));
+  }
+
+  auto events = nlohmann::json::array();
+  for (const motion::CellEvent& e : clock.events()) {
+    if (e.time_s > end_s) break;  // events are in time order: after a contact, past the halting pose
+    nlohmann::json j = {{"time_s", e.time_s}, {"kind", e.kind}, {"subject", e.subject}};
+    if (!e.detail.empty()) j["detail"] = e.detail;
+    if (e.line > 0) j["line"] = e.line;
+    events.push_back(std::move(j));
+  }
+
+  return {{"parts", std::move(parts)},
+          {"part_meshes", std::move(meshes)},
+          {"states", kPartStates},
+          {"segments", {{"count", segs.size()},
+                        {"part", b64(seg_part)},          // Int32: index into parts
+                        {"time_s", b64(seg_time)},        // Float64: the state begins
+                        {"state", b64(seg_state)},        // Uint8: index into states
+                        {"pose", b64(seg_pose)},          // Float64 x 7: world at time_s (carried: in the flange frame)
+                        {"velocity", b64(seg_velocity)},  // Float64 x 3: mm/s on a running belt
+                        {"end_s", b64(seg_end)}}},        // Float64: the belt's end stop (Infinity: none)
+          {"devices", std::move(devices)},
+          {"events", std::move(events)}};
+}
 
 // "</script" inside an inlined script would end it early.
 std::string script_safe(std::string s) {
@@ -183,7 +329,21 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
                   {"poses", b64(world)}}},         // Float32, count x moving x 7
       {"steps", step_lines(result.motions, distinct_steps)},
       {"end_time_s", samples.back().time_s}};
+  if (const motion::CellRuntime* runtime = sim.cell_runtime())
+    doc["workcell"] = workcell_data(cell, *runtime, sim.recorders().replay.parts, samples, samples.back().time_s, doc["frames"]);
   const auto body = [&index_of](const std::string& name) { return index_of.count(name) ? index_of[name] : -1; };
+  // A part's index into workcell.parts from its body name ("part:NAME", "carried part:NAME"); -1: none.
+  const auto part = [&sim](const std::string& name) {
+    const motion::CellRuntime* runtime = sim.cell_runtime();
+    std::string part_name;
+    for (const char* prefix : {"part:", "carried part:"})
+      if (name.rfind(prefix, 0) == 0) part_name = name.substr(std::strlen(prefix));
+    if (!runtime || part_name.empty()) return -1;
+    const auto& parts = runtime->clock().parts();
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      if (parts[i].def.name == part_name) return static_cast<int>(i);
+    return -1;
+  };
   // The closest approach of the clearance report (docs/collision.md §12): the page marks it.
   if (const auto near = sim.recorders().clearance.nearest_first(); !near.empty()) {
     const motion::ClearanceApproach& a = near.front();
@@ -202,6 +362,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
                         {"point_mm", {c.point.x(), c.point.y(), c.point.z()}},
                         {"time_s", c.time_s},
                         {"time_free_s", c.time_free_s}};
+    if (doc.contains("workcell")) doc["collision"]["part_index"] = {part(c.body_a), part(c.body_b)};
   }
   return doc;
 }

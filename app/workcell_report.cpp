@@ -36,7 +36,9 @@ nlohmann::json workcell_json(const motion::CellRuntime& cell) {
     if (!p.def.colour.empty()) j["colour"] = p.def.colour;
     parts.push_back(std::move(j));
   }
-  return {{"events", std::move(events)}, {"parts", std::move(parts)}};
+  // The signals on at the end of the run (outputs, inputs, soft signals), ascending.
+  const std::vector<int> on(clock.signals().begin(), clock.signals().end());
+  return {{"events", std::move(events)}, {"parts", std::move(parts)}, {"signals_on", on}};
 }
 
 }  // namespace asimov::app

@@ -33,9 +33,93 @@ export function decodeReplay(data) {
       checked: decodeBytes(f.checked),
       joints: decodeFloat32(f.joints_deg),
       poses: decodeFloat32(f.poses),
+      carried: f.carried ? decodeFloat32(f.carried) : null,
     },
+    workcell: data.workcell ? decodeWorkcell(data.workcell) : null,
   };
 }
+
+// A cell with parts or devices: part meshes and segments decoded, and per part the range of its
+// segments (they come grouped by part, each part's in time order).
+function decodeWorkcell(w) {
+  const s = w.segments;
+  const seg = {
+    count: s.count, part: decodeInt32(s.part), time: decodeFloat64(s.time_s), state: decodeBytes(s.state),
+    pose: decodeFloat64(s.pose), velocity: decodeFloat64(s.velocity), end: decodeFloat64(s.end_s),
+  };
+  const first = new Int32Array(w.parts.length).fill(-1), last = new Int32Array(w.parts.length).fill(-1);
+  for (let i = 0; i < seg.count; ++i) {
+    const k = seg.part[i];
+    if (first[k] < 0) first[k] = i;
+    last[k] = i;
+  }
+  return {
+    ...w,
+    part_meshes: w.part_meshes.map((m) => ({ ...m, vertices: decodeFloat32(m.vertices), triangles: decodeUint32(m.triangles) })),
+    segments: seg, first, last,
+  };
+}
+
+// Part k at simulated time t: null before it is fed, else { state, pose } with state one of
+// workcell.states (resting, on_conveyor, carried, removed) and pose [x, y, z, qx, qy, qz, qw]
+// (world): a belt carries it at its segment's velocity up to the end stop; a carried part is
+// where the frames put it (interpolated between the two frames around t).
+export function partAt(rep, k, t) {
+  const w = rep.workcell, S = w.segments;
+  if (w.first[k] < 0 || S.time[w.first[k]] > t) return null;
+  let i = w.first[k];
+  while (i < w.last[k] && S.time[i + 1] <= t) ++i;
+  const state = w.states[S.state[i]];
+  if (state === 'carried') return { state, pose: carriedAt(rep, t) };
+  const p = Array.from(S.pose.subarray(7 * i, 7 * i + 7)), dt = Math.min(t, S.end[i]) - S.time[i];
+  for (let c = 0; c < 3; ++c) if (S.velocity[3 * i + c] !== 0) p[c] += S.velocity[3 * i + c] * dt;
+  return { state, pose: p };
+}
+
+// The carried part's pose at t from the frames (a frame without one, zeros, is not used).
+function carriedAt(rep, t) {
+  const F = rep.frames, C = F.carried, i = frameAt(F.time, t), j = Math.min(i + 1, F.count - 1);
+  const at = (n) => Array.from(C.subarray(7 * n, 7 * n + 7));
+  const a = at(i), b = at(j), held = (p) => p[6] !== 0 || p[3] !== 0 || p[4] !== 0 || p[5] !== 0;
+  if (!held(a) || j === i || F.time[j] <= F.time[i]) return held(a) ? a : b;
+  if (!held(b)) return a;
+  const u = Math.min(1, Math.max(0, (t - F.time[i]) / (F.time[j] - F.time[i])));
+  return lerpPose(a, b, u);
+}
+
+// Position linear, rotation normalised lerp (the short way): frames are 1/30 s apart.
+export function lerpPose(a, b, u) {
+  if (u === 0) return a.slice();
+  const dot = a[3] * b[3] + a[4] * b[4] + a[5] * b[5] + a[6] * b[6], sign = dot < 0 ? -1 : 1;
+  const out = a.map((v, c) => (c < 3 ? v + (b[c] - v) * u : v + (sign * b[c] - v) * u));
+  const n = Math.hypot(out[3], out[4], out[5], out[6]);
+  for (let c = 3; c < 7; ++c) out[c] /= n;
+  return out;
+}
+
+// The signals the run touched (every signal with a change among the events), ascending, and
+// those on at time t: the events' signal changes up to t folded from all off.
+export function signalsAt(rep, t) {
+  const touched = new Set(), on = new Set();
+  for (const e of rep.workcell ? rep.workcell.events : []) {
+    if (e.kind !== 'signal') continue;
+    const k = Number(e.subject);
+    touched.add(k);
+    if (e.time_s <= t) { if (e.detail === 'on') on.add(k); else on.delete(k); }
+  }
+  return { touched: [...touched].sort((a, b) => a - b), on };
+}
+
+// Index of the last event at or before t (-1: none yet).
+export function eventAt(rep, t) {
+  const ev = rep.workcell ? rep.workcell.events : [];
+  let i = -1;
+  while (i + 1 < ev.length && ev[i + 1].time_s <= t) ++i;
+  return i;
+}
+
+// V+ signal numbering: outputs 1.., inputs 1001.., soft signals 2001...
+export const signalKind = (k) => (k >= 2001 ? 'soft' : k >= 1001 ? 'input' : 'output');
 
 // Index of the last frame at or before simulated time t (0 before the first).
 export function frameAt(time, t) {
@@ -76,6 +160,8 @@ export function closestMark(rep) {
 // --- page --------------------------------------------------------------------------------------
 
 const COLORS = { link: 0xd98c3a, tool: 0x8a8f98, object: 0x5b87b8 };
+const PART_COLORS = { resting: 0x5fb760, on_conveyor: 0x3cc8d8, carried: 0xc27ae0, removed: 0x808080 };
+const DEVICE_COLORS = { conveyor: 0xb0b8c0, sensor: 0xffd54a, sink: 0xff7060, feeder: 0x90d0ff };
 const SPEEDS = [0.25, 0.5, 1, 2, 4];
 
 function el(tag, attrs, parent) {
@@ -94,7 +180,13 @@ async function main() {
   el('style', { textContent: `body{margin:0;overflow:hidden;font:13px/1.4 monospace;background:#20242a;color:#e8e8e8}
     #hud{position:absolute;top:8px;left:10px;white-space:pre;pointer-events:none;text-shadow:0 0 3px #000}
     #bar{position:absolute;bottom:0;left:0;right:0;display:flex;gap:8px;align-items:center;padding:8px;background:#000a}
-    #bar input[type=range]{flex:1} button,select{font:inherit}` }, document.head);
+    #bar input[type=range]{flex:1} button,select{font:inherit}
+    #cell{position:absolute;top:8px;right:10px;bottom:52px;width:330px;display:flex;flex-direction:column;gap:6px;
+      background:#0008;padding:6px 8px;border-radius:4px;font-size:12px}
+    #cell h3{margin:0;font-size:12px;color:#aab}
+    #sig div{white-space:pre} #sig .on{color:#7dff7d} #sig .off{color:#889}
+    #ev{overflow-y:auto;flex:1;white-space:pre} #ev div{cursor:pointer;padding:0 2px} #ev div:hover{background:#fff2}
+    #ev .future{color:#778} #ev .now{background:#4a6cff66;color:#fff}` }, document.head);
   const hud = el('div', { id: 'hud' }, document.body);
   const bar = el('div', { id: 'bar' }, document.body);
   const play = el('button', { textContent: 'play', title: 'space' }, bar);
@@ -167,6 +259,87 @@ async function main() {
     scene.add(witness);
   }
 
+  // A cell with parts or devices: the parts (one geometry per shape, a material per part for its
+  // state's colour), the devices' regions drawn faintly, a panel with the signals and events.
+  const W = rep.workcell;
+  const partMeshes = [], sensorBoxes = [];
+  let signalRows = null, eventRows = [], shownEvent = -2;
+  if (W) {
+    const geometries = W.part_meshes.map((m) => {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(m.vertices, 3));
+      g.setIndex(new THREE.BufferAttribute(m.triangles, 1));
+      const flat = g.toNonIndexed();
+      flat.computeVertexNormals();
+      return flat;
+    });
+    for (const p of W.parts) {
+      const mesh = new THREE.Mesh(geometries[p.mesh], new THREE.MeshStandardMaterial({ color: PART_COLORS.resting, roughness: 0.5, metalness: 0.05 }));
+      mesh.visible = false;
+      scene.add(mesh);
+      partMeshes.push(mesh);
+    }
+    for (const d of W.devices) {
+      const box = new THREE.BoxGeometry(...d.size), group = new THREE.Group();
+      const color = DEVICE_COLORS[d.kind];
+      group.add(new THREE.LineSegments(new THREE.EdgesGeometry(box), new THREE.LineBasicMaterial({ color, transparent: true, opacity: 0.45 })));
+      if (d.kind !== 'conveyor') {  // the conveyor's box is a cell object already
+        const fill = new THREE.Mesh(box, new THREE.MeshBasicMaterial({ color, transparent: true, opacity: 0.06, depthWrite: false }));
+        group.add(fill);
+        if (d.kind === 'sensor') sensorBoxes.push({ fill, signal: d.signal });
+      } else {  // an arrow on the belt, along its direction (world)
+        const dir = new THREE.Vector3(...d.direction).normalize(), len = Math.min(200, Math.max(...d.size) / 3);
+        const top = new THREE.Vector3(0, 0, d.size[2] / 2 + 2).applyQuaternion(new THREE.Quaternion(...d.pose.slice(3)))
+          .add(new THREE.Vector3(...d.pose.slice(0, 3))).addScaledVector(dir, -len / 2);
+        scene.add(new THREE.ArrowHelper(dir, top, len, color, 25, 15));
+      }
+      setPose(group, d.pose);
+      scene.add(group);
+    }
+    // The panel: each signal touched, named by the devices that use it, and the events.
+    const panel = el('div', { id: 'cell' }, document.body);
+    el('h3', { textContent: 'signals' }, panel);
+    const sig = el('div', { id: 'sig' }, panel);
+    const users = (k) => W.devices.filter((d) => d.signal === k).map((d) => `${d.kind} ${d.name}`).join(', ');
+    signalRows = signalsAt(rep, end).touched.map((k) => ({ k, row: el('div', {}, sig), label: `${String(k).padStart(4)} ${signalKind(k).padEnd(6)} ${users(k)}` }));
+    el('h3', { textContent: `events (${W.events.length}; click one to go there)` }, panel);
+    const ev = el('div', { id: 'ev' }, panel);
+    eventRows = W.events.map((e) => {
+      const what = `${e.kind} ${e.subject}${e.detail ? ' ' + e.detail : ''}`;
+      const row = el('div', { textContent: `${e.time_s.toFixed(3).padStart(8)}  ${what}${e.line ? '  line ' + e.line : ''}` }, ev);
+      row.onclick = () => { t = Math.min(end, e.time_s); slider.value = end > 0 ? Math.round((t / end) * 10000) : 0; setPlaying(false); };
+      return row;
+    });
+  }
+  const hitParts = hit && hit.part_index ? hit.part_index.filter((k) => k >= 0) : [];
+
+  // Parts, sensors, the signal panel and the current event at time t.
+  function workcellAt(t, atEnd) {
+    const counts = {};
+    W.parts.forEach((_, k) => {
+      const p = partAt(rep, k, t), m = partMeshes[k];
+      m.visible = p !== null && p.state !== 'removed';
+      if (!m.visible) return;
+      counts[p.state] = (counts[p.state] || 0) + 1;
+      setPose(m, p.pose);
+      m.material.color.setHex(atEnd && hitParts.includes(k) ? 0xff2020 : PART_COLORS[p.state]);
+    });
+    const { on } = signalsAt(rep, t);
+    for (const s of sensorBoxes) s.fill.material.opacity = on.has(s.signal) ? 0.35 : 0.06;
+    for (const r of signalRows) {
+      const isOn = on.has(r.k);
+      r.row.className = isOn ? 'on' : 'off';
+      r.row.textContent = `${isOn ? '\u25cf on ' : '\u25cb off'} ${r.label}`;
+    }
+    const now = eventAt(rep, t);
+    if (now !== shownEvent) {
+      eventRows.forEach((row, i) => { row.className = i === now ? 'now' : W.events[i].time_s > t ? 'future' : ''; });
+      if (now >= 0) eventRows[now].scrollIntoView({ block: 'nearest' });
+      shownEvent = now;
+    }
+    return Object.entries(counts).map(([k, n]) => `${n} ${k.replace('_', ' ')}`).join(', ') || 'none present';
+  }
+
   const qa = new THREE.Quaternion(), qb = new THREE.Quaternion();  // poseAt's scratch
   const camera = new THREE.PerspectiveCamera(45, 1, 1, 100000);
   camera.up.set(0, 0, 1);  // the cell's Z is up
@@ -198,6 +371,7 @@ async function main() {
       });
     }
     if (witness) witness.visible = i === near.frame;
+    const parts = W ? workcellAt(t, atEnd) : null;
     const s = F.step[i], line = rep.steps[String(s)];
     const joints = Array.from(F.joints.subarray(i * rep.joint_count, (i + 1) * rep.joint_count), (v) => v.toFixed(2));
     hud.textContent = [
@@ -205,6 +379,7 @@ async function main() {
       `t = ${t.toFixed(3)} s / ${end.toFixed(3)} s   frame ${i + 1}/${F.count}${F.checked[i] ? '  checked pose' : ''}`,
       line ? `${line.program}, line ${line.line}: ${line.text}` : s > 0 ? `step ${s}` : '',
       `joints [deg]  ${joints.join('  ')}`,
+      parts !== null && W.parts.length ? `parts: ${parts}` : '',
       rep.closest ? `closest approach${i === near.frame ? ' (this frame)' : ''}: ${rep.closest.bodies.join(' / ')} ` +
                     `${rep.closest.distance_mm.toFixed(3)} mm at t = ${rep.closest.time_s.toFixed(6)} s` : '',
       hit && atEnd ? `*Collision*  ${hit.bodies[0]} / ${hit.bodies[1]} at t = ${hit.time_s.toFixed(6)} s, ` +

@@ -1,6 +1,7 @@
 // Recorders of a walk (motion/README.md: trace, replay, accuracy and timing).
 #include "asimov/motion/recorders.hpp"
 
+#include "asimov/motion/cell_runtime.hpp"
 #include "asimov/motion/world.hpp"
 
 #include <algorithm>
@@ -13,6 +14,46 @@ void TraceRecorder::on_checked_pose(double t, const robots::JointVector& q, bool
   samples.push_back({t, q, base * robots::flange_pose(robot, q) * tool, {}, Location::Identity()});
   if (world)
     if (auto c = world->carried(q)) samples.back().part = std::move(c->name), samples.back().part_pose = c->pose;
+}
+
+Location PartSegment::pose_at(double t) const {
+  if (velocity.isZero()) return pose;
+  Location p = pose;
+  p.translation() += velocity * (std::min(t, end_s) - time_s);
+  return p;
+}
+
+void PartHistory::observe(const CellRuntime& runtime) {
+  const auto& parts = runtime.clock().parts();
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const PartState& p = parts[i];
+    PartSegment s{static_cast<int>(i), p.anchor_s, p.holder, p.conveyor, p.anchor, p.velocity, p.end_s};
+    if (p.holder == Holder::carried) s.pose = runtime.grip(), s.velocity.setZero(), s.end_s = std::numeric_limits<double>::infinity();
+    if (i < last_.size()) {
+      PartSegment& l = segments[last_[i]];
+      // The carried part's anchor follows the flange (DeviceClock::move_carried): not a change.
+      const bool same = l.holder == s.holder &&
+                        (s.holder == Holder::carried ||
+                         (l.time_s == s.time_s && l.conveyor == s.conveyor && l.velocity == s.velocity &&
+                          l.end_s == s.end_s && l.pose.matrix() == s.pose.matrix()));
+      if (same) continue;
+      if (s.time_s <= l.time_s) {  // changed again at the same instant: the later state holds
+        s.time_s = l.time_s;
+        l = s;
+        continue;
+      }
+      last_[i] = segments.size();
+    } else {
+      last_.resize(i + 1, segments.size());  // fed parts appear in clock order
+      last_[i] = segments.size();
+    }
+    segments.push_back(s);
+  }
+}
+
+void ReplayRecorder::on_walk_begin(const Trajectory& tr) {
+  current = &tr;
+  if (grid_s > 0 && runtime) parts.observe(*runtime);
 }
 
 void ReplayRecorder::push(double t, const robots::JointVector& q, bool checked) {
@@ -40,7 +81,9 @@ void ReplayRecorder::on_stretch(const Trajectory& tr, const Stretch& s) {
 }
 
 void ReplayRecorder::on_checked_pose(double t, const robots::JointVector& q, bool) {
-  if (grid_s > 0) push(t, q, true);
+  if (!(grid_s > 0)) return;
+  push(t, q, true);
+  if (runtime) parts.observe(*runtime);  // the clock is at t (the world posed the parts there)
 }
 
 void ReplayRecorder::on_contact(const CollisionReport& report, const robots::JointVector& q_halt, double) {
@@ -48,6 +91,7 @@ void ReplayRecorder::on_contact(const CollisionReport& report, const robots::Joi
   // The arm stands at the halting pose from time_free_s on.
   while (!samples.empty() && samples.back().time_s > report.time_free_s) samples.pop_back();
   push(report.time_free_s, q_halt, false);
+  if (runtime) parts.observe(*runtime);
 }
 
 void AccuracyRecorder::on_stretch(const Trajectory& tr, const Stretch& s) {

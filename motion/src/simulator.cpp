@@ -63,6 +63,7 @@ struct Simulator::Impl {
     if (!cell.workcell.empty()) {
       runtime.emplace(cell);
       world.attach(*runtime);
+      rec.replay.runtime = &*runtime;
     }
     rec.trace.world = &world;
     for (WalkObserver* o : std::initializer_list<WalkObserver*>{&rec.timing, &rec.counts, &rec.trace, &rec.replay,

@@ -11,6 +11,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <optional>
 
 using namespace asimov;
@@ -68,6 +69,19 @@ Run run_demo(const std::string& name) {
   Run r;
   r.cli = run_cli("run " + source_path("programs/demo/" + name + ".v2") + " --replay " + html.string() + " --report " +
                   report.string() + " --trace " + trace.string());
+  r.html = test::slurp(html);
+  r.report = nlohmann::json::parse(test::slurp(report));
+  r.trace = nlohmann::json::parse(test::slurp(trace));
+  r.data = page_data(r.html);
+  return r;
+}
+
+Run run_cell(const std::string& name, const std::string& cell) {
+  const auto dir = test::scratch_dir();
+  const auto html = dir / (name + ".html"), report = dir / (name + ".json"), trace = dir / (name + ".trace.json");
+  Run r;
+  r.cli = run_cli("run " + source_path("programs/cells/" + name + ".v2") + " --cell " + source_path("programs/cells/" + cell) +
+                  " --replay " + html.string() + " --report " + report.string() + " --trace " + trace.string());
   r.html = test::slurp(html);
   r.report = nlohmann::json::parse(test::slurp(report));
   r.trace = nlohmann::json::parse(test::slurp(trace));
@@ -150,6 +164,9 @@ void check_page(const Run& r) {
   }
   CHECK(r.data["moving"].size() == moving);
   CHECK(moving == 7);  // link1..link6 and the tool of the built-in cell
+  // A static cell: no parts, devices, signals or carried poses, not even empty ones.
+  CHECK(!r.data.contains("workcell"));
+  CHECK(!r.data["frames"].contains("carried"));
 }
 
 }  // namespace
@@ -185,6 +202,69 @@ TEST_CASE("replay page of crash: exit 3, ends at the halting pose, the contact b
     REQUIRE(i >= 0);
     CHECK(r.data["bodies"][static_cast<std::size_t>(i)]["name"] == c["bodies"][static_cast<std::size_t>(k)]);
   }
+}
+
+TEST_CASE("replay page of belt_pick: every state of every part, continuous, as the report has them") {
+  const Run r = run_cell("belt_pick", "belt_cell.yaml");
+  INFO(r.cli.err);
+  REQUIRE(r.cli.exit_code == 0);
+  REQUIRE(r.data.contains("workcell"));
+  const auto& w = r.data["workcell"];
+  const auto& seg = w["segments"];
+  const std::size_t n = seg["count"];
+  const auto part = typed<std::int32_t>(seg["part"]);
+  const auto time = typed<double>(seg["time_s"]);
+  const auto state = unbase64(seg["state"]);
+  const auto pose = typed<double>(seg["pose"]);
+  const auto velocity = typed<double>(seg["velocity"]);
+  const auto end = typed<double>(seg["end_s"]);
+  REQUIRE(part.size() == n);
+  REQUIRE(time.size() == n);
+  REQUIRE(state.size() == n);
+  REQUIRE(pose.size() == 7 * n);
+  REQUIRE(velocity.size() == 3 * n);
+  REQUIRE(end.size() == n);
+  const auto& parts = r.report["parts"];
+  REQUIRE(w["parts"].size() == parts.size());
+  REQUIRE(w["states"] == nlohmann::json({"resting", "on_conveyor", "carried", "removed"}));
+  // Each fed part's first state begins at its feeder event, on the belt at the feed pose.
+  std::map<std::string, double> fed;
+  for (const auto& e : r.report["events"])
+    if (e["kind"] == "feeder") fed[e["subject"].get<std::string>()] = e["time_s"];
+  std::size_t moving = 0, links = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t k = static_cast<std::size_t>(part[i]);
+    REQUIRE(k < parts.size());
+    const bool first = i == 0 || part[i - 1] != part[i];
+    if (first) {
+      REQUIRE((i == 0 || part[i - 1] < part[i]));  // grouped by part
+      CHECK(time[i] == fed.at(parts[k]["name"].get<std::string>()));
+      CHECK(state[i] == 1);
+      CHECK(pose[7 * i] == 220);  // the feeder's spot, x
+      continue;
+    }
+    REQUIRE(time[i] > time[i - 1]);
+    if (velocity[3 * (i - 1)] != 0) ++moving;
+    // Continuity: a resting or belt-borne part is where its previous state took it (a carried
+    // one follows the flange; a release drops it onto its support).
+    if (state[i - 1] != 2 && state[i] != 2) {
+      const double dt = std::min(time[i], end[i - 1]) - time[i - 1];
+      for (int c = 0; c < 3; ++c)
+        CHECK(pose[7 * i + c] == Approx(pose[7 * (i - 1) + c] + velocity[3 * (i - 1) + c] * dt).margin(1e-9));
+      ++links;
+    }
+    const bool last = i + 1 == n || part[i + 1] != part[i];
+    if (last) CHECK(w["states"][state[i]] == parts[k]["state"]);
+  }
+  CHECK(moving >= 8);  // every cube rode the running belt, some twice or more
+  CHECK(links > 15);
+  REQUIRE(r.data["frames"].contains("carried"));
+  CHECK(typed<float>(r.data["frames"]["carried"]).size() == 7 * r.data["frames"]["count"].get<std::size_t>());
+  CHECK(w["events"].size() == r.report["events"].size());
+  std::size_t sensors = 0;
+  for (const auto& d : w["devices"]) sensors += d["kind"] == "sensor" ? 1 : 0;
+  CHECK(sensors == 1);
+  CHECK(r.report["signals_on"] == nlohmann::json({3, 2001}));  // output 3 and the belt it runs
 }
 
 TEST_CASE("replay without its viewer files: exit 1 with the fix, nothing written") {

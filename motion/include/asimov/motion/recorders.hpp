@@ -2,6 +2,7 @@
 // Simulator registers with its walker: the trace of checked poses, the replay frames, the
 // accuracy figures, the query counts and the wall time per phase.
 #pragma once
+#include "asimov/motion/device_clock.hpp"
 #include "asimov/motion/walk_observer.hpp"
 
 #include <chrono>
@@ -20,6 +21,7 @@ struct TraceSample {
 };
 
 class World;
+class CellRuntime;
 
 // One pose of the replay recording (app/replay.*): the arm's joints at a simulated instant,
 // on the path the simulator carries out.
@@ -69,18 +71,48 @@ struct TraceRecorder final : WalkObserver {
   const Location &base, &tool;
 };
 
+// One state of one part in the replay recording, in force from time_s until the part's next
+// segment (the last one: to the end of the run). A part has no segment before it is fed.
+struct PartSegment {
+  int part = 0;                  // index into the devices' clock parts (declared, then fed in feeding order)
+  double time_s = 0;             // the instant the state began (the clock's anchor_s)
+  Holder holder = Holder::world;
+  int conveyor = -1;             // index into the workcell's conveyors (holder conveyor)
+  Location pose = Location::Identity();  // world pose at time_s; carried: the part in the flange frame
+  collision::Vec3 velocity = collision::Vec3::Zero();  // mm/s while on a running belt
+  double end_s = std::numeric_limits<double>::infinity();  // it stops there (the belt's end)
+  // World pose at t >= time_s (not for carried: that follows the flange).
+  Location pose_at(double t) const;
+};
+
+// The parts' states over a run: observe() appends a segment for every part whose state differs
+// from its last one. Each state change of the clock stamps its instant (anchor_s), so a state is
+// recorded from the instant it began however late it is observed; a state that began and ended
+// between two observations is lost (a part can change at most once per checked pose that way).
+struct PartHistory {
+  std::vector<PartSegment> segments;  // per part in time order; parts interleaved
+  void observe(const CellRuntime& runtime);
+
+ private:
+  std::vector<std::size_t> last_;     // per part, its last segment (index into segments)
+};
+
 // Replay frames, when grid_s > 0 (off: one branch per event). Every checked pose, the exact
 // path at the simulated instants k * grid_s between them, and after a contact the halting pose
 // at time_free_s (later samples dropped). Times strictly increase; a sample at the instant of
-// the previous one replaces it.
+// the previous one replaces it. With a runtime, the parts' states too (PartHistory).
 struct ReplayRecorder final : WalkObserver {
   explicit ReplayRecorder(const robots::Robot& robot) : robot(robot) {}
-  void on_walk_begin(const Trajectory& tr) override { current = &tr; }
+  void on_walk_begin(const Trajectory& tr) override;
   void on_stretch(const Trajectory& tr, const Stretch& s) override;
   void on_checked_pose(double t, const robots::JointVector& q, bool contact) override;
   void on_contact(const CollisionReport& report, const robots::JointVector& q_halt, double search_s) override;
   double grid_s = 0;
   std::vector<ReplaySample> samples;
+  // A cell with parts or devices: their states, observed at each walk's start, each checked pose
+  // and a contact (the Simulator sets runtime; null: a static cell, nothing recorded).
+  const CellRuntime* runtime = nullptr;
+  PartHistory parts;
 
  private:
   void push(double t, const robots::JointVector& q, bool checked);
