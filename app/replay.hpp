@@ -25,8 +25,10 @@ std::string replay_asset_dir();
 Result<ReplayAssets> load_replay_assets();
 
 // The page's data: bodies (meshes in their local frames), the frames (time, step, joints, world
-// pose of every moving body), the program lines of the steps and the contact, if any. `sim` is
-// the simulator after the run, with set_replay() on before it.
+// pose of every moving body), the program lines of the steps and the contact, if any; in a cell
+// with parts or devices also `workcell` (parts, their state segments, devices, events) and the
+// carried part's pose per frame. `sim` is the simulator after the run, with set_replay() on
+// before it.
 nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result);
 
 // The source line of each motion step tag, where the tag names one motion instruction of one

@@ -185,7 +185,7 @@ async function main() {
       background:#0008;padding:6px 8px;border-radius:4px;font-size:12px}
     #cell h3{margin:0;font-size:12px;color:#aab}
     #sig div{white-space:pre} #sig .on{color:#7dff7d} #sig .off{color:#889}
-    #ev{overflow-y:auto;flex:1;white-space:pre} #ev div{cursor:pointer;padding:0 2px} #ev div:hover{background:#fff2}
+    #ev{overflow-y:auto;overflow-x:hidden;flex:1;white-space:pre} #ev div{text-overflow:ellipsis;overflow:hidden} #ev div{cursor:pointer;padding:0 2px} #ev div:hover{background:#fff2}
     #ev .future{color:#778} #ev .now{background:#4a6cff66;color:#fff}` }, document.head);
   const hud = el('div', { id: 'hud' }, document.body);
   const bar = el('div', { id: 'bar' }, document.body);
@@ -301,6 +301,7 @@ async function main() {
     el('h3', { textContent: 'signals' }, panel);
     const sig = el('div', { id: 'sig' }, panel);
     const users = (k) => W.devices.filter((d) => d.signal === k).map((d) => `${d.kind} ${d.name}`).join(', ');
+    if (!signalsAt(rep, end).touched.length) el('div', { textContent: '(none changed)', className: 'off' }, sig);
     signalRows = signalsAt(rep, end).touched.map((k) => ({ k, row: el('div', {}, sig), label: `${String(k).padStart(4)} ${signalKind(k).padEnd(6)} ${users(k)}` }));
     el('h3', { textContent: `events (${W.events.length}; click one to go there)` }, panel);
     const ev = el('div', { id: 'ev' }, panel);
@@ -379,7 +380,7 @@ async function main() {
       `t = ${t.toFixed(3)} s / ${end.toFixed(3)} s   frame ${i + 1}/${F.count}${F.checked[i] ? '  checked pose' : ''}`,
       line ? `${line.program}, line ${line.line}: ${line.text}` : s > 0 ? `step ${s}` : '',
       `joints [deg]  ${joints.join('  ')}`,
-      parts !== null && W.parts.length ? `parts: ${parts}` : '',
+      ...(parts !== null && W.parts.length ? [`parts: ${parts}`] : []),
       rep.closest ? `closest approach${i === near.frame ? ' (this frame)' : ''}: ${rep.closest.bodies.join(' / ')} ` +
                     `${rep.closest.distance_mm.toFixed(3)} mm at t = ${rep.closest.time_s.toFixed(6)} s` : '',
       hit && atEnd ? `*Collision*  ${hit.bodies[0]} / ${hit.bodies[1]} at t = ${hit.time_s.toFixed(6)} s, ` +

@@ -30,6 +30,8 @@ CASES = [  # (program, extra args, expected exit code)
     ("programs/demo/crash.v2", [], 3),
     ("programs/demo/pick_place.v2", [], 0),
     ("programs/cells/generic6_demo.v2", ["--cell", "programs/cells/generic6_cell.yaml"], None),
+    ("programs/cells/belt_pick.v2", ["--cell", "programs/cells/belt_cell.yaml"], 0),  # parts, devices, signals
+    ("programs/cells/carried_crash.v2", ["--cell", "programs/cells/carried_crash_cell.yaml"], 3),
 ]
 
 
