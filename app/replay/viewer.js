@@ -182,7 +182,7 @@ async function main() {
     #bar{position:absolute;bottom:0;left:0;right:0;display:flex;gap:8px;align-items:center;padding:8px;background:#000a}
     #bar input[type=range]{flex:1} button,select{font:inherit}
     #cell{position:absolute;top:8px;right:10px;bottom:52px;width:330px;display:flex;flex-direction:column;gap:6px;
-      background:#0008;padding:6px 8px;border-radius:4px;font-size:12px}
+      background:#0008;padding:6px 8px;border-radius:4px;font-size:12px;color-scheme:dark}
     #cell h3{margin:0;font-size:12px;color:#aab}
     #sig div{white-space:pre} #sig .on{color:#7dff7d} #sig .off{color:#889}
     #ev{overflow-y:auto;overflow-x:hidden;flex:1;white-space:pre} #ev div{text-overflow:ellipsis;overflow:hidden} #ev div{cursor:pointer;padding:0 2px} #ev div:hover{background:#fff2}
@@ -273,8 +273,14 @@ async function main() {
       flat.computeVertexNormals();
       return flat;
     });
+    const edges = new Map();  // per mesh and colour, the outline of a part whose colour is a CSS one
     for (const p of W.parts) {
       const mesh = new THREE.Mesh(geometries[p.mesh], new THREE.MeshStandardMaterial({ color: PART_COLORS.resting, roughness: 0.5, metalness: 0.05 }));
+      if (p.colour && window.CSS && CSS.supports('color', p.colour)) {  // the cell's colour (a sensor may match it)
+        const key = `${p.mesh} ${p.colour}`;
+        if (!edges.has(key)) edges.set(key, [new THREE.EdgesGeometry(geometries[p.mesh], 20), new THREE.LineBasicMaterial({ color: new THREE.Color(p.colour) })]);
+        mesh.add(new THREE.LineSegments(...edges.get(key)));
+      }
       mesh.visible = false;
       scene.add(mesh);
       partMeshes.push(mesh);
