@@ -11,6 +11,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <optional>
 
@@ -265,6 +266,46 @@ TEST_CASE("replay page of belt_pick: every state of every part, continuous, as t
   for (const auto& d : w["devices"]) sensors += d["kind"] == "sensor" ? 1 : 0;
   CHECK(sensors == 1);
   CHECK(r.report["signals_on"] == nlohmann::json({3, 2001}));  // output 3 and the belt it runs
+}
+
+TEST_CASE("replay page of 51 parts: one mesh per shape, two states per can, the data stays small") {
+  // 50 cans fed onto a running belt and taken by a sink at its end, and a ball on the table.
+  const auto dir = test::scratch_dir("replay-fifty");
+  std::ofstream(dir / "cell.yaml") << R"(robot: puma560
+objects:
+  - {name: table, box: [400, 200, 40], at: [600, 250, -420, 0, 0, 0]}
+devices:
+  - {conveyor: belt, box: [800, 150, 40], at: [600, -300, -420, 0, 0, 0], direction: [1, 0, 0], speed_mm_s: 200}
+  - {feeder: infeed, part: {cylinder: {radius: 15, height: 30}}, at: [220, -300, -385, 0, 0, 0], count: 50,
+     prefix: can, spot: [50, 50, 50]}
+  - {sink: chute, box: [60, 200, 200], at: [980, -300, -380, 0, 0, 0]}
+  - {feeder: pile, part: {sphere: {radius: 20}}, at: [600, 250, -380, 0, 0, 0], count: 1, prefix: ball}
+)";
+  std::ofstream(dir / "fifty.v2") << ".PROGRAM fifty()\n    WAIT.EVENT , 12\n    MOVE #PPOINT(20, -30, 170, 0, 40, 0)\n"
+                                     "    WAIT.EVENT , 3\n.END\n";
+  const auto html = dir / "fifty.html", report = dir / "fifty.json";
+  const auto cli = run_cli("run " + (dir / "fifty.v2").string() + " --cell " + (dir / "cell.yaml").string() + " --replay " +
+                           html.string() + " --report " + report.string());
+  INFO(cli.err);
+  REQUIRE(cli.exit_code == 0);
+  const nlohmann::json data = page_data(test::slurp(html)), rep = nlohmann::json::parse(test::slurp(report));
+  const auto& w = data["workcell"];
+  REQUIRE(w["parts"].size() == 51);
+  CHECK(w["part_meshes"].size() == 2);  // the cans share one cylinder
+  std::size_t removed = 0, balls = 0;
+  for (std::size_t k = 0; k < 51; ++k) {  // in the report's order (fed in time order: ball1 second)
+    REQUIRE(w["parts"][k]["name"] == rep["parts"][k]["name"]);
+    const bool ball = w["parts"][k]["name"] == "ball1";
+    balls += ball ? 1 : 0;
+    CHECK(w["parts"][k]["mesh"] == (ball ? 1 : 0));
+    CHECK(w["parts"][k]["feeder"] == (ball ? "pile" : "infeed"));
+    removed += rep["parts"][k]["state"] == "removed" ? 1 : 0;
+  }
+  CHECK(balls == 1);
+  CHECK(removed == 50);
+  CHECK(w["segments"]["count"] == 101);  // each can: on the belt, then removed; the ball: resting
+  CHECK(!data["frames"].contains("carried"));  // nothing was ever carried
+  CHECK(w.dump().size() < 50000);  // about 0.7 KB per part with its events, whatever the frames
 }
 
 TEST_CASE("replay without its viewer files: exit 1 with the fix, nothing written") {
