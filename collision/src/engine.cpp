@@ -379,20 +379,24 @@ struct Engine::Impl {
 
   // Gap stepping's lower bound on the pair's distance (docs/collision-method.md §6.3), from the
   // world boxes and sphere centres step 2 caches per pose, so a body is placed once per pose.
-  double pair_gap(BodyId ia, BodyId ib) {
+  double pair_gap(BodyId ia, BodyId ib, double margin) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
-    const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
     return container_gap(PlacedContainer{world_box(a), world_sphere_centre(a), a.container.radius},
                          PlacedContainer{world_box(b), world_sphere_centre(b), b.container.radius}, margin);
   }
 
-  bool test_pair(BodyId ia, BodyId ib, QueryResult& res) {
+  double margin_of(BodyId ia, BodyId ib) const {
+    const Body& a = bodies[ia];
+    const Body& b = bodies[ib];
+    return relative_margin(a.container, a.pose, b.container, b.pose);
+  }
+  bool test_pair(BodyId ia, BodyId ib, QueryResult& res) { return test_pair(ia, ib, margin_of(ia, ib), res); }
+  bool test_pair(BodyId ia, BodyId ib, double margin, QueryResult& res) {
     Body& a = bodies[ia];
     Body& b = bodies[ib];
     // Step 2: [ours] the vertex spheres first (the cheapest), the world minimax boxes (the
     // thesis), then [ours] the oriented containers.
-    const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
     const double grow = clearance + margin;
     if (spheres_separated(world_sphere_centre(a), a.container.radius, world_sphere_centre(b), b.container.radius, grow))
       return false;
@@ -675,10 +679,11 @@ void Engine::query(const QueryRequest& req, QueryResult& res) {
     return;
   }
   each_pair([&](BodyId a, BodyId b) {
-    res.gaps.push_back(s.pair_gap(a, b));
+    const double margin = s.margin_of(a, b);  // once for both
+    res.gaps.push_back(s.pair_gap(a, b, margin));
     if (req.contact && !res.collided) {
       ++res.counts.pairs_enabled;
-      s.test_pair(a, b, res);
+      s.test_pair(a, b, margin, res);
     }
     return false;
   });

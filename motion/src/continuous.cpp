@@ -25,18 +25,23 @@ double joint_motion(std::span<const robots::BodyReach> reach, const GapPair& pai
   return pair_displacement(reach, pair, q2 - q1);
 }
 
-double line_motion(std::span<const robots::BodyReach> reach, const GapPair& pair, std::span<const LineSample> samples,
-                   double sigma1, const robots::JointVector& q1, double sigma2, const robots::JointVector& q2) {
-  if (sigma2 < sigma1) return line_motion(reach, pair, samples, sigma2, q2, sigma1, q1);
+robots::JointVector line_travel(std::span<const LineSample> samples, double sigma1, const robots::JointVector& q1,
+                                double sigma2, const robots::JointVector& q2) {
+  if (sigma2 < sigma1) return line_travel(samples, sigma2, q2, sigma1, q1);
   const auto first = std::upper_bound(samples.begin(), samples.end(), sigma1,
                                       [](double v, const LineSample& x) { return v < x.s; });
-  double mu = 0;
+  robots::JointVector travel = robots::JointVector::Zero(q1.size());
   const robots::JointVector* prev = &q1;
   for (auto it = first; it != samples.end() && it->s < sigma2; ++it) {
-    mu += pair_displacement(reach, pair, it->joints - *prev);
+    travel += (it->joints - *prev).cwiseAbs();
     prev = &it->joints;
   }
-  return mu + pair_displacement(reach, pair, q2 - *prev);
+  return travel + (q2 - *prev).cwiseAbs();
+}
+
+double line_motion(std::span<const robots::BodyReach> reach, const GapPair& pair, std::span<const LineSample> samples,
+                   double sigma1, const robots::JointVector& q1, double sigma2, const robots::JointVector& q2) {
+  return pair_displacement(reach, pair, line_travel(samples, sigma1, q1, sigma2, q2));
 }
 
 ContinuousChecker::ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm)

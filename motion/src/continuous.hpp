@@ -67,6 +67,11 @@ double joint_motion(std::span<const robots::BodyReach> reach, const GapPair& pai
                     const robots::JointVector& q2);
 double line_motion(std::span<const robots::BodyReach> reach, const GapPair& pair, std::span<const LineSample> samples,
                    double sigma1, const robots::JointVector& q1, double sigma2, const robots::JointVector& q2);
+// The joints' total variation along the samples from (sigma1, q1) to (sigma2, q2), per joint:
+// pair_displacement is linear in |dq| per joint, so pair_displacement of it is line_motion for
+// every pair at once (one pass over the samples per window, not one per pair).
+robots::JointVector line_travel(std::span<const LineSample> samples, double sigma1, const robots::JointVector& q1,
+                                double sigma2, const robots::JointVector& q2);
 
 class ContinuousChecker {
  public:

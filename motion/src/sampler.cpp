@@ -176,33 +176,47 @@ int gap_intervals(std::span<const double> pair_mm, std::span<const GapPair> pair
 }
 
 std::size_t gap_next_sample(std::span<const robots::BodyReach> reach, std::span<const LineSample> samples,
-                            std::size_t from, std::span<const GapPair> pairs, std::vector<double>& sums,
-                            double& bound_mm) {
+                            std::size_t from, std::span<const GapPair> pairs, GapScratch& scratch, double& bound_mm) {
   const std::size_t n = reach.size(), m = pairs.size();
+  // A pair with a fixed body moves by its other body's bound, so its sum is that body's: per
+  // body the least allowance of such pairs decides them all, and the loop over samples visits
+  // bodies and the pairs of two moving bodies only (a cell of 50 parts has ~400 pairs with a
+  // fixed body and a few moving ones).
+  scratch.limit.assign(n, INFINITY);
+  scratch.moving.clear();
+  for (std::size_t i = 0; i < m; ++i) {
+    const GapPair& p = pairs[i];
+    if (p.a >= 0 && p.b >= 0) scratch.moving.push_back(static_cast<std::uint32_t>(i));
+    else if (const int k = std::max(p.a, p.b); k >= 0)
+      scratch.limit[static_cast<std::size_t>(k)] = std::min(scratch.limit[static_cast<std::size_t>(k)], p.allow_mm);
+  }
+  std::vector<double>& sums = scratch.sums;
   sums.assign(2 * (n + m) + n, 0.0);  // per body then per pair: accepted sums, tentative ones; step
   double* acc = sums.data();
   double* next = sums.data() + n + m;
   double* step = sums.data() + 2 * (n + m);
   bound_mm = 0;
-  // The accepted sums at the front of `sums` on return (per pair: its motion bound to j).
+  // The accepted sums at the front of `sums` on return (per pair: its motion bound to j; a
+  // pair with a fixed body: its moving body's sum).
   const auto accepted = [&](std::size_t j) {
     if (acc != sums.data()) std::copy(acc, acc + n + m, sums.begin());
+    for (std::size_t i = 0; i < m; ++i) {
+      const GapPair& p = pairs[i];
+      if (p.a < 0 || p.b < 0) sums[n + i] = p.a >= 0 ? sums[static_cast<std::size_t>(p.a)] : p.b >= 0 ? sums[static_cast<std::size_t>(p.b)] : 0.0;
+    }
     return j;
   };
   for (std::size_t j = from + 1; j < samples.size(); ++j) {
     const JointVector delta = samples[j].joints - samples[j - 1].joints;
-    for (std::size_t k = 0; k < n; ++k) step[k] = robots::max_displacement(reach[k], delta);
-    for (std::size_t k = 0; k < n; ++k) next[k] = acc[k] + step[k];
     bool fits = true;
-    for (std::size_t i = 0; i < m; ++i) {
-      const GapPair& p = pairs[i];
-      // A pair with a fixed body moves by the other body's bound, computed once above.
-      const double d = p.a >= 0 && p.b >= 0 ? pair_displacement(reach, p, delta)
-                       : p.a >= 0           ? step[p.a]
-                       : p.b >= 0           ? step[p.b]
-                                            : 0.0;
-      next[n + i] = acc[n + i] + d;
-      fits = fits && next[n + i] <= kLineSafety * p.allow_mm;
+    for (std::size_t k = 0; k < n; ++k) {
+      step[k] = robots::max_displacement(reach[k], delta);
+      next[k] = acc[k] + step[k];
+      fits = fits && next[k] <= kLineSafety * scratch.limit[k];
+    }
+    for (const std::uint32_t i : scratch.moving) {
+      next[n + i] = acc[n + i] + pair_displacement(reach, pairs[i], delta);
+      fits = fits && next[n + i] <= kLineSafety * pairs[i].allow_mm;
     }
     if (!fits && j > from + 1) return accepted(j - 1);  // acc and bound_mm: up to j - 1
     std::swap(acc, next);

@@ -210,15 +210,36 @@ struct Walker::Walk {
     }
     return lp.joints;
   }
+  // The joints' travel over [t1, t2] (per joint, the sum of |dq| along the path): the same for
+  // every pair of a window, and each pair's bound is linear in it (pair_displacement), so it is
+  // computed once per window, not once per pair (a cell of 50 parts has ~400 pairs).
+  struct TravelMemo {
+    bool ok = false;
+    bool overlap = false;
+    double t1 = 0, t2 = 0;
+    JointVector q1, q2, travel;
+  };
+  mutable TravelMemo travel_memo;
+  const JointVector& window_travel(double t1, const JointVector& q1, double t2, const JointVector& q2) const {
+    TravelMemo& m = travel_memo;
+    if (m.ok && m.overlap == in_overlap && m.t1 == t1 && m.t2 == t2 && m.q1 == q1 && m.q2 == q2) return m.travel;
+    // The overlap: each joint travels at most what both motions' joints travel (docs/blending.md).
+    if (in_overlap) m.travel = blended_travel(tr, t1, t2);
+    else if (tr.kind != PathKind::line) m.travel = (q2 - q1).cwiseAbs();
+    else m.travel = line_travel(tr.line.samples, tr.profile.sigma(t1 - tr.t0), q1, tr.profile.sigma(t2 - tr.t0), q2);
+    m.ok = true;
+    m.overlap = in_overlap;
+    m.t1 = t1;
+    m.t2 = t2;
+    m.q1 = q1;
+    m.q2 = q2;
+    return m.travel;
+  }
   double motion_bound(std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) const {
     const GapPair& p = w.world_.gap_pairs()[world_pair(pair)];
     // Parts on a running conveyor (0 * inf would be NaN on a 1e308 s motion: no belt, no term).
     const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
-    // The overlap: each joint travels at most what both motions' joints travel (docs/blending.md).
-    if (in_overlap) return pair_displacement(w.world_.reach(), p, blended_travel(tr, t1, t2)) + belt;
-    if (tr.kind != PathKind::line) return joint_motion(w.world_.reach(), p, q1, q2) + belt;
-    return line_motion(w.world_.reach(), p, tr.line.samples, tr.profile.sigma(t1 - tr.t0), q1,
-                       tr.profile.sigma(t2 - tr.t0), q2) + belt;
+    return pair_displacement(w.world_.reach(), p, window_travel(t1, q1, t2, q2)) + belt;
   }
   void continuous_path() {
     path.at = [this](double t, const JointVector& seed) { return joints_at(t, seed); };
@@ -362,12 +383,12 @@ struct Walker::Walk {
       double bound = samples[j].bound_mm;
       if (gap) {
         update_gaps(t_prev);
-        j = std::min(gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.sums_, bound), last);
+        j = std::min(gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.gap_scratch_, bound), last);
         // Its per-pair sums to the sample it chose (>= j: a bound for the stretch): the
         // stretch's motion bounds, line_motion's.
         if (checker) {
           const std::size_t n = w.world_.reach().size();
-          w.window_mu_.assign(w.sums_.begin() + n, w.sums_.begin() + n + w.world_.gap_pairs().size());
+          w.window_mu_.assign(w.gap_scratch_.sums.begin() + n, w.gap_scratch_.sums.begin() + n + w.world_.gap_pairs().size());
           mu = tag(t_prev);
         }
       } else if (checker) {

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <unordered_set>
 #include <vector>
 
 namespace asimov::collision {
@@ -29,7 +28,17 @@ class Participation {
  private:
   static std::uint64_t key(std::uint32_t a, std::uint32_t b) { return std::uint64_t{a} << 32 | b; }  // a < b
   std::size_t n_ = 0;
-  std::unordered_set<std::uint64_t> enabled_;  // key(a, b) of each enabled pair
+  // key(a, b) of each enabled pair, open addressing (linear probing, a power of two of slots,
+  // at most half filled): enabled() runs for every pair of every query given a pair list, and
+  // std::unordered_set's division and node per key cost more than the sphere test after it.
+  // 0 is an empty slot (key(0, 0) is no pair), kErased one whose pair was disabled.
+  static constexpr std::uint64_t kErased = ~std::uint64_t{0};
+  bool contains(std::uint64_t k) const;
+  bool insert(std::uint64_t k);  // false: already there
+  bool erase(std::uint64_t k);   // false: not there
+  void rehash(std::size_t slots);
+  std::vector<std::uint64_t> slots_;
+  std::size_t live_ = 0, filled_ = 0;  // enabled keys; slots not empty (live and erased)
   mutable std::vector<BodyPair> pairs_;
   mutable bool tidy_ = true;  // pairs_ is sorted and lists the enabled pairs once (else pairs() tidies it)
 };

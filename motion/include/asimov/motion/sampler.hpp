@@ -111,11 +111,15 @@ LineStatus plan_line(const robots::Robot& robot, std::span<const robots::BodyRea
 // checked one): the farthest j such that, for every pair, the sum of its pair_displacement over
 // the sample intervals from `from` to j is <= kLineSafety * allow; at least from + 1. Sets
 // `bound_mm` to the largest single-body bound over that stretch (sum of the samples' bound_mm
-// would overstate it: max_k of the per-body sums). `sums` is scratch space; on return
-// sums[reach.size() + i] is pair i's sum from `from` to the returned sample (its motion bound
-// over that stretch, the one continuous checking's line_motion computes).
+// would overstate it: max_k of the per-body sums). On return scratch.sums[reach.size() + i] is
+// pair i's sum from `from` to the returned sample (its motion bound over that stretch, the one
+// continuous checking's line_motion computes).
+struct GapScratch {
+  std::vector<double> sums;            // per body, then per pair (see above)
+  std::vector<double> limit;           // per body: the least allowance of its pairs with a fixed body
+  std::vector<std::uint32_t> moving;   // the pairs of two moving bodies
+};
 std::size_t gap_next_sample(std::span<const robots::BodyReach> reach, std::span<const LineSample> samples,
-                            std::size_t from, std::span<const GapPair> pairs, std::vector<double>& sums,
-                            double& bound_mm);
+                            std::size_t from, std::span<const GapPair> pairs, GapScratch& scratch, double& bound_mm);
 
 }  // namespace asimov::motion

@@ -64,7 +64,8 @@ class Walker {
   const std::atomic<bool>* interrupt_ = nullptr;
   std::vector<WalkObserver*> observers_;
   // Scratch, reused across walks (no allocation per checked pose).
-  std::vector<double> pair_mm_, sums_;
+  std::vector<double> pair_mm_;
+  GapScratch gap_scratch_;
   std::vector<double> gaps_here_, gaps_next_;  // container gaps at two checked poses (Walk)
   std::vector<double> window_mu_;              // per pair, its motion bound over a stretch (Walk)
   std::vector<collision::BodyPair> hit_pairs_, probe_pairs_;
