@@ -627,6 +627,19 @@ ContinuousChecker* Walker::checker(collision::Engine* engine) {
   return continuous_.get();
 }
 
+// A cell with parts: the pairs that cannot come near while each arm body moves at most its
+// bound of the joints' travel sleep through the walk (World::sleep_far; a dwell: travel 0).
+bool Walker::sleep_far(const robots::JointVector& travel, const WalkState& state, bool rest) {
+  if (!world_.has_parts()) return false;
+  if (rest && world_.asleep_at_rest(state.joints)) return true;
+  sleep_bound_.clear();
+  for (const robots::BodyReach& reach : world_.reach()) sleep_bound_.push_back(robots::max_displacement(reach, travel));
+  world_.pose(state.joints, state.time_s);
+  world_.sleep_far(sleep_bound_, halting_clearance(settings_), std::max(settings_.report_within_mm, settings_.clearance_mm),
+                   rest ? &state.joints : nullptr);
+  return true;
+}
+
 MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
   if (!(until_s > state.time_s)) return {};
@@ -642,6 +655,7 @@ MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
   walk.dwelling = true;
   if (walk.checker) walk.continuous_path();
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
+  sleep_far(robots::JointVector::Zero(state.joints.size()), state, true);  // kept for the next dwell
   MotionResult r = walk.dwell(settings_.stepping == Stepping::gap, until_s);
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });
   return r;
@@ -651,7 +665,9 @@ MotionResult Walker::walk(const Trajectory& tr, WalkState& state, double until_s
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
   Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker(engine), {}, ~std::uint64_t{0}};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
+  const bool sleep = engine && state.time_s < tr.end_time() && sleep_far(blended_travel(tr, state.time_s, tr.end_time()), state, false);
   MotionResult r = walk.run(until_s);
+  if (sleep) world_.wake();
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });
   return r;
 }

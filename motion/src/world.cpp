@@ -128,6 +128,7 @@ double World::next_part_change() const {
 }
 
 void World::pose(const robots::JointVector& q, double t) {
+  if (rest_ && q != rest_q_) wake();  // asleep for the arm at rest there only
   robots::link_frames(*robot_, q, frames_);
   for (const collision::BodyId id : moving_) {
     const BodyMount& m = mounts_[id];
@@ -199,6 +200,8 @@ void World::refresh(const DeviceClock& clock) {
     s.speed_mm_s = p.velocity.norm();
     // A grasp or a release: the pairs that touch then are excused (marked here, tested once posed).
     if (placed && was_carried != (p.holder == Holder::carried)) to_excuse_[id - first_part_] = 1;
+    if (placed && p.holder != s.holder && !asleep_.empty())  // asleep for where it was
+      std::erase_if(asleep_, [id](const collision::BodyPair& x) { return x.a == id || x.b == id; });
     if (placed && p.holder == Holder::removed && s.holder != Holder::removed)
       std::erase_if(excused_, [id](const collision::BodyPair& x) { return x.a == id || x.b == id; });
     s.holder = p.holder;
@@ -217,8 +220,15 @@ void World::refresh(const DeviceClock& clock) {
 
 void World::rebuild_pairs() {
   ++pairs_revision_;
-  part_pairs_ = cell_pairs_;
-  part_gaps_ = cell_gaps_;
+  if (asleep_.empty()) {
+    part_pairs_ = cell_pairs_;
+    part_gaps_ = cell_gaps_;
+  } else {
+    part_pairs_.clear();
+    part_gaps_.clear();
+    for (std::size_t i = 0; i < cell_pairs_.size(); ++i)
+      if (!asleep(cell_pairs_[i])) part_pairs_.push_back(cell_pairs_[i]), part_gaps_.push_back(cell_gaps_[i]);
+  }
   moving_pairs_ = arm_moving_pairs_;
   const int slot = static_cast<int>(reach_.size() - 1);
   const collision::BodyId parts_end = first_part_ + static_cast<collision::BodyId>(slots_.size());
@@ -233,7 +243,7 @@ void World::rebuild_pairs() {
   };
   const auto add = [&](collision::BodyId a, collision::BodyId b) {
     const collision::BodyPair p = ordered(a, b);
-    if (excused(p)) return;
+    if (excused(p) || asleep(p)) return;
     const auto [ra, la] = mover(p.a);
     const auto [rb, lb] = mover(p.b);
     double speed = 0;
@@ -281,6 +291,41 @@ void World::excuse_touching(collision::BodyId id) {
     part_gaps_.erase(part_gaps_.begin() + static_cast<std::ptrdiff_t>(i));
     ++pairs_revision_;
   }
+}
+
+void World::sleep_far(std::span<const double> bound_mm, double clearance_mm, double margin_mm,
+                      const robots::JointVector* rest) {
+  if (!has_parts_ || !engine_) return;
+  wake();
+  rest_ = rest != nullptr;
+  if (rest) rest_q_ = *rest;
+  engine_->query({.clearance_mm = clearance_mm, .contact = false, .gaps = true}, scratch_result_);
+  // The body of a pair that moves on the arm chain, when the other does not move at all.
+  const auto arm_mover = [&](const collision::BodyPair& p, const GapPair& g) -> int {
+    if (g.speed_mm_s != 0 || (g.a >= 0) == (g.b >= 0)) return -1;
+    const collision::BodyId id = g.a >= 0 ? p.a : p.b;
+    const collision::BodyId other = g.a >= 0 ? p.b : p.a;
+    if (id >= arm_bodies_ || mounts_[id].hand >= 0 || mounts_[id].own_motion) return -1;
+    if (part(other) && slots_[other - first_part_].holder != Holder::world) return -1;
+    return g.a >= 0 ? g.a : g.b;
+  };
+  const double keep = std::max(margin_mm, clearance_mm);
+  for (std::size_t i = 0; i < part_pairs_.size() && i < scratch_result_.gaps.size(); ++i) {
+    const int k = arm_mover(part_pairs_[i], part_gaps_[i]);
+    if (k < 0 || static_cast<std::size_t>(k) >= bound_mm.size()) continue;
+    const double g = scratch_result_.gaps[i], b = bound_mm[static_cast<std::size_t>(k)] * (1 + 1e-9) + 1e-9;
+    if (kLineSafety * (g - clearance_mm) >= b && g - b > keep) asleep_.push_back(part_pairs_[i]);
+  }
+  if (asleep_.empty()) return;
+  std::sort(asleep_.begin(), asleep_.end());
+  rebuild_pairs();
+}
+
+void World::wake() {
+  rest_ = false;
+  if (asleep_.empty()) return;
+  asleep_.clear();
+  rebuild_pairs();
 }
 
 void World::free_pose_seen() {

@@ -20,6 +20,7 @@
 #include "asimov/motion/sampler.hpp"
 #include "asimov/robots/displacement_bound.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <span>
 #include <string>
@@ -90,6 +91,19 @@ class World {
   // After a pose found free: pairs excused at a grasp or release (touching then) that are
   // apart now are tested again (docs/cell-format.md "Gripping").
   void free_pose_seen();
+  // Far pairs asleep for one walk (a cell with parts: docs/cell-format.md "Speed"). A pair of an
+  // arm body k on the chain (no hand joint, no motion of its own) and a body that does not move
+  // (an object, a part resting in the world) whose gap at the current poses exceeds k's motion
+  // bound over the walk, bound_mm[k] (reach() indices), by more than margin_mm (and by the
+  // clearance) cannot touch nor come within margin_mm during it, and never limits gap stepping
+  // (0.9 of its allowance exceeds the bound): it leaves pairs() until wake(). A part that changes
+  // holder wakes its pairs. Needs the engine posed at the walk's start.
+  // With `rest` (a dwell: bounds 0) the pairs sleep while the arm stays at those joints: the
+  // first pose() elsewhere wakes them, so consecutive dwells keep them asleep.
+  void sleep_far(std::span<const double> bound_mm, double clearance_mm, double margin_mm,
+                 const robots::JointVector* rest = nullptr);
+  void wake();
+  bool asleep_at_rest(const robots::JointVector& q) const { return rest_ && q == rest_q_; }
   // Reported body name: "part:NAME", "carried part:NAME" for the part in the gripper.
   std::string body_name(collision::BodyId id) const;
   // The carried part's pose for the arm at q (nullopt: none carried).
@@ -141,6 +155,12 @@ class World {
   std::vector<collision::BodyPair> part_pairs_;  // pairs(): cell_pairs_ then the parts'
   std::vector<GapPair> part_gaps_;
   std::vector<collision::BodyPair> excused_, filtered_;
+  std::vector<collision::BodyPair> asleep_;      // sorted (sleep_far)
+  bool rest_ = false;                            // asleep_ holds while the arm is at rest_q_
+  robots::JointVector rest_q_;
+  bool asleep(const collision::BodyPair& p) const {
+    return !asleep_.empty() && std::binary_search(asleep_.begin(), asleep_.end(), p);
+  }
   std::vector<char> absent_;                     // per slot, at a pose earlier than the clock
   std::vector<char> to_excuse_;                  // per slot: grasped or released since the last pose
   bool any_absent_ = false;
