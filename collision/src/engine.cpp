@@ -70,6 +70,13 @@ class TestedPairs {
   std::uint32_t now_ = 0;
 };
 
+// World vertex cache page (Body::vertex_pages).
+constexpr std::uint32_t kVertexPage = 64;
+struct VertexPage {
+  std::array<Vec3, kVertexPage> v;
+  std::array<std::uint64_t, kVertexPage> version{};  // 0: never mapped (versions start at 1)
+};
+
 struct Body {
   BodyDef def;
   Pose pose = Pose::Identity();
@@ -78,9 +85,12 @@ struct Body {
   bool closed = false;              // containment applies (§6.1)
   std::vector<std::vector<std::uint32_t>> shells;  // per shell, a few of its vertices (shell_samples)
   std::optional<VoxelGrid> grid;    // step 3, built on first use
-  std::vector<Vec3> world;          // world vertices: all valid when world_version == version,
-  std::uint64_t world_version = 0;  //   else vertex i valid when vertex_version[i] == version
-  std::vector<std::uint64_t> vertex_version;
+  std::vector<Vec3> world;          // world vertices, all valid when world_version == version
+  std::uint64_t world_version = 0;  //   (allocated on the first full mapping: the exact containment test)
+  // Else vertex i mapped alone (step 4), valid when its page's version[i % kVertexPage] ==
+  // version: pages allocated at add_body for bodies of at most kEagerFaces faces, on first use
+  // above (a dense cache was 32 bytes per vertex, 16 per face, for every body at load).
+  std::vector<std::unique_ptr<VertexPage>> vertex_pages;
   // World triangle + box of face f (step 4 cache), in pages of kFacePage faces: a body of more
   // than kEagerFaces faces gets a page on first use (a 1M-face object far from the arm touches
   // few; a dense cache was 128 bytes per face), smaller ones all pages at preprocessing.
@@ -177,11 +187,15 @@ struct Engine::Impl {
   // One world vertex, mapped on first use in this pose: step 4 touches few of a large mesh's
   // vertices, and mapping them all was 50 us per query at 50,000 faces.
   static const Vec3& world_vertex(Body& b, std::uint32_t i) {
-    if (b.world_version != b.version && b.vertex_version[i] != b.version) {
-      b.world[i] = transform_vertex(b.pose, b.def.mesh.vertices[i]);
-      b.vertex_version[i] = b.version;
+    if (b.world_version == b.version) return b.world[i];
+    std::unique_ptr<VertexPage>& page = b.vertex_pages[i / kVertexPage];
+    if (!page) page = std::make_unique<VertexPage>();  // large bodies only (kEagerFaces)
+    const std::uint32_t k = i % kVertexPage;
+    if (page->version[k] != b.version) {
+      page->v[k] = transform_vertex(b.pose, b.def.mesh.vertices[i]);
+      page->version[k] = b.version;
     }
-    return b.world[i];
+    return page->v[k];
   }
   static TriangleVerts world_triangle(Body& b, std::uint32_t f) {
     const Triangle& t = b.def.mesh.triangles[f];
@@ -596,8 +610,9 @@ BodyId Engine::add_body(BodyDef def) {
   b.container = make_container(def.mesh.vertices);
   b.closed = is_closed(def.mesh);
   b.halvings = def.halvings == kAutoHalvings ? auto_halvings(def.mesh) : std::clamp(def.halvings, 0, kMaxHalvings);
-  b.world.resize(def.mesh.vertices.size());
-  b.vertex_version.assign(def.mesh.vertices.size(), 0);
+  b.vertex_pages.resize((def.mesh.vertices.size() + kVertexPage - 1) / kVertexPage);
+  if (def.mesh.triangles.size() <= kEagerFaces)
+    for (auto& page : b.vertex_pages) page = std::make_unique<VertexPage>();
   b.def = std::move(def);
   impl_->bodies.push_back(std::move(b));
   impl_->participation.resize(impl_->bodies.size());
