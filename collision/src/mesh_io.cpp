@@ -46,10 +46,16 @@ struct Builder {
   // and OBJ files of triangles only): 8 bytes per face saved where it says nothing.
   std::vector<std::size_t> numbers{};
   // Welding: open addressing over indices into mesh.vertices, keyed by the coordinates' bits
-  // (4 bytes a slot; a std::map of coordinates took some 70 bytes per vertex at 1M faces).
-  std::vector<std::uint32_t> slots = std::vector<std::uint32_t>(1024, kEmpty);
+  // (a std::map of coordinates took some 70 bytes per vertex at 1M faces). A slot holds the
+  // index and 32 bits of the hash, so a probe past another vertex does not load that vertex
+  // (a cache miss in a vertex list of megabytes); 8 bytes a slot, at most half of them full.
+  struct Slot {
+    std::uint32_t index, tag;
+  };
+  std::vector<Slot> slots = std::vector<Slot>(1024, Slot{kEmpty, 0});
   static constexpr std::uint32_t kEmpty = 0xffffffffu;
 
+  static Vec3 key_of(const Vec3& v) { return {v.x() == 0 ? 0.0 : v.x(), v.y() == 0 ? 0.0 : v.y(), v.z() == 0 ? 0.0 : v.z()}; }  // -0 is 0
   static std::uint64_t hash(const Vec3& v) {
     std::uint64_t h = 0x9E3779B97F4A7C15ull;
     for (int k = 0; k < 3; ++k) {
@@ -58,15 +64,21 @@ struct Builder {
       h = (h ^ bits) * 0xff51afd7ed558ccdull;
       h ^= h >> 33;
     }
+    // A float's coordinates as doubles end in 29 zero bits: finish with a full avalanche
+    // (murmur3's), or the slots the low bits pick cluster and the probes run long.
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
     return h;
   }
+  static std::uint32_t tag_of(std::uint64_t h) { return static_cast<std::uint32_t>(h >> 32); }
   void rehash(std::size_t size) {
-    std::vector<std::uint32_t> bigger(size, kEmpty);
+    std::vector<Slot> bigger(size, Slot{kEmpty, 0});
     const std::size_t mask = bigger.size() - 1;
     for (std::uint32_t i = 0; i < mesh.vertices.size(); ++i) {
-      std::size_t s = hash(mesh.vertices[i]) & mask;
-      while (bigger[s] != kEmpty) s = (s + 1) & mask;
-      bigger[s] = i;
+      const std::uint64_t h = hash(mesh.vertices[i]);
+      std::size_t s = h & mask;
+      while (bigger[s].index != kEmpty) s = (s + 1) & mask;
+      bigger[s] = {i, tag_of(h)};
     }
     slots = std::move(bigger);
   }
@@ -79,21 +91,33 @@ struct Builder {
     mesh.vertices.reserve(vertices);
     if (slots.size() < 2 * vertices) rehash(std::bit_ceil(2 * vertices));
   }
+  // Loads the welding slot of a vertex to come into the cache: the slot is where its hash
+  // lands, a miss in a table of megabytes.
+  void prefetch(const float* xyz) const {
+    const Vec3 key = key_of(Vec3(xyz[0], xyz[1], xyz[2]).cwiseProduct(scale));
+    __builtin_prefetch(slots.data() + (hash(key) & (slots.size() - 1)));
+  }
   std::uint32_t vertex(const Vec3& raw, std::size_t face) {
     if (!raw.allFinite()) throw MeshError(path + ": face " + std::to_string(face) + ": non-finite coordinate");
     const Vec3 v = raw.cwiseProduct(scale);
     if (!v.allFinite()) throw MeshError(path + ": face " + std::to_string(face) + ": coordinate overflows after scaling");
-    const Vec3 key(v.x() == 0 ? 0.0 : v.x(), v.y() == 0 ? 0.0 : v.y(), v.z() == 0 ? 0.0 : v.z());  // -0 is 0
+    const Vec3 key = key_of(v);
     if (2 * (mesh.vertices.size() + 1) > slots.size()) rehash(2 * slots.size());
     const std::size_t mask = slots.size() - 1;
-    for (std::size_t s = hash(key) & mask;; s = (s + 1) & mask) {
-      if (slots[s] == kEmpty) {
-        slots[s] = static_cast<std::uint32_t>(mesh.vertices.size());
+    const std::uint64_t h = hash(key);
+    const std::uint32_t tag = tag_of(h);
+    auto same = [&](std::uint32_t i) {  // bit-identical (no NaN, -0 folded)
+      const Vec3& w = mesh.vertices[i];
+      return w.x() == key.x() && w.y() == key.y() && w.z() == key.z();
+    };
+    for (std::size_t s = h & mask;; s = (s + 1) & mask) {
+      const Slot slot = slots[s];
+      if (slot.index == kEmpty) {
+        slots[s] = {static_cast<std::uint32_t>(mesh.vertices.size()), tag};
         mesh.vertices.push_back(key);
-        return slots[s];
+        return slots[s].index;
       }
-      const Vec3& w = mesh.vertices[slots[s]];
-      if (w.x() == key.x() && w.y() == key.y() && w.z() == key.z()) return slots[s];  // bit-identical (no NaN, -0 folded)
+      if (slot.tag == tag && same(slot.index)) return slot.index;
     }
   }
   void triangle(const Vec3& a, const Vec3& b, const Vec3& c, std::size_t face) {
@@ -110,14 +134,21 @@ struct Builder {
   }
   LoadedMesh finish() {
     if (mesh.triangles.empty()) throw MeshError(path + ": no faces");
-    std::vector<std::uint32_t>().swap(slots);  // freed before the checks
+    std::vector<Slot>().swap(slots);  // freed before the checks
     return validate_mesh_x(std::move(mesh), path, numbers);
   }
 };
 
 // Binary STL records (50 bytes: normal, three vertices, attribute) of faces first + 1 ...
 void binary_faces(Builder& b, const char* records, std::size_t first, std::size_t count) {
+  constexpr std::size_t kAhead = 8;  // faces between a slot's prefetch and its use
   for (std::size_t f = 0; f < count; ++f) {
+    if (f + kAhead < count)
+      for (int k = 0; k < 3; ++k) {
+        float xyz[3];
+        std::memcpy(xyz, records + 50 * (f + kAhead) + 12 + 12 * k, 12);
+        b.prefetch(xyz);
+      }
     const char* p = records + 50 * f + 12;  // skip the normal
     Vec3 v[3];
     for (int k = 0; k < 3; ++k) {

@@ -19,6 +19,20 @@ int clamp_index(double x, int n) {
   return static_cast<int>(std::floor(x));
 }
 
+// cell_range, inlined into the voxelisation's loops (two calls per face).
+inline CellRange range_of(const VoxelGrid& g, const Box& b) {
+  CellRange r;
+  for (int k = 0; k < 3; ++k) {
+    const double o = g.container.origin[k];
+    if (b.hi[k] < o || b.lo[k] > o + g.container.size[k] || !(b.lo[k] <= b.hi[k])) return CellRange{};
+    // A product instead of the quotient: off by an ulp at most, far inside the margins every
+    // caller grows its box by (so still conservative).
+    r.lo[k] = clamp_index((b.lo[k] - o) * g.inv_cell[k], g.cells[k]);
+    r.hi[k] = clamp_index((b.hi[k] - o) * g.inv_cell[k], g.cells[k]);
+  }
+  return r;
+}
+
 // Empty voxels reachable from the grid border through empty faces are outside; every other
 // empty component is on one side of the surface, decided by one exact point-in-solid test.
 void classify_voxels(VoxelGrid& g, const Polyhedron& mesh) {
@@ -273,7 +287,7 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings, bool closed) {
   auto face_range = [&](std::uint32_t f) {
     const Triangle& tri = mesh.triangles[f];
     const Vec3 &p = mesh.vertices[tri[0]], &q = mesh.vertices[tri[1]], &r = mesh.vertices[tri[2]];
-    return cell_range(g, grown(Box{p.cwiseMin(q).cwiseMin(r), p.cwiseMax(q).cwiseMax(r)}, 2 * g.margin));
+    return range_of(g, grown(Box{p.cwiseMin(q).cwiseMin(r), p.cwiseMax(q).cwiseMax(r)}, 2 * g.margin));
   };
   {
     std::size_t bound = 0;
@@ -351,18 +365,7 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings, bool closed) {
   return g;
 }
 
-CellRange cell_range(const VoxelGrid& g, const Box& b) {
-  CellRange r;
-  for (int k = 0; k < 3; ++k) {
-    const double o = g.container.origin[k];
-    if (b.hi[k] < o || b.lo[k] > o + g.container.size[k] || !(b.lo[k] <= b.hi[k])) return CellRange{};
-    // A product instead of the quotient: off by an ulp at most, far inside the margins every
-    // caller grows its box by (so still conservative).
-    r.lo[k] = clamp_index((b.lo[k] - o) * g.inv_cell[k], g.cells[k]);
-    r.hi[k] = clamp_index((b.hi[k] - o) * g.inv_cell[k], g.cells[k]);
-  }
-  return r;
-}
+CellRange cell_range(const VoxelGrid& g, const Box& b) { return range_of(g, b); }
 
 CellRange intersect(const CellRange& a, const CellRange& b) {
   CellRange r;
