@@ -79,6 +79,8 @@ struct VertexPage {
 
 struct Body {
   BodyDef def;
+  // The body's mesh: the caller's when BodyDef::mesh_ref is set (not copied), else def.mesh.
+  const Polyhedron& mesh() const { return def.mesh_ref ? *def.mesh_ref : def.mesh; }
   Pose pose = Pose::Identity();
   std::uint64_t version = 1;        // bumped by every set_pose
   Container container;              // step 2 basic axes, local
@@ -179,7 +181,7 @@ struct Engine::Impl {
   }
   const std::vector<Vec3>& world(Body& b) {
     if (b.world_version != b.version) {
-      transform_vertices(b.def.mesh.vertices, b.pose, b.world);
+      transform_vertices(b.mesh().vertices, b.pose, b.world);
       b.world_version = b.version;
     }
     return b.world;
@@ -192,13 +194,13 @@ struct Engine::Impl {
     if (!page) page = std::make_unique<VertexPage>();  // large bodies only (kEagerFaces)
     const std::uint32_t k = i % kVertexPage;
     if (page->version[k] != b.version) {
-      page->v[k] = transform_vertex(b.pose, b.def.mesh.vertices[i]);
+      page->v[k] = transform_vertex(b.pose, b.mesh().vertices[i]);
       page->version[k] = b.version;
     }
     return page->v[k];
   }
   static TriangleVerts world_triangle(Body& b, std::uint32_t f) {
-    const Triangle& t = b.def.mesh.triangles[f];
+    const Triangle& t = b.mesh().triangles[f];
     return {world_vertex(b, t[0]), world_vertex(b, t[1]), world_vertex(b, t[2])};
   }
   static void prefetch_face(const Body& b, std::uint32_t f) {
@@ -230,12 +232,12 @@ struct Engine::Impl {
   }
   static void preprocess(Body& b) {
     if (b.grid) return;
-    const std::size_t faces = b.def.mesh.triangles.size();
+    const std::size_t faces = b.mesh().triangles.size();
     b.face_pages.resize((faces + kFacePage - 1) / kFacePage);
     if (faces <= kEagerFaces)
       for (auto& page : b.face_pages) page = std::make_unique<WorldFace[]>(kFacePage);
-    b.grid = build_voxel_grid(b.def.mesh, b.halvings, b.closed);
-    b.shells = shell_samples(b.def.mesh, kShellSamples);
+    b.grid = build_voxel_grid(b.mesh(), b.halvings, b.closed);
+    b.shells = shell_samples(b.mesh(), kShellSamples);
   }
 
   // Where point p (in x's frame; mapped by the pair's relative pose, its rounding within ε_r)
@@ -269,7 +271,7 @@ struct Engine::Impl {
         int verdict = -1;
         std::uint32_t v = shell.front();
         for (const std::uint32_t s : shell) {
-          const Vec3& local = in.def.mesh.vertices[s];
+          const Vec3& local = in.mesh().vertices[s];
           const Vec3 p = a_outer ? Vec3(a_from_b * local)
                                  : Vec3(a_from_b.linear().transpose() * (local - a_from_b.translation()));
           verdict = voxel_verdict(o, p, margin);
@@ -278,7 +280,7 @@ struct Engine::Impl {
             break;
           }
         }
-        if (verdict < 0) verdict = world_point_inside(world_vertex(in, v), world(o), o.def.mesh) ? 1 : 0;
+        if (verdict < 0) verdict = world_point_inside(world_vertex(in, v), world(o), o.mesh()) ? 1 : 0;
         if (verdict == 1) {
           c = Contact{.kind = ContactKind::containment, .body_a = ia, .body_b = ib, .point = world_vertex(in, v)};
           return true;
@@ -558,9 +560,9 @@ struct Engine::Impl {
     // Then the convex hulls' separating-plane bound (small bodies: a pass over the vertices per
     // direction), still without grids: interlocked links whose containers overlap are usually
     // apart by their hulls.
-    if (lb < upper && std::isfinite(upper) && a.def.mesh.vertices.size() <= kHullGapVertices &&
-        b.def.mesh.vertices.size() <= kHullGapVertices)
-      lb = std::max(lb, hull_gap(a.def.mesh.vertices, b.def.mesh.vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
+    if (lb < upper && std::isfinite(upper) && a.mesh().vertices.size() <= kHullGapVertices &&
+        b.mesh().vertices.size() <= kHullGapVertices)
+      lb = std::max(lb, hull_gap(a.mesh().vertices, b.mesh().vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
                                  kHullGapIterations, upper));
     if (lb >= upper) {
       res.distance = lb;
@@ -599,19 +601,20 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 
 BodyId Engine::add_body(BodyDef def) {
-  for (const Vec3& v : def.mesh.vertices)
+  const Polyhedron& mesh = def.mesh_ref ? *def.mesh_ref : def.mesh;
+  for (const Vec3& v : mesh.vertices)
     if (!v.allFinite()) throw std::invalid_argument("collision body '" + def.name + "' has a non-finite vertex");
-  for (const Triangle& t : def.mesh.triangles)
+  for (const Triangle& t : mesh.triangles)
     for (const std::uint32_t i : t)
-      if (i >= def.mesh.vertices.size())
+      if (i >= mesh.vertices.size())
         throw std::invalid_argument("collision body '" + def.name + "' has a triangle index out of range");
   const auto id = static_cast<BodyId>(impl_->bodies.size());
   Body b;
-  b.container = make_container(def.mesh.vertices);
-  b.closed = is_closed(def.mesh);
-  b.halvings = def.halvings == kAutoHalvings ? auto_halvings(def.mesh) : std::clamp(def.halvings, 0, kMaxHalvings);
-  b.vertex_pages.resize((def.mesh.vertices.size() + kVertexPage - 1) / kVertexPage);
-  if (def.mesh.triangles.size() <= kEagerFaces)
+  b.container = make_container(mesh.vertices);
+  b.closed = is_closed(mesh);
+  b.halvings = def.halvings == kAutoHalvings ? auto_halvings(mesh) : std::clamp(def.halvings, 0, kMaxHalvings);
+  b.vertex_pages.resize((mesh.vertices.size() + kVertexPage - 1) / kVertexPage);
+  if (mesh.triangles.size() <= kEagerFaces)
     for (auto& page : b.vertex_pages) page = std::make_unique<VertexPage>();
   b.def = std::move(def);
   impl_->bodies.push_back(std::move(b));
