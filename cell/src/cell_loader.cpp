@@ -386,7 +386,7 @@ class Reader : public Fields {
   // touch at the start joints are not tested (source DEFAULT), with one warning naming them, so
   // no arm collides with itself at t = 0. A clearance that only warns does not count.
   static void disable_start_contacts(motion::Cell& cell) {
-    const motion::Scene scene = motion::scene_bodies(cell);
+    const motion::Scene scene = motion::scene_bodies(cell, false);  // robot bodies only take part
     const double clearance = cell.collision.on_clearance == motion::OnClearance::halt ? cell.collision.clearance_mm : 0;
     std::string list;
     for (const collision::BodyPair& p : motion::start_contacts(cell, scene, clearance)) {

@@ -10,16 +10,42 @@
 
 namespace asimov::collision {
 
+std::optional<EdgeFault> first_edge_fault(const std::vector<Triangle>& triangles, std::size_t vertex_count) {
+  // offsets[v] .. offsets[v + 1]: the `to` ends of the edges leaving v, sorted.
+  std::vector<std::uint32_t> offsets(vertex_count + 1, 0);
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) ++offsets[t[k] + 1];
+  for (std::size_t v = 0; v < vertex_count; ++v) offsets[v + 1] += offsets[v];
+  std::vector<std::uint32_t> to(3 * triangles.size());
+  {
+    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    for (const Triangle& t : triangles)
+      for (int k = 0; k < 3; ++k) to[fill[t[k]]++] = t[(k + 1) % 3];
+  }
+  for (std::size_t v = 0; v < vertex_count; ++v) std::sort(to.begin() + offsets[v], to.begin() + offsets[v + 1]);
+  auto count = [&](std::uint32_t from, std::uint32_t target) {
+    const auto r = std::equal_range(to.begin() + offsets[from], to.begin() + offsets[from + 1], target);
+    return r.second - r.first;
+  };
+  for (std::uint32_t from = 0; from < vertex_count; ++from)
+    for (std::uint32_t i = offsets[from]; i < offsets[from + 1];) {
+      std::uint32_t j = i + 1;
+      while (j < offsets[from + 1] && to[j] == to[i]) ++j;
+      const std::uint32_t t = to[i];
+      const auto reverse = count(t, from);
+      const std::optional<EdgeFault::Kind> kind = from == t    ? std::optional(EdgeFault::self)
+                                                  : j - i > 1  ? std::optional(EdgeFault::twice_one_way)
+                                                  : reverse == 0 ? std::optional(EdgeFault::one_face)
+                                                  : reverse != 1 ? std::optional(EdgeFault::many_faces)
+                                                                 : std::nullopt;
+      if (kind) return EdgeFault{.from = from, .to = t, .kind = *kind};
+      i = j;
+    }
+  return std::nullopt;
+}
+
 bool is_closed(const Polyhedron& mesh) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  edges.reserve(3 * mesh.triangles.size());
-  for (const Triangle& t : mesh.triangles)
-    for (int i = 0; i < 3; ++i) edges.emplace_back(t[i], t[(i + 1) % 3]);
-  std::sort(edges.begin(), edges.end());
-  if (edges.empty() || std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return false;
-  for (const auto& [u, v] : edges)
-    if (u == v || !std::binary_search(edges.begin(), edges.end(), std::make_pair(v, u))) return false;
-  return true;
+  return !mesh.triangles.empty() && !first_edge_fault(mesh.triangles, mesh.vertices.size());
 }
 
 namespace {

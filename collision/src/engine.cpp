@@ -70,17 +70,29 @@ class TestedPairs {
   std::uint32_t now_ = 0;
 };
 
+// World vertex cache page (Body::vertex_pages).
+constexpr std::uint32_t kVertexPage = 64;
+struct VertexPage {
+  std::array<Vec3, kVertexPage> v;
+  std::array<std::uint64_t, kVertexPage> version{};  // 0: never mapped (versions start at 1)
+};
+
 struct Body {
   BodyDef def;
+  // The body's mesh: the caller's when BodyDef::mesh_ref is set (not copied), else def.mesh.
+  const Polyhedron& mesh() const { return def.mesh_ref ? *def.mesh_ref : def.mesh; }
   Pose pose = Pose::Identity();
   std::uint64_t version = 1;        // bumped by every set_pose
   Container container;              // step 2 basic axes, local
   bool closed = false;              // containment applies (§6.1)
   std::vector<std::vector<std::uint32_t>> shells;  // per shell, a few of its vertices (shell_samples)
   std::optional<VoxelGrid> grid;    // step 3, built on first use
-  std::vector<Vec3> world;          // world vertices: all valid when world_version == version,
-  std::uint64_t world_version = 0;  //   else vertex i valid when vertex_version[i] == version
-  std::vector<std::uint64_t> vertex_version;
+  std::vector<Vec3> world;          // world vertices, all valid when world_version == version
+  std::uint64_t world_version = 0;  //   (allocated on the first full mapping: the exact containment test)
+  // Else vertex i mapped alone (step 4), valid when its page's version[i % kVertexPage] ==
+  // version: pages allocated at add_body for bodies of at most kEagerFaces faces, on first use
+  // above (a dense cache was 32 bytes per vertex, 16 per face, for every body at load).
+  std::vector<std::unique_ptr<VertexPage>> vertex_pages;
   // World triangle + box of face f (step 4 cache), in pages of kFacePage faces: a body of more
   // than kEagerFaces faces gets a page on first use (a 1M-face object far from the arm touches
   // few; a dense cache was 128 bytes per face), smaller ones all pages at preprocessing.
@@ -169,7 +181,7 @@ struct Engine::Impl {
   }
   const std::vector<Vec3>& world(Body& b) {
     if (b.world_version != b.version) {
-      transform_vertices(b.def.mesh.vertices, b.pose, b.world);
+      transform_vertices(b.mesh().vertices, b.pose, b.world);
       b.world_version = b.version;
     }
     return b.world;
@@ -177,14 +189,18 @@ struct Engine::Impl {
   // One world vertex, mapped on first use in this pose: step 4 touches few of a large mesh's
   // vertices, and mapping them all was 50 us per query at 50,000 faces.
   static const Vec3& world_vertex(Body& b, std::uint32_t i) {
-    if (b.world_version != b.version && b.vertex_version[i] != b.version) {
-      b.world[i] = transform_vertex(b.pose, b.def.mesh.vertices[i]);
-      b.vertex_version[i] = b.version;
+    if (b.world_version == b.version) return b.world[i];
+    std::unique_ptr<VertexPage>& page = b.vertex_pages[i / kVertexPage];
+    if (!page) page = std::make_unique<VertexPage>();  // large bodies only (kEagerFaces)
+    const std::uint32_t k = i % kVertexPage;
+    if (page->version[k] != b.version) {
+      page->v[k] = transform_vertex(b.pose, b.mesh().vertices[i]);
+      page->version[k] = b.version;
     }
-    return b.world[i];
+    return page->v[k];
   }
   static TriangleVerts world_triangle(Body& b, std::uint32_t f) {
-    const Triangle& t = b.def.mesh.triangles[f];
+    const Triangle& t = b.mesh().triangles[f];
     return {world_vertex(b, t[0]), world_vertex(b, t[1]), world_vertex(b, t[2])};
   }
   static void prefetch_face(const Body& b, std::uint32_t f) {
@@ -216,12 +232,12 @@ struct Engine::Impl {
   }
   static void preprocess(Body& b) {
     if (b.grid) return;
-    const std::size_t faces = b.def.mesh.triangles.size();
+    const std::size_t faces = b.mesh().triangles.size();
     b.face_pages.resize((faces + kFacePage - 1) / kFacePage);
     if (faces <= kEagerFaces)
       for (auto& page : b.face_pages) page = std::make_unique<WorldFace[]>(kFacePage);
-    b.grid = build_voxel_grid(b.def.mesh, b.halvings, b.closed);
-    b.shells = shell_samples(b.def.mesh, kShellSamples);
+    b.grid = build_voxel_grid(b.mesh(), b.halvings, b.closed);
+    b.shells = shell_samples(b.mesh(), kShellSamples);
   }
 
   // Where point p (in x's frame; mapped by the pair's relative pose, its rounding within ε_r)
@@ -255,7 +271,7 @@ struct Engine::Impl {
         int verdict = -1;
         std::uint32_t v = shell.front();
         for (const std::uint32_t s : shell) {
-          const Vec3& local = in.def.mesh.vertices[s];
+          const Vec3& local = in.mesh().vertices[s];
           const Vec3 p = a_outer ? Vec3(a_from_b * local)
                                  : Vec3(a_from_b.linear().transpose() * (local - a_from_b.translation()));
           verdict = voxel_verdict(o, p, margin);
@@ -264,7 +280,7 @@ struct Engine::Impl {
             break;
           }
         }
-        if (verdict < 0) verdict = world_point_inside(world_vertex(in, v), world(o), o.def.mesh) ? 1 : 0;
+        if (verdict < 0) verdict = world_point_inside(world_vertex(in, v), world(o), o.mesh()) ? 1 : 0;
         if (verdict == 1) {
           c = Contact{.kind = ContactKind::containment, .body_a = ia, .body_b = ib, .point = world_vertex(in, v)};
           return true;
@@ -548,9 +564,9 @@ struct Engine::Impl {
     // Then the convex hulls' separating-plane bound (small bodies: a pass over the vertices per
     // direction), still without grids: interlocked links whose containers overlap are usually
     // apart by their hulls.
-    if (lb < upper && std::isfinite(upper) && a.def.mesh.vertices.size() <= kHullGapVertices &&
-        b.def.mesh.vertices.size() <= kHullGapVertices)
-      lb = std::max(lb, hull_gap(a.def.mesh.vertices, b.def.mesh.vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
+    if (lb < upper && std::isfinite(upper) && a.mesh().vertices.size() <= kHullGapVertices &&
+        b.mesh().vertices.size() <= kHullGapVertices)
+      lb = std::max(lb, hull_gap(a.mesh().vertices, b.mesh().vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
                                  kHullGapIterations, upper));
     if (lb >= upper) {
       res.distance = lb;
@@ -589,19 +605,21 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 
 BodyId Engine::add_body(BodyDef def) {
-  for (const Vec3& v : def.mesh.vertices)
+  const Polyhedron& mesh = def.mesh_ref ? *def.mesh_ref : def.mesh;
+  for (const Vec3& v : mesh.vertices)
     if (!v.allFinite()) throw std::invalid_argument("collision body '" + def.name + "' has a non-finite vertex");
-  for (const Triangle& t : def.mesh.triangles)
+  for (const Triangle& t : mesh.triangles)
     for (const std::uint32_t i : t)
-      if (i >= def.mesh.vertices.size())
+      if (i >= mesh.vertices.size())
         throw std::invalid_argument("collision body '" + def.name + "' has a triangle index out of range");
   const auto id = static_cast<BodyId>(impl_->bodies.size());
   Body b;
-  b.container = make_container(def.mesh.vertices);
-  b.closed = is_closed(def.mesh);
-  b.halvings = def.halvings == kAutoHalvings ? auto_halvings(def.mesh) : std::clamp(def.halvings, 0, kMaxHalvings);
-  b.world.resize(def.mesh.vertices.size());
-  b.vertex_version.assign(def.mesh.vertices.size(), 0);
+  b.container = make_container(mesh.vertices);
+  b.closed = is_closed(mesh);
+  b.halvings = def.halvings == kAutoHalvings ? auto_halvings(mesh) : std::clamp(def.halvings, 0, kMaxHalvings);
+  b.vertex_pages.resize((mesh.vertices.size() + kVertexPage - 1) / kVertexPage);
+  if (mesh.triangles.size() <= kEagerFaces)
+    for (auto& page : b.vertex_pages) page = std::make_unique<VertexPage>();
   b.def = std::move(def);
   impl_->bodies.push_back(std::move(b));
   impl_->participation.resize(impl_->bodies.size());

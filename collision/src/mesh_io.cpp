@@ -1,5 +1,6 @@
 #include "asimov/collision/mesh_io.hpp"
 
+#include "containment.hpp"
 #include "predicates.hpp"
 
 #include "asimov/collision/text_file.hpp"
@@ -7,13 +8,17 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <sys/stat.h>
 
 namespace asimov::collision {
 static LoadedMesh validate_mesh_x(Polyhedron mesh, const std::string& source, const std::vector<std::size_t>& face_numbers);
@@ -37,12 +42,20 @@ struct Builder {
   std::string path{};
   Vec3 scale = Vec3::Ones();
   Polyhedron mesh{};
-  std::vector<std::size_t> numbers{};  // 1-based source face number per triangle
+  // 1-based source face number per triangle; empty while triangle i is face i + 1 (every STL,
+  // and OBJ files of triangles only): 8 bytes per face saved where it says nothing.
+  std::vector<std::size_t> numbers{};
   // Welding: open addressing over indices into mesh.vertices, keyed by the coordinates' bits
-  // (4 bytes a slot; a std::map of coordinates took some 70 bytes per vertex at 1M faces).
-  std::vector<std::uint32_t> slots = std::vector<std::uint32_t>(1024, kEmpty);
+  // (a std::map of coordinates took some 70 bytes per vertex at 1M faces). A slot holds the
+  // index and 32 bits of the hash, so a probe past another vertex does not load that vertex
+  // (a cache miss in a vertex list of megabytes); 8 bytes a slot, at most half of them full.
+  struct Slot {
+    std::uint32_t index, tag;
+  };
+  std::vector<Slot> slots = std::vector<Slot>(1024, Slot{kEmpty, 0});
   static constexpr std::uint32_t kEmpty = 0xffffffffu;
 
+  static Vec3 key_of(const Vec3& v) { return {v.x() == 0 ? 0.0 : v.x(), v.y() == 0 ? 0.0 : v.y(), v.z() == 0 ? 0.0 : v.z()}; }  // -0 is 0
   static std::uint64_t hash(const Vec3& v) {
     std::uint64_t h = 0x9E3779B97F4A7C15ull;
     for (int k = 0; k < 3; ++k) {
@@ -51,47 +64,109 @@ struct Builder {
       h = (h ^ bits) * 0xff51afd7ed558ccdull;
       h ^= h >> 33;
     }
+    // A float's coordinates as doubles end in 29 zero bits: finish with a full avalanche
+    // (murmur3's), or the slots the low bits pick cluster and the probes run long.
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
     return h;
   }
-  void grow() {
-    std::vector<std::uint32_t> bigger(2 * slots.size(), kEmpty);
+  static std::uint32_t tag_of(std::uint64_t h) { return static_cast<std::uint32_t>(h >> 32); }
+  void rehash(std::size_t size) {
+    std::vector<Slot> bigger(size, Slot{kEmpty, 0});
     const std::size_t mask = bigger.size() - 1;
     for (std::uint32_t i = 0; i < mesh.vertices.size(); ++i) {
-      std::size_t s = hash(mesh.vertices[i]) & mask;
-      while (bigger[s] != kEmpty) s = (s + 1) & mask;
-      bigger[s] = i;
+      const std::uint64_t h = hash(mesh.vertices[i]);
+      std::size_t s = h & mask;
+      while (bigger[s].index != kEmpty) s = (s + 1) & mask;
+      bigger[s] = {i, tag_of(h)};
     }
     slots = std::move(bigger);
+  }
+  // Room for `faces` triangles and the vertices of a closed mesh of that many (about half):
+  // the vectors never double past what they hold (a doubling held up to three times a vector
+  // while copying), the welding table is not rebuilt on the way.
+  void reserve(std::size_t faces) {
+    mesh.triangles.reserve(faces);
+    const std::size_t vertices = faces / 2 + 2;
+    mesh.vertices.reserve(vertices);
+    if (slots.size() < 2 * vertices) rehash(std::bit_ceil(2 * vertices));
+  }
+  // Loads the welding slot of a vertex to come into the cache: the slot is where its hash
+  // lands, a miss in a table of megabytes.
+  void prefetch(const float* xyz) const {
+    const Vec3 key = key_of(Vec3(xyz[0], xyz[1], xyz[2]).cwiseProduct(scale));
+    __builtin_prefetch(slots.data() + (hash(key) & (slots.size() - 1)));
   }
   std::uint32_t vertex(const Vec3& raw, std::size_t face) {
     if (!raw.allFinite()) throw MeshError(path + ": face " + std::to_string(face) + ": non-finite coordinate");
     const Vec3 v = raw.cwiseProduct(scale);
     if (!v.allFinite()) throw MeshError(path + ": face " + std::to_string(face) + ": coordinate overflows after scaling");
-    const Vec3 key(v.x() == 0 ? 0.0 : v.x(), v.y() == 0 ? 0.0 : v.y(), v.z() == 0 ? 0.0 : v.z());  // -0 is 0
-    if (2 * (mesh.vertices.size() + 1) > slots.size()) grow();
+    const Vec3 key = key_of(v);
+    if (2 * (mesh.vertices.size() + 1) > slots.size()) rehash(2 * slots.size());
     const std::size_t mask = slots.size() - 1;
-    for (std::size_t s = hash(key) & mask;; s = (s + 1) & mask) {
-      if (slots[s] == kEmpty) {
-        slots[s] = static_cast<std::uint32_t>(mesh.vertices.size());
+    const std::uint64_t h = hash(key);
+    const std::uint32_t tag = tag_of(h);
+    auto same = [&](std::uint32_t i) {  // bit-identical (no NaN, -0 folded)
+      const Vec3& w = mesh.vertices[i];
+      return w.x() == key.x() && w.y() == key.y() && w.z() == key.z();
+    };
+    for (std::size_t s = h & mask;; s = (s + 1) & mask) {
+      const Slot slot = slots[s];
+      if (slot.index == kEmpty) {
+        slots[s] = {static_cast<std::uint32_t>(mesh.vertices.size()), tag};
         mesh.vertices.push_back(key);
-        return slots[s];
+        return slots[s].index;
       }
-      const Vec3& w = mesh.vertices[slots[s]];
-      if (w.x() == key.x() && w.y() == key.y() && w.z() == key.z()) return slots[s];  // bit-identical (no NaN, -0 folded)
+      if (slot.tag == tag && same(slot.index)) return slot.index;
     }
   }
   void triangle(const Vec3& a, const Vec3& b, const Vec3& c, std::size_t face) {
-    if (mesh.triangles.size() == kMaxMeshFaces)
+    const std::size_t n = mesh.triangles.size();
+    if (n == kMaxMeshFaces)
       throw MeshError(fmt::format("{}: face {}: more than {} triangles; a mesh has at most that many", path, face,
                                   kMaxMeshFaces));
+    if (numbers.empty() && face != n + 1) {  // the first triangle not numbered by its index
+      numbers.resize(n);
+      for (std::size_t i = 0; i < n; ++i) numbers[i] = i + 1;
+    }
     mesh.triangles.push_back({vertex(a, face), vertex(b, face), vertex(c, face)});
-    numbers.push_back(face);
+    if (!numbers.empty() || face != n + 1) numbers.push_back(face);
   }
   LoadedMesh finish() {
     if (mesh.triangles.empty()) throw MeshError(path + ": no faces");
+    std::vector<Slot>().swap(slots);  // freed before the checks
     return validate_mesh_x(std::move(mesh), path, numbers);
   }
 };
+
+// Binary STL records (50 bytes: normal, three vertices, attribute) of faces first + 1 ...
+void binary_faces(Builder& b, const char* records, std::size_t first, std::size_t count) {
+  constexpr std::size_t kAhead = 8;  // faces between a slot's prefetch and its use
+  for (std::size_t f = 0; f < count; ++f) {
+    if (f + kAhead < count)
+      for (int k = 0; k < 3; ++k) {
+        float xyz[3];
+        std::memcpy(xyz, records + 50 * (f + kAhead) + 12 + 12 * k, 12);
+        b.prefetch(xyz);
+      }
+    const char* p = records + 50 * f + 12;  // skip the normal
+    Vec3 v[3];
+    for (int k = 0; k < 3; ++k) {
+      float xyz[3];
+      std::memcpy(xyz, p + 12 * k, 12);
+      v[k] = Vec3(xyz[0], xyz[1], xyz[2]);
+    }
+    b.triangle(v[0], v[1], v[2], first + f + 1);
+  }
+}
+
+// Zero-area faces named one warning each, then one line counting the rest: ten million of them
+// would be ten million lines and a gigabyte of messages.
+constexpr std::size_t kZeroAreaWarnings = 100;
+
+std::string too_many_faces(const std::string& path, std::uint32_t n) {
+  return fmt::format("{}: {} faces; a mesh has at most {}", path, n, kMaxMeshFaces);
+}
 
 bool zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   // Collinear (or repeated) exactly: every axis projection has zero signed area.
@@ -114,63 +189,93 @@ static LoadedMesh validate_mesh_x(Polyhedron mesh, const std::string& source, co
   auto number = [&](std::size_t i) { return face_numbers.empty() ? i + 1 : face_numbers[i]; };
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
     if (!mesh.vertices[i].allFinite()) throw MeshError(source + ": vertex " + std::to_string(i + 1) + ": non-finite coordinate");
-  std::vector<Triangle> kept;
-  std::vector<std::size_t> kept_numbers;
+  // Zero-area faces dropped in place (no second triangle list); `dropped` (input indices,
+  // increasing) maps a kept triangle back to its face number for the closedness message.
+  std::vector<std::size_t> dropped;
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const Triangle& t = mesh.triangles[i];
+    const Triangle t = mesh.triangles[i];
     for (const std::uint32_t v : t)
       if (v >= mesh.vertices.size())
         throw MeshError(source + ": face " + std::to_string(number(i)) + ": vertex index out of range");
     if (zero_area(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]])) {
-      out.warnings.push_back(source + ": face " + std::to_string(number(i)) + ": zero area, dropped");
+      if (dropped.size() < kZeroAreaWarnings)
+        out.warnings.push_back(source + ": face " + std::to_string(number(i)) + ": zero area, dropped");
+      dropped.push_back(i);
       continue;
     }
-    kept.push_back(t);
-    kept_numbers.push_back(number(i));
+    mesh.triangles[kept++] = t;
   }
-  if (kept.empty()) throw MeshError(source + ": every face has zero area");
-  mesh.triangles = std::move(kept);
-  // Closed: each directed edge once, and its reverse once. Sorted 64-bit keys (a std::map of
-  // edges took some 190 bytes per face at 1M faces); the first bad edge in (from, to) order is
-  // reported with the first face using it, as before.
-  std::vector<std::uint64_t> edges;
-  edges.reserve(3 * mesh.triangles.size());
-  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
-  for (const Triangle& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) edges.push_back(key(t[k], t[(k + 1) % 3]));
-  std::sort(edges.begin(), edges.end());
-  auto count = [&](std::uint64_t e) {
-    const auto r = std::equal_range(edges.begin(), edges.end(), e);
-    return r.second - r.first;
+  if (kept == 0) throw MeshError(source + ": every face has zero area");
+  if (dropped.size() > kZeroAreaWarnings)
+    out.warnings.push_back(fmt::format("{}: {} more faces of zero area dropped (only the first {} are listed)", source,
+                                       dropped.size() - kZeroAreaWarnings, kZeroAreaWarnings));
+  mesh.triangles.resize(kept);
+  auto input_index = [&](std::size_t k) {  // kept triangle k was input triangle i
+    std::size_t i = k;
+    for (const std::size_t d : dropped) {
+      if (d > i) break;
+      ++i;
+    }
+    return i;
   };
+  // Closed: each directed edge once, and its reverse once (containment.hpp: per-vertex edge
+  // lists; a std::map of edges took some 190 bytes per face at 1M faces, sorted 64-bit keys 24
+  // bytes and a fifth of the load). The first bad edge in (from, to) order is reported with the
+  // first face using it.
   out.closed = true;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i + 1;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    const std::uint64_t e = edges[i];
-    const auto from = static_cast<std::uint32_t>(e >> 32), to = static_cast<std::uint32_t>(e);
-    const auto reverse = count(key(to, from));
-    const char* why = j - i > 1 ? "an edge used twice in one direction (non-manifold or inconsistent orientation)"
-                      : reverse == 0 ? "an edge on one face only (open mesh)"
-                      : reverse != 1 ? "an edge shared by more than two faces (non-manifold)"
-                                     : nullptr;
-    i = j;
-    if (!why) continue;
+  if (const std::optional<EdgeFault> e = first_edge_fault(mesh.triangles, mesh.vertices.size())) {
+    const std::uint32_t from = e->from, to = e->to;
+    const char* why = e->kind == EdgeFault::twice_one_way
+                          ? "an edge used twice in one direction (non-manifold or inconsistent orientation)"
+                      : e->kind == EdgeFault::one_face ? "an edge on one face only (open mesh)"
+                      : e->kind == EdgeFault::many_faces ? "an edge shared by more than two faces (non-manifold)"
+                                                         : "an edge from a vertex to itself";
     std::size_t first = 0;  // the first face using the edge
     for (; first < mesh.triangles.size(); ++first) {
       const Triangle& t = mesh.triangles[first];
       if ((t[0] == from && t[1] == to) || (t[1] == from && t[2] == to) || (t[2] == from && t[0] == to)) break;
     }
     out.closed = false;
-    out.warnings.push_back(source + ": face " + std::to_string(kept_numbers[first]) + ": " + why +
+    out.warnings.push_back(source + ": face " + std::to_string(number(input_index(first))) + ": " + why +
                            "; the mesh has no inside, containment is not tested for it");
-    break;
   }
   out.mesh = std::move(mesh);
   return out;
 }
 
-static LoadedMesh read_stl_x(const std::string& path, const Vec3& scale) { return parse_stl_x(read_file(path), path, scale); }
+// A binary STL in a regular file is read in blocks of faces (the file is never held whole: 500 MB
+// at 10M faces); anything else (ASCII, a size that does not match the count, a device or pipe)
+// as the file's bytes.
+static LoadedMesh read_stl_x(const std::string& path, const Vec3& scale) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size >= 84 &&
+      static_cast<std::size_t>(st.st_size) <= kMaxMeshFileBytes) {
+    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+    char head[84];
+    if (f && std::fread(head, 1, 84, f.get()) == 84) {
+      std::uint32_t n = 0;
+      std::memcpy(&n, head + 80, 4);
+      if (static_cast<std::size_t>(st.st_size) == 84 + 50 * static_cast<std::size_t>(n)) {
+        if (n > kMaxMeshFaces) throw MeshError(too_many_faces(path, n));
+        Builder b{.path = path, .scale = scale};
+        b.reserve(n);
+        constexpr std::size_t kBlock = 1 << 16;  // faces per read: 3.2 MB
+        std::vector<char> block(50 * std::min<std::size_t>(kBlock, n));
+        for (std::size_t done = 0; done < n;) {
+          const std::size_t count = std::min<std::size_t>(kBlock, n - done);
+          if (std::fread(block.data(), 50, count, f.get()) != count)
+            throw MeshError(fmt::format("{}: face {}: the file ended before its {} faces (it changed while being read)",
+                                        path, done + 1, n));
+          binary_faces(b, block.data(), done, count);
+          done += count;
+        }
+        return b.finish();
+      }
+    }
+  }
+  return parse_stl_x(read_file(path), path, scale);
+}
 
 static LoadedMesh parse_stl_x(const std::string& data, const std::string& path, const Vec3& scale) {
   Builder b{.path = path, .scale = scale};
@@ -179,17 +284,9 @@ static LoadedMesh parse_stl_x(const std::string& data, const std::string& path, 
     std::uint32_t n = 0;
     std::memcpy(&n, data.data() + 80, 4);
     if (data.size() == 84 + 50 * static_cast<std::size_t>(n)) {
-      if (n > kMaxMeshFaces) throw MeshError(fmt::format("{}: {} faces; a mesh has at most {}", path, n, kMaxMeshFaces));
-      for (std::uint32_t f = 0; f < n; ++f) {
-        const char* p = data.data() + 84 + 50 * static_cast<std::size_t>(f) + 12;  // skip the normal
-        Vec3 v[3];
-        for (int k = 0; k < 3; ++k) {
-          float xyz[3];
-          std::memcpy(xyz, p + 12 * k, 12);
-          v[k] = Vec3(xyz[0], xyz[1], xyz[2]);
-        }
-        b.triangle(v[0], v[1], v[2], f + 1);
-      }
+      if (n > kMaxMeshFaces) throw MeshError(too_many_faces(path, n));
+      b.reserve(n);
+      binary_faces(b, data.data() + 84, 0, n);
       return b.finish();
     }
   }
@@ -260,6 +357,11 @@ static LoadedMesh parse_obj_x(const std::string& data, const std::string& path, 
         if (idx == 0 || i < 0 || i >= n)
           throw MeshError(where + ": face " + std::to_string(face) + ": vertex " + item + " out of range");
         poly.push_back(v[static_cast<std::size_t>(i)]);
+        // A polygon fanning past the face limit is refused as it is read (its vertices alone
+        // would take 24 bytes per triangle).
+        if (poly.size() >= 3 && b.mesh.triangles.size() + poly.size() - 2 > kMaxMeshFaces)
+          throw MeshError(fmt::format("{}: face {}: more than {} triangles; a mesh has at most that many", path, face,
+                                      kMaxMeshFaces));
       }
       if (poly.size() < 3) throw MeshError(where + ": face " + std::to_string(face) + ": fewer than three vertices");
       for (std::size_t k = 1; k + 1 < poly.size(); ++k) b.triangle(poly[0], poly[k], poly[k + 1], face);  // fan

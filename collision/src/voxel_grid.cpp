@@ -19,6 +19,20 @@ int clamp_index(double x, int n) {
   return static_cast<int>(std::floor(x));
 }
 
+// cell_range, inlined into the voxelisation's loops (two calls per face).
+inline CellRange range_of(const VoxelGrid& g, const Box& b) {
+  CellRange r;
+  for (int k = 0; k < 3; ++k) {
+    const double o = g.container.origin[k];
+    if (b.hi[k] < o || b.lo[k] > o + g.container.size[k] || !(b.lo[k] <= b.hi[k])) return CellRange{};
+    // A product instead of the quotient: off by an ulp at most, far inside the margins every
+    // caller grows its box by (so still conservative).
+    r.lo[k] = clamp_index((b.lo[k] - o) * g.inv_cell[k], g.cells[k]);
+    r.hi[k] = clamp_index((b.hi[k] - o) * g.inv_cell[k], g.cells[k]);
+  }
+  return r;
+}
+
 // Empty voxels reachable from the grid border through empty faces are outside; every other
 // empty component is on one side of the surface, decided by one exact point-in-solid test.
 void classify_voxels(VoxelGrid& g, const Polyhedron& mesh) {
@@ -265,15 +279,32 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings, bool closed) {
   g.margin = 64 * DBL_EPSILON * (g.container.scale + g.container.size.maxCoeff());
   g.face_count = mesh.triangles.size();
 
-  // (voxel, face) incidences in face order, then a counting sort into CSR.
+  // (voxel, face) incidences in face order, then a counting sort into CSR. Reserved for every
+  // voxel of every face's range (an upper bound: the test only removes): the pages past the
+  // incidences found are never touched, so cost no memory, and the list never doubles (a
+  // doubling held three times the list while copying).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> hits;
+  auto face_range = [&](std::uint32_t f) {
+    const Triangle& tri = mesh.triangles[f];
+    const Vec3 &p = mesh.vertices[tri[0]], &q = mesh.vertices[tri[1]], &r = mesh.vertices[tri[2]];
+    return range_of(g, grown(Box{p.cwiseMin(q).cwiseMin(r), p.cwiseMax(q).cwiseMax(r)}, 2 * g.margin));
+  };
+  {
+    std::size_t bound = 0;
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+      const CellRange r = face_range(f);
+      if (!r.empty())
+        bound += static_cast<std::size_t>(r.hi[0] - r.lo[0] + 1) * static_cast<std::size_t>(r.hi[1] - r.lo[1] + 1) *
+                 static_cast<std::size_t>(r.hi[2] - r.lo[2] + 1);
+    }
+    hits.reserve(std::min(bound, 16 * mesh.triangles.size() + 1024));  // past that it may double
+  }
   const Vec3 half = 0.5 * g.cell + Vec3::Constant(g.margin);
   const double magnitude = g.container.scale + g.container.size.maxCoeff();
   for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
     const Triangle& tri = mesh.triangles[f];
     const TriangleVerts t{mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]};
-    const Box tb{t[0].cwiseMin(t[1]).cwiseMin(t[2]), t[0].cwiseMax(t[1]).cwiseMax(t[2])};
-    const CellRange r = cell_range(g, grown(tb, 2 * g.margin));
+    const CellRange r = face_range(f);
     if (r.empty()) continue;
     // One voxel: the test would only repeat what cell_range found (the face's grown box meets it).
     const bool single = r.lo == r.hi;
@@ -334,18 +365,7 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings, bool closed) {
   return g;
 }
 
-CellRange cell_range(const VoxelGrid& g, const Box& b) {
-  CellRange r;
-  for (int k = 0; k < 3; ++k) {
-    const double o = g.container.origin[k];
-    if (b.hi[k] < o || b.lo[k] > o + g.container.size[k] || !(b.lo[k] <= b.hi[k])) return CellRange{};
-    // A product instead of the quotient: off by an ulp at most, far inside the margins every
-    // caller grows its box by (so still conservative).
-    r.lo[k] = clamp_index((b.lo[k] - o) * g.inv_cell[k], g.cells[k]);
-    r.hi[k] = clamp_index((b.hi[k] - o) * g.inv_cell[k], g.cells[k]);
-  }
-  return r;
-}
+CellRange cell_range(const VoxelGrid& g, const Box& b) { return range_of(g, b); }
 
 CellRange intersect(const CellRange& a, const CellRange& b) {
   CellRange r;

@@ -12,7 +12,7 @@ robots::JointVector start_joints(const Cell& cell) {
   return cell.start_joints.size() == cell.robot.joint_count() ? cell.start_joints : robots::ready_joints(cell.robot);
 }
 
-Scene scene_bodies(const Cell& cell) {
+Scene scene_bodies(const Cell& cell, bool object_meshes) {
   const auto& robot = cell.robot;
   const int n = robot.joint_count();
   Scene s;
@@ -29,8 +29,8 @@ Scene scene_bodies(const Cell& cell) {
   }
   if (cell.tool_shape) add({.name = "tool", .mesh = *cell.tool_shape, .group = n, .robot = true, .link = n});
   for (std::size_t i = 0; i < cell.objects.size(); ++i)
-    add({.name = cell.objects[i].name, .mesh = cell.objects[i].mesh, .group = kStaticGroup, .is_static = true,
-         .object = static_cast<int>(i)});
+    add({.name = cell.objects[i].name, .mesh = object_meshes ? cell.objects[i].mesh : collision::Polyhedron{},
+         .group = kStaticGroup, .is_static = true, .object = static_cast<int>(i)});
   // Joined parts: adjacent links touch at their joint; the tool is fixed to the flange, next to
   // link n-1 (the J5 body of a 6-axis arm). Bodies of one link share a group anyway.
   const std::uint32_t robot_bodies = static_cast<std::uint32_t>(robot.bodies.size());

@@ -33,7 +33,9 @@ void World::build_engine(const Cell& cell) {
   built_ = true;
   collision::Engine e;
   // Bodies, groups and joined pairs: motion/scene.hpp (shared with `asimov pairs`).
-  Scene scene = scene_bodies(cell);
+  // The objects' meshes are borrowed from the cell (the world never outlives it), not copied;
+  // the generated pair matrix samples every body, so it gets the copies.
+  Scene scene = scene_bodies(cell, cell.collision.generated_pairs);
   std::optional<collision::AutoPairs> generated;
   if (cell.collision.generated_pairs) {
     const collision::AutoPairsInput in = auto_pairs_input(cell, scene, cell.collision.pair_samples);
@@ -52,8 +54,10 @@ void World::build_engine(const Cell& cell) {
     const bool moves = b.object < 0 && (b.link > 0 || own);
     mounts.push_back({moves ? b.link : -1, moves ? b.hand : -1, own});
     if (b.object >= 0) object_names.push_back(b.name);
-    const collision::BodyId id = e.add_body({.name = std::move(b.name), .mesh = std::move(b.mesh), .group = b.group,
-                                             .is_static = b.is_static, .halvings = cell.collision.halvings});
+    const collision::Polyhedron* borrowed = b.object >= 0 ? &cell.objects[static_cast<std::size_t>(b.object)].mesh : nullptr;
+    const collision::BodyId id =
+        e.add_body({.name = std::move(b.name), .mesh = borrowed ? collision::Polyhedron{} : std::move(b.mesh),
+                    .mesh_ref = borrowed, .group = b.group, .is_static = b.is_static, .halvings = cell.collision.halvings});
     if (!moves) e.set_pose(id, b.object >= 0 ? cell.objects[static_cast<std::size_t>(b.object)].pose : cell.base);
   }
   if (generated) {

@@ -195,3 +195,50 @@ TEST_CASE("primitives tessellated to a chordal tolerance", "[mesh_io]") {
     CHECK(must(validate_mesh(make_cylinder_tol(r, 10, tol), "cylinder")).closed);
   }
 }
+
+TEST_CASE("a binary STL above the old 2,000,000-face limit loads, streamed", "[mesh][big]") {
+  // A torus of 1500 x 700 quads (2.1M faces, 105 MB), written row by row: every vertex is the
+  // same float bits wherever it appears, so the loader welds a closed mesh.
+  const int nu = 1500, nv = 700;
+  const std::uint32_t n = 2u * nu * nv;
+  const std::string path = (temp_dir() / "big.stl").string();
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << std::string(80, ' ');
+    out.write(reinterpret_cast<const char*>(&n), 4);
+    auto at = [&](int i, int j, float* p) {
+      const double u = 2 * std::numbers::pi * (i % nu) / nu, v = 2 * std::numbers::pi * (j % nv) / nv;
+      p[0] = static_cast<float>((1000 + 300 * std::cos(v)) * std::cos(u));
+      p[1] = static_cast<float>((1000 + 300 * std::cos(v)) * std::sin(u));
+      p[2] = static_cast<float>(300 * std::sin(v));
+    };
+    std::vector<char> row;
+    auto put = [&](const float* p, const float* q, const float* r) {
+      char record[50] = {};  // normal (zero), three vertices, attribute
+      std::memcpy(record + 12, p, 12);
+      std::memcpy(record + 24, q, 12);
+      std::memcpy(record + 36, r, 12);
+      row.insert(row.end(), record, record + 50);
+    };
+    for (int i = 0; i < nu; ++i) {
+      row.clear();
+      for (int j = 0; j < nv; ++j) {
+        float a[3], b[3], c[3], d[3];
+        at(i, j, a), at(i + 1, j, b), at(i + 1, j + 1, c), at(i, j + 1, d);
+        put(a, b, c);
+        put(a, c, d);
+      }
+      out.write(row.data(), static_cast<std::streamsize>(row.size()));
+    }
+  }
+  REQUIRE(fs::file_size(path) == 84 + 50 * std::size_t{n});
+  const LoadedMesh m = must(read_stl(path));
+  CHECK(m.mesh.triangles.size() == n);
+  CHECK(m.mesh.vertices.size() == std::size_t{nu} * nv);
+  CHECK(m.closed);
+  CHECK(m.warnings.empty());
+  // The same file cut in the middle of its last face: the size no longer matches the count.
+  fs::resize_file(path, 84 + 50 * std::size_t{n} - 7);
+  CHECK(error_message(read_stl(path)) == path + ": neither binary STL (size does not match the triangle count) nor ASCII STL");
+  fs::remove(path);
+}

@@ -19,6 +19,10 @@ constexpr int kAutoHalvings = -1;  // BodyDef::halvings: let the cost model choo
 struct BodyDef {
   std::string name;       // reported in contacts ("link3", "tool", "table")
   Polyhedron mesh;        // local frame
+  // When set, the body's mesh instead of `mesh` (left empty), not copied: it must outlive the
+  // engine and not change. A cell's objects are kept so (motion::World borrows its cell): a
+  // copy of a 10M-face mesh was 240 MB.
+  const Polyhedron* mesh_ref = nullptr;
   int group = -1;         // rigid group: bodies of one group are never tested together (-1: own group)
   bool is_static = false; // static bodies never move after the first set_pose
   int halvings = 9;       // M: the voxel grid has 2^M cells; kAutoHalvings (-1): cost model

@@ -32,9 +32,10 @@ Result<LoadedMesh> read_obj(const std::string& path, const Vec3& scale = Vec3::O
 // The same from the file's bytes; `path` names it in messages (fuzz/ feeds these directly).
 Result<LoadedMesh> parse_stl(const std::string& data, const std::string& path, const Vec3& scale = Vec3::Ones());
 Result<LoadedMesh> parse_obj(const std::string& data, const std::string& path, const Vec3& scale = Vec3::Ones());
-// Triangles one mesh file may give (docs/limits.md): 2 million is a detailed CAD export; past
-// it loading and the engine's set-up take minutes and gigabytes, so the file is refused.
-inline constexpr std::size_t kMaxMeshFaces = 2000000;
+// Triangles one mesh file may give (docs/limits.md): 10 million, a 500 MB binary STL (the 512 MiB
+// file limit lets 10.7 million through); loading and the engine's set-up of that many take
+// seconds and about a gigabyte (docs/collision.md §13), so more is refused.
+inline constexpr std::size_t kMaxMeshFaces = 10000000;
 // By extension (.stl / .obj, any case); an Error for anything else.
 Result<LoadedMesh> read_mesh(const std::string& path, const Vec3& scale = Vec3::Ones());
 

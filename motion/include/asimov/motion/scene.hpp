@@ -36,7 +36,9 @@ struct Scene {
 // Bodies, groups and joined pairs of the cell. The tool is rigid with the last link (group
 // joint_count()) and joined to link n-1 (the J5 body of a 6-axis arm), adjacent links touch at
 // their joint.
-Scene scene_bodies(const Cell& cell);
+// `object_meshes` false leaves the objects' SceneBody::mesh empty (their meshes stay in
+// cell.objects: World borrows them, and a copy of a 10M-face object was 240 MB).
+Scene scene_bodies(const Cell& cell, bool object_meshes = true);
 
 // The robot's self-pairs (link bodies and tool) that touch, or come within `clearance_mm`, at
 // the start joints and that nothing else disables yet (rigid, joined, SRDF, ignore): the pairs

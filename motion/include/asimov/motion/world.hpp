@@ -45,7 +45,8 @@ struct CarriedPose {
 class World {
  public:
   // The arm's reach is known at once; the engine is built now when collision is enabled in
-  // the cell, else on the first build_engine().
+  // the cell, else on the first build_engine(). The world borrows the cell (its robot, and its
+  // objects' meshes, which the engine uses in place): the cell must outlive it unchanged.
   explicit World(const Cell& cell);
 
   // Builds the engine (bodies, participation, fixed poses) from `cell`; once.
