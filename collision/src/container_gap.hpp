@@ -4,12 +4,22 @@
 #pragma once
 #include "minimax.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <span>
 
 namespace asimov::collision {
 
 // Euclidean distance [mm] between two axis-aligned boxes (0 when they overlap or touch).
-double box_distance(const Box& a, const Box& b);
+// Inline with container_gap below: gap stepping asks them for every pair at every checked pose.
+inline double box_distance(const Box& a, const Box& b) {
+  double sum = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double d = std::max({0.0, a.lo[i] - b.hi[i], b.lo[i] - a.hi[i]});
+    sum += d * d;
+  }
+  return std::sqrt(sum);
+}
 
 // A container placed at a pose, as the gap needs it: its world minimax box and the world centre
 // of its vertex sphere (Container::radius). Computed once per body and pose, used by every pair.
@@ -24,7 +34,10 @@ PlacedContainer place(const Container& c, const Pose& pose);
 // world boxes' distance, their vertex spheres' distance; the spheres win for long bodies lying
 // diagonally, whose world boxes are mostly empty), less `margin` for the rounding of the
 // mapping (relative_margin), never below 0.
-double container_gap(const PlacedContainer& a, const PlacedContainer& b, double margin);
+inline double container_gap(const PlacedContainer& a, const PlacedContainer& b, double margin) {
+  const double spheres = (a.centre - b.centre).norm() - a.radius - b.radius;
+  return std::max(0.0, std::max(box_distance(a.box, b.box), spheres) - margin);
+}
 
 // The same from the containers and their poses.
 double container_gap(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b);

@@ -137,12 +137,5 @@ double box_gap(const Box& a, const Box& b) {
   return gap;
 }
 
-double relative_margin(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b) {
-  // Each mapped coordinate carries a few ulps of (|t| + sqrt(3) * scale); a pair mapping
-  // world -> local -> other local compounds a handful of those. 64 ulps covers it with room.
-  const double magnitude = pose_a.translation().cwiseAbs().maxCoeff() + pose_b.translation().cwiseAbs().maxCoeff() +
-                           2 * (a.scale + b.scale);
-  return 64 * DBL_EPSILON * magnitude;
-}
 
 }  // namespace asimov::collision

@@ -1,6 +1,7 @@
 // Step 2: containers (local axis-aligned boxes given by basic axes) and world minimax boxes.
 #pragma once
 #include "asimov/collision/types.hpp"
+#include <cfloat>
 #include <vector>
 
 namespace asimov::collision {
@@ -57,6 +58,12 @@ double box_gap(const Box& a, const Box& b);
 
 // Relative margin epsilon_r for a pair: generous multiple of the rounding in mapping local
 // coordinates of containers of scale s_a, s_b through poses with translations t_a, t_b.
-double relative_margin(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b);
+inline double relative_margin(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b) {
+  // Each mapped coordinate carries a few ulps of (|t| + sqrt(3) * scale); a pair mapping
+  // world -> local -> other local compounds a handful of those. 64 ulps covers it with room.
+  const double magnitude = pose_a.translation().cwiseAbs().maxCoeff() + pose_b.translation().cwiseAbs().maxCoeff() +
+                           2 * (a.scale + b.scale);
+  return 64 * DBL_EPSILON * magnitude;
+}
 
 }  // namespace asimov::collision
