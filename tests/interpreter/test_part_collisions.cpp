@@ -227,3 +227,40 @@ TEST_CASE("blending: a deferred CLOSE with a part to grasp stops the arm first",
   REQUIRE(cell_state);
   CHECK(cell_state->clock().parts()[0].holder == motion::Holder::carried);
 }
+
+// World::sleep_far (docs/cell-format.md "Speed"): pairs of the arm and resting parts that cannot
+// come near during a walk or a rest leave the tested pairs. Thirty parts stacked behind the
+// robot (over a metre from every path) sleep; a tower at the end of the slide, 400 mm from the
+// tool when the slide starts, must not: the same contact is found with and without the decoys,
+// with continuous checking and with sampled poses only.
+TEST_CASE("far resting parts sleep through the motions without hiding or moving a contact") {
+  for (const bool continuous : {true, false}) {
+    CAPTURE(continuous);
+    const auto make = [&](bool decoys) {
+      motion::Cell cell = plate_cell(true);
+      cell.objects.pop_back();  // no post
+      cell.collision.continuous = continuous;
+      cell.workcell.parts.push_back({"tower", "", collision::make_box({60, 60, 200}), at(500, 200, -200)});
+      if (decoys)
+        for (int i = 0; i < 30; ++i)
+          cell.workcell.parts.push_back(
+              {"decoy" + std::to_string(i), "", collision::make_box({40, 40, 40}), at(-700 + 60 * (i % 6), -150 + 60 * (i / 6), -380)});
+      return cell;
+    };
+    Run plain(make(false)), decoys(make(true));
+    const auto a = plain.run(kSlide);
+    const auto b = decoys.run(kSlide);
+    REQUIRE(a.status == interpreter::RunStatus::collision);
+    REQUIRE(b.status == interpreter::RunStatus::collision);
+    CHECK(a.collision.body_a + " / " + a.collision.body_b == b.collision.body_a + " / " + b.collision.body_b);
+    CHECK((a.collision.body_a + a.collision.body_b).find("tower") != std::string::npos);
+    CHECK(a.error.line == b.error.line);
+    const double tol = plain.sim.cell().collision.toc_tolerance_s >= 0 ? plain.sim.cell().collision.toc_tolerance_s : 1e-6;
+    CHECK(std::abs(a.collision.time_s - b.collision.time_s) <= 2 * tol + 1e-12);
+    // The decoys never moved and were never reported.
+    REQUIRE(decoys.interp.cell_state());
+    const auto& clock = decoys.interp.cell_state()->clock();
+    for (std::size_t i = 0; i < clock.parts().size(); ++i)
+      if (clock.parts()[i].def.name.rfind("decoy", 0) == 0) CHECK(clock.parts()[i].holder == motion::Holder::world);
+  }
+}
