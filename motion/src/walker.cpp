@@ -651,7 +651,7 @@ MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
   tr.from = tr.to = state.joints;
   tr.t0 = state.time_s;
   tr.step = step;
-  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker(engine), {}, ~std::uint64_t{0}};
+  Walk walk{.w = *this, .tr = tr, .st = state, .engine = engine, .clearance = halting_clearance(settings_), .checker = checker(engine)};
   walk.dwelling = true;
   if (walk.checker) walk.continuous_path();
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
@@ -663,7 +663,7 @@ MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
 
 MotionResult Walker::walk(const Trajectory& tr, WalkState& state, double until_s) {
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
-  Walk walk{*this, tr, state, engine, halting_clearance(settings_), checker(engine), {}, ~std::uint64_t{0}};
+  Walk walk{.w = *this, .tr = tr, .st = state, .engine = engine, .clearance = halting_clearance(settings_), .checker = checker(engine)};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
   const bool sleep = engine && state.time_s < tr.end_time() && sleep_far(blended_travel(tr, state.time_s, tr.end_time()), state, false);
   MotionResult r = walk.run(until_s);
