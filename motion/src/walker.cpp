@@ -36,7 +36,7 @@ struct Walker::Walk {
   collision::Engine* engine;  // null: nothing to check (no engine, or collision disabled)
   double clearance;
   ContinuousChecker* checker;  // null: continuous checking off
-  ContinuousPath path;         // the trajectory as continuous checking sees it (continuous_path)
+  ContinuousPath path{};       // the trajectory as continuous checking sees it (continuous_path)
   std::uint64_t pairs_verified = ~std::uint64_t{0};  // World::pairs_revision() the checker's cache is of
   std::size_t line_i = 0, line_j = 0;  // lines: the checked samples of the current stretch
   bool in_overlap = false;             // walking the overlap with the previous motion (blended path)
@@ -52,7 +52,7 @@ struct Walker::Walk {
     std::uint64_t rev = 0;
   };
   bool want_gaps = false;  // gap stepping or continuous checking: visit's query computes them
-  Tag here, next, mu;
+  Tag here{}, next{}, mu{};
   bool dwelling = false;               // time passing with the arm at rest (dwell)
   // While dwelling only the pairs with a belt-borne part can change distance: those are
   // checked (dwell_pairs; dwell_index: their indices in World::pairs()), the rest stay free.
@@ -219,7 +219,7 @@ struct Walker::Walk {
     double t1 = 0, t2 = 0;
     JointVector q1, q2, travel;
   };
-  mutable TravelMemo travel_memo;
+  mutable TravelMemo travel_memo{};
   const JointVector& window_travel(double t1, const JointVector& q1, double t2, const JointVector& q2) const {
     TravelMemo& m = travel_memo;
     if (m.ok && m.overlap == in_overlap && m.t1 == t1 && m.t2 == t2 && m.q1 == q1 && m.q2 == q2) return m.travel;
