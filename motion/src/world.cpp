@@ -303,7 +303,12 @@ void World::sleep_far(std::span<const double> bound_mm, double clearance_mm, dou
   wake();
   rest_ = rest != nullptr;
   if (rest) rest_q_ = *rest;
-  engine_->query({.clearance_mm = clearance_mm, .contact = false, .gaps = true}, scratch_result_);
+  // The gaps of pairs() in its order (the engine's own enabled_pairs() are sorted otherwise); a
+  // pair the engine skips (not enabled) would shift them: then nothing sleeps.
+  engine_->query({.clearance_mm = clearance_mm, .pairs = std::span<const collision::BodyPair>(part_pairs_),
+                  .contact = false, .gaps = true},
+                 scratch_result_);
+  if (scratch_result_.gaps.size() != part_pairs_.size()) return;
   // The body of a pair that moves on the arm chain, when the other does not move at all.
   const auto arm_mover = [&](const collision::BodyPair& p, const GapPair& g) -> int {
     if (g.speed_mm_s != 0 || (g.a >= 0) == (g.b >= 0)) return -1;
@@ -314,7 +319,7 @@ void World::sleep_far(std::span<const double> bound_mm, double clearance_mm, dou
     return g.a >= 0 ? g.a : g.b;
   };
   const double keep = std::max(margin_mm, clearance_mm);
-  for (std::size_t i = 0; i < part_pairs_.size() && i < scratch_result_.gaps.size(); ++i) {
+  for (std::size_t i = 0; i < part_pairs_.size(); ++i) {
     const int k = arm_mover(part_pairs_[i], part_gaps_[i]);
     if (k < 0 || static_cast<std::size_t>(k) >= bound_mm.size()) continue;
     const double g = scratch_result_.gaps[i], b = bound_mm[static_cast<std::size_t>(k)] * (1 + 1e-9) + 1e-9;

@@ -1,6 +1,7 @@
 // Planner, walker and recorders without the Simulator facade (motion/README.md): the same walk
 // as the facade's, observers told in data-flow order, refusals before anything moves, the
 // interrupt, and the trajectory's exact path at its ends.
+#include "asimov/motion/cell_runtime.hpp"
 #include "asimov/motion/planner.hpp"
 #include "asimov/motion/scene.hpp"
 #include "asimov/motion/simulator.hpp"
@@ -169,4 +170,45 @@ TEST_CASE("trajectory: the exact path starts and ends at the planned joints", "[
   CHECK(joint_path_at(tr, tr.t0) == tr.from);
   CHECK((joint_path_at(tr, tr.end_time()) - tr.to).cwiseAbs().maxCoeff() < 1e-12);
   CHECK(tr.target.isApprox(Location(robots::flange_pose(cell.robot, tr.to))));  // BASE, TOOL identity
+}
+
+// World::sleep_far (docs/cell-format.md "Speed"): a pair leaves pairs() only when its bodies'
+// exact distance at the current poses exceeds the margin plus the arm body's bound, whatever the
+// order of pairs() against the engine's own pair list; wake() restores every pair.
+TEST_CASE("sleep_far puts to sleep only the pairs farther than margin plus bound", "[walker]") {
+  Cell cell = wall_cell();
+  cell.objects.clear();
+  // Resting parts near and far from the arm at its start joints, and an object between.
+  for (int i = 0; i < 12; ++i)
+    cell.workcell.parts.push_back({"p" + std::to_string(i), "", collision::make_box({40, 40, 40}),
+                                   trans(-900 + 150 * i, 300, 200, 0, 0, 0)});
+  cell.objects.push_back(test::box_object("post", {40, 40, 400}, {500, 0, 0}));
+  // One part on the flange itself: its pairs with the wrist touch, so they never sleep.
+  const Location flange = robots::flange_pose(cell.robot, start_joints(cell));
+  cell.workcell.parts.push_back({"on_flange", "", collision::make_box({40, 40, 40}), flange});
+  CellRuntime runtime(cell);
+  World world(cell);
+  world.attach(runtime);
+  world.build_engine(cell);
+  REQUIRE(world.engine());
+  world.pose(start_joints(cell), 0);
+  const std::vector<collision::BodyPair> all(world.pairs().begin(), world.pairs().end());
+  for (const double bound : {0.0, 150.0}) {
+    CAPTURE(bound);
+    const std::vector<double> bounds(world.reach().size(), bound);
+    constexpr double kMargin = 10;
+    world.sleep_far(bounds, 0, kMargin);
+    const std::vector<collision::BodyPair> awake(world.pairs().begin(), world.pairs().end());
+    std::size_t asleep = 0;
+    for (const collision::BodyPair& p : all) {
+      if (std::find(awake.begin(), awake.end(), p) != awake.end()) continue;
+      ++asleep;
+      const double d = world.engine()->distance(p.a, p.b, {.upper_mm = kMargin + bound + 1}).distance;
+      CHECK(d > kMargin + bound);
+    }
+    CHECK(asleep > 0);
+    CHECK(asleep < all.size());  // the part on the flange stays
+    world.wake();
+    CHECK(std::vector<collision::BodyPair>(world.pairs().begin(), world.pairs().end()) == all);
+  }
 }
