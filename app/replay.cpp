@@ -38,11 +38,13 @@ bool read_file(const std::filesystem::path& path, std::string& text) {
   return static_cast<bool>(in) || in.eof();
 }
 
-// [x, y, z, qx, qy, qz, qw]: mm and a unit quaternion, as three.js takes them.
-void push_pose(std::vector<float>& out, const collision::Pose& p) {
+// [x, y, z, qx, qy, qz, qw]: mm and a unit quaternion, as three.js takes them (Float32 for the
+// frames, Float64 for the parts' segments).
+template <class T>
+void push_pose(std::vector<T>& out, const collision::Pose& p) {
   const Eigen::Quaterniond q(p.rotation());
   const auto& t = p.translation();
-  for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) out.push_back(static_cast<float>(v));
+  for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) out.push_back(static_cast<T>(v));
 }
 
 nlohmann::json pose_json(const collision::Pose& p) {
@@ -62,22 +64,11 @@ nlohmann::json step_lines(const std::vector<interpreter::MotionStep>& motions, c
   return out;
 }
 
-// The parts' states as the page names them (the report's names, app/workcell_report.cpp).
-constexpr const char* kPartStates[] = {"resting", "on_conveyor", "carried", "removed"};
+// The parts' states as the page numbers them (Holder's order) and names them (the report's).
+constexpr motion::Holder kHolders[] = {motion::Holder::world, motion::Holder::conveyor, motion::Holder::carried,
+                                       motion::Holder::removed};
 std::uint8_t state_code(motion::Holder h) {
-  switch (h) {
-    case motion::Holder::world: return 0;
-    case motion::Holder::conveyor: return 1;
-    case motion::Holder::carried: return 2;
-    case motion::Holder::removed: return 3;
-  }
-  return 0;
-}
-
-void push_pose64(std::vector<double>& out, const collision::Pose& p) {
-  const Eigen::Quaterniond q(p.rotation());
-  const auto& t = p.translation();
-  for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) out.push_back(v);
+  return static_cast<std::uint8_t>(std::find(std::begin(kHolders), std::end(kHolders), h) - std::begin(kHolders));
 }
 
 nlohmann::json region_json(const char* kind, const std::string& name, const motion::Region& r) {
@@ -140,7 +131,7 @@ nlohmann::json workcell_data(const motion::Cell& cell, const motion::CellRuntime
     seg_part.push_back(s.part);
     seg_state.push_back(state_code(s.holder));
     seg_time.push_back(s.time_s);
-    push_pose64(seg_pose, s.pose);
+    push_pose(seg_pose, s.pose);
     for (int c = 0; c < 3; ++c) seg_velocity.push_back(s.velocity[c]);
     seg_end.push_back(s.end_s);
     if (s.holder == motion::Holder::carried) {
@@ -183,18 +174,17 @@ nlohmann::json workcell_data(const motion::Cell& cell, const motion::CellRuntime
     devices.push_back(std::move(j));
   }
 
+  auto states = nlohmann::json::array();
+  for (const motion::Holder h : kHolders) states.push_back(part_state_name(h));
   auto events = nlohmann::json::array();
   for (const motion::CellEvent& e : clock.events()) {
     if (e.time_s > end_s) break;  // events are in time order: after a contact, past the halting pose
-    nlohmann::json j = {{"time_s", e.time_s}, {"kind", e.kind}, {"subject", e.subject}};
-    if (!e.detail.empty()) j["detail"] = e.detail;
-    if (e.line > 0) j["line"] = e.line;
-    events.push_back(std::move(j));
+    events.push_back(event_json(e));
   }
 
   return {{"parts", std::move(parts)},
           {"part_meshes", std::move(meshes)},
-          {"states", kPartStates},
+          {"states", states},
           {"segments", {{"count", segs.size()},
                         {"part", b64(seg_part)},          // Int32: index into parts
                         {"time_s", b64(seg_time)},        // Float64: the state begins

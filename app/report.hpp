@@ -41,6 +41,10 @@ RunSummary summarize_run(const std::string& file, interpreter::RunResult result,
 // The reacting cell's part of the report: "events" (time, kind, subject, detail, line) and
 // "parts" (name, state, final pose).
 nlohmann::json workcell_json(const motion::CellRuntime& cell);
+// Shared with the replay page (app/replay.cpp): a part's state as the report names it
+// ("resting", "on_conveyor", "carried", "removed") and one event of the cell.
+const char* part_state_name(motion::Holder h);
+nlohmann::json event_json(const motion::CellEvent& e);
 
 // The "accuracy" and "timing" objects of the report.
 nlohmann::json accuracy_json(const RunSummary& summary);

@@ -4,8 +4,8 @@
 #include "asimov/motion/location.hpp"
 
 namespace asimov::app {
-namespace {
-const char* holder_name(motion::Holder h) {
+
+const char* part_state_name(motion::Holder h) {
   switch (h) {
     case motion::Holder::world: return "resting";
     case motion::Holder::conveyor: return "on_conveyor";
@@ -14,24 +14,25 @@ const char* holder_name(motion::Holder h) {
   }
   return "resting";
 }
-}  // namespace
+
+nlohmann::json event_json(const motion::CellEvent& e) {
+  nlohmann::json j = {{"time_s", e.time_s}, {"kind", e.kind}, {"subject", e.subject}};
+  if (!e.detail.empty()) j["detail"] = e.detail;
+  if (e.line > 0) j["line"] = e.line;
+  return j;
+}
 
 nlohmann::json workcell_json(const motion::CellRuntime& cell) {
   const auto& clock = cell.clock();
   auto events = nlohmann::json::array();
-  for (const auto& e : clock.events()) {
-    nlohmann::json j = {{"time_s", e.time_s}, {"kind", e.kind}, {"subject", e.subject}};
-    if (!e.detail.empty()) j["detail"] = e.detail;
-    if (e.line > 0) j["line"] = e.line;
-    events.push_back(std::move(j));
-  }
+  for (const auto& e : clock.events()) events.push_back(event_json(e));
   auto parts = nlohmann::json::array();
   for (std::size_t i = 0; i < clock.parts().size(); ++i) {
     const auto& p = clock.parts()[i];
     const motion::Location pose = clock.part_pose(i);
     const auto oat = motion::decompose(pose);
     nlohmann::json j = {{"name", p.def.name},
-                        {"state", holder_name(p.holder)},
+                        {"state", part_state_name(p.holder)},
                         {"pose", {oat[0], oat[1], oat[2], oat[3], oat[4], oat[5]}}};
     if (!p.def.colour.empty()) j["colour"] = p.def.colour;
     parts.push_back(std::move(j));

@@ -212,15 +212,20 @@ async function main() {
   sun.position.set(1500, -1000, 3000);
   scene.add(sun);
 
-  // One mesh per body; flat normals suit the boxes and cylinders of a cell.
-  const meshes = rep.bodies.map((b) => {
+  // A decoded mesh (vertices, triangles) as a geometry; flat normals suit the boxes and
+  // cylinders of a cell.
+  function flatGeometry(m) {
     const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.BufferAttribute(b.vertices, 3));
-    g.setIndex(new THREE.BufferAttribute(b.triangles, 1));
+    g.setAttribute('position', new THREE.BufferAttribute(m.vertices, 3));
+    g.setIndex(new THREE.BufferAttribute(m.triangles, 1));
     const flat = g.toNonIndexed();
     flat.computeVertexNormals();
+    return flat;
+  }
+  // One mesh per body.
+  const meshes = rep.bodies.map((b) => {
     const mat = new THREE.MeshStandardMaterial({ color: COLORS[b.kind], roughness: 0.6, metalness: 0.1 });
-    const mesh = new THREE.Mesh(flat, mat);
+    const mesh = new THREE.Mesh(flatGeometry(b), mat);
     if (b.pose) setPose(mesh, b.pose);
     scene.add(mesh);
     return mesh;
@@ -265,14 +270,7 @@ async function main() {
   const partMeshes = [], sensorBoxes = [];
   let signalRows = null, eventRows = [], shownEvent = -2;
   if (W) {
-    const geometries = W.part_meshes.map((m) => {
-      const g = new THREE.BufferGeometry();
-      g.setAttribute('position', new THREE.BufferAttribute(m.vertices, 3));
-      g.setIndex(new THREE.BufferAttribute(m.triangles, 1));
-      const flat = g.toNonIndexed();
-      flat.computeVertexNormals();
-      return flat;
-    });
+    const geometries = W.part_meshes.map(flatGeometry);
     const edges = new Map();  // per mesh and colour, the outline of a part whose colour is a CSS one
     for (const p of W.parts) {
       const mesh = new THREE.Mesh(geometries[p.mesh], new THREE.MeshStandardMaterial({ color: PART_COLORS.resting, roughness: 0.5, metalness: 0.05 }));

@@ -605,22 +605,22 @@ Engine::Engine(Engine&&) noexcept = default;
 Engine& Engine::operator=(Engine&&) noexcept = default;
 
 BodyId Engine::add_body(BodyDef def) {
-  const Polyhedron& mesh = def.mesh_ref ? *def.mesh_ref : def.mesh;
+  Body b;
+  b.def = std::move(def);
+  const Polyhedron& mesh = b.mesh();
   for (const Vec3& v : mesh.vertices)
-    if (!v.allFinite()) throw std::invalid_argument("collision body '" + def.name + "' has a non-finite vertex");
+    if (!v.allFinite()) throw std::invalid_argument("collision body '" + b.def.name + "' has a non-finite vertex");
   for (const Triangle& t : mesh.triangles)
     for (const std::uint32_t i : t)
       if (i >= mesh.vertices.size())
-        throw std::invalid_argument("collision body '" + def.name + "' has a triangle index out of range");
+        throw std::invalid_argument("collision body '" + b.def.name + "' has a triangle index out of range");
   const auto id = static_cast<BodyId>(impl_->bodies.size());
-  Body b;
   b.container = make_container(mesh.vertices);
   b.closed = is_closed(mesh);
   b.halvings = def.halvings == kAutoHalvings ? auto_halvings(mesh) : std::clamp(def.halvings, 0, kMaxHalvings);
   b.vertex_pages.resize((mesh.vertices.size() + kVertexPage - 1) / kVertexPage);
   if (mesh.triangles.size() <= kEagerFaces)
     for (auto& page : b.vertex_pages) page = std::make_unique<VertexPage>();
-  b.def = std::move(def);
   impl_->bodies.push_back(std::move(b));
   impl_->participation.resize(impl_->bodies.size());
   // Pair counts kept up to date pair by pair: recounting all pairs per body added was

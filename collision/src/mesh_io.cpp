@@ -37,6 +37,11 @@ std::string read_file(const std::string& path) {
   return std::move(*text);
 }
 
+// Face `face` of `path` would make more than kMaxMeshFaces triangles.
+std::string past_face_limit(const std::string& path, std::size_t face) {
+  return fmt::format("{}: face {}: more than {} triangles; a mesh has at most that many", path, face, kMaxMeshFaces);
+}
+
 // Collects triangles with bit-identical vertices merged; checks finiteness.
 struct Builder {
   std::string path{};
@@ -122,9 +127,7 @@ struct Builder {
   }
   void triangle(const Vec3& a, const Vec3& b, const Vec3& c, std::size_t face) {
     const std::size_t n = mesh.triangles.size();
-    if (n == kMaxMeshFaces)
-      throw MeshError(fmt::format("{}: face {}: more than {} triangles; a mesh has at most that many", path, face,
-                                  kMaxMeshFaces));
+    if (n == kMaxMeshFaces) throw MeshError(past_face_limit(path, face));
     if (numbers.empty() && face != n + 1) {  // the first triangle not numbered by its index
       numbers.resize(n);
       for (std::size_t i = 0; i < n; ++i) numbers[i] = i + 1;
@@ -360,8 +363,7 @@ static LoadedMesh parse_obj_x(const std::string& data, const std::string& path, 
         // A polygon fanning past the face limit is refused as it is read (its vertices alone
         // would take 24 bytes per triangle).
         if (poly.size() >= 3 && b.mesh.triangles.size() + poly.size() - 2 > kMaxMeshFaces)
-          throw MeshError(fmt::format("{}: face {}: more than {} triangles; a mesh has at most that many", path, face,
-                                      kMaxMeshFaces));
+          throw MeshError(past_face_limit(path, face));
       }
       if (poly.size() < 3) throw MeshError(where + ": face " + std::to_string(face) + ": fewer than three vertices");
       for (std::size_t k = 1; k + 1 < poly.size(); ++k) b.triangle(poly[0], poly[k], poly[k + 1], face);  // fan

@@ -16,13 +16,6 @@ void TraceRecorder::on_checked_pose(double t, const robots::JointVector& q, bool
     if (auto c = world->carried(q)) samples.back().part = std::move(c->name), samples.back().part_pose = c->pose;
 }
 
-Location PartSegment::pose_at(double t) const {
-  if (velocity.isZero()) return pose;
-  Location p = pose;
-  p.translation() += velocity * (std::min(t, end_s) - time_s);
-  return p;
-}
-
 void PartHistory::observe(const CellRuntime& runtime) {
   const auto& parts = runtime.clock().parts();
   for (std::size_t i = 0; i < parts.size(); ++i) {

@@ -81,8 +81,6 @@ struct PartSegment {
   Location pose = Location::Identity();  // world pose at time_s; carried: the part in the flange frame
   collision::Vec3 velocity = collision::Vec3::Zero();  // mm/s while on a running belt
   double end_s = std::numeric_limits<double>::infinity();  // it stops there (the belt's end)
-  // World pose at t >= time_s (not for carried: that follows the flange).
-  Location pose_at(double t) const;
 };
 
 // The parts' states over a run: observe() appends a segment for every part whose state differs
