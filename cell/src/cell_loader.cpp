@@ -505,7 +505,7 @@ Result<motion::Cell> parse_cell(const std::string& yaml, const std::string& sour
   try {
     return parse_cell_or_throw(yaml, source_name, base_dir, from_file);
   } catch (const CellError& e) {
-    return Error{.message = e.what, .file = e.file, .line = e.line, .column = e.column};
+    return Error{.message = e.what, .detail = {}, .file = e.file, .line = e.line, .column = e.column};
   }
 }
 }  // namespace
@@ -517,7 +517,7 @@ Result<motion::Cell> load_cell_text(const std::string& yaml, const std::string& 
 
 Result<motion::Cell> load_cell_file(const std::string& path) {
   const Result<std::string> text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);
-  if (!text) return Error{.message = text.error().message, .file = path};
+  if (!text) return Error{.message = text.error().message, .detail = {}, .file = path};
   return parse_cell(*text, path, std::filesystem::path(path).parent_path().string(), true);
 }
 

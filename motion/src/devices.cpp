@@ -114,7 +114,7 @@ void DeviceClock::place(std::size_t i, const Location& pose) {
   ++revision_;
   PartState& p = parts_[i];
   p.holder = Holder::world, p.conveyor = -1, p.anchor = pose, p.anchor_s = now_;
-  p.velocity.setZero(), p.end_s = kInf;
+  p.velocity.setZero(), p.end_s = kInf, p.behind = -1;
   const double bottom = lowest_z(p.def, pose);
   for (std::size_t c = 0; c < cell_->conveyors.size(); ++c) {
     const auto& conv = cell_->conveyors[c];
@@ -124,21 +124,84 @@ void DeviceClock::place(std::size_t i, const Location& pose) {
     if (std::abs(bottom - b.centre.z()) > kOnBeltMm || std::abs(local.x()) > half.x() || std::abs(local.y()) > half.y())
       continue;
     p.holder = Holder::conveyor, p.conveyor = static_cast<int>(c);
-    if (running(static_cast<int>(c))) {
-      const double s = conv.direction.dot(pose.translation() - b.centre);
-      if (s < b.end - 1e-9) {  // not already at the end stop
-        p.velocity = conv.direction * conv.speed_mm_s;
-        p.end_s = now_ + (b.end - s) / conv.speed_mm_s;
-      }
-    }
+    queue(static_cast<int>(c));
     return;
   }
 }
 
-void DeviceClock::rerun_conveyor(int c) {
-  for (std::size_t i = 0; i < parts_.size(); ++i)
-    if (parts_[i].holder == Holder::conveyor && parts_[i].conveyor == c) place(i, parts_[i].pose_at(now_));
+void DeviceClock::queue(int c) {
+  const auto& conv = cell_->conveyors[static_cast<std::size_t>(c)];
+  const Belt b = belt(conv);
+  const bool runs = running(c);
+  const auto halt = [&](PartState& p) {
+    if (p.velocity.isZero()) return;
+    p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
+    ++revision_;
+  };
+  // One part on the belt: where its origin is along the belt, how far its faces reach ahead of
+  // and behind the origin, and the band across the belt it covers.
+  struct OnBelt {
+    std::size_t i;
+    double s, front, back, lo, hi, stop;
+  };
+  std::vector<OnBelt> row;
+  const Vec3 across = conv.body.pose.linear().col(2).cross(conv.direction);
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    PartState& p = parts_[i];
+    if (p.holder != Holder::conveyor || p.conveyor != c) continue;
+    if (!runs) {
+      halt(p);
+      continue;
+    }
+    const Location pose = p.pose_at(now_);
+    OnBelt o{i, conv.direction.dot(pose.translation() - b.centre), 0, 0, kInf, -kInf, 0};
+    const double mid = across.dot(pose.translation());
+    for (const auto& v : p.def.mesh.vertices) {
+      const Vec3 w = pose.linear() * v;
+      o.front = std::max(o.front, conv.direction.dot(w)), o.back = std::min(o.back, conv.direction.dot(w));
+      o.lo = std::min(o.lo, mid + across.dot(w)), o.hi = std::max(o.hi, mid + across.dot(w));
+    }
+    if (p.def.mesh.vertices.empty()) o.lo = o.hi = mid;
+    row.push_back(o);
+  }
+  if (!runs) return;
+  // Downstream first: each part stops at the end stop or against a still part ahead of it in its
+  // band, whichever comes first (an accumulating belt: the belt slides under a blocked part).
+  // All parts of a running belt move at one speed, so a gap closes only once the part ahead is
+  // still: a moving part ahead is ignored, and when it stops the belt is queued again (so a
+  // belt whose parts leave at a sink never re-anchors them).
+  std::sort(row.begin(), row.end(), [](const OnBelt& x, const OnBelt& y) { return x.s != y.s ? x.s > y.s : x.i < y.i; });
+  std::vector<const OnBelt*> ahead;  // the still parts not hidden behind another in all their band
+  for (auto& o : row) {
+    o.stop = b.end;
+    int blocker = -1;
+    for (const OnBelt* a : ahead)
+      if (std::min(o.hi, a->hi) - std::max(o.lo, a->lo) > 1e-9 && a->stop + a->back - o.front < o.stop)
+        o.stop = a->stop + a->back - o.front, blocker = static_cast<int>(a->i);
+    o.stop = std::max(o.stop, o.s);  // never backwards (a part placed overlapping one ahead stays)
+    PartState& p = parts_[o.i];
+    const bool arriving = !p.velocity.isZero() && p.end_s <= now_;  // settle() stops it and reports it
+    if (arriving) {
+      o.stop = o.s;
+    } else if (o.stop > o.s + 1e-9) {
+      const double end = now_ + (o.stop - o.s) / conv.speed_mm_s;
+      if (p.velocity.isZero() || std::abs(p.end_s - end) > 1e-9) {  // keep the anchor of an unchanged run
+        p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity = conv.direction * conv.speed_mm_s, p.end_s = end;
+        ++revision_;
+      }
+    } else {
+      halt(p);
+    }
+    if (!arriving) p.behind = blocker;
+    if (!p.velocity.isZero() && !arriving) continue;
+    std::erase_if(ahead, [&](const OnBelt* a) {
+      return o.lo <= a->lo && a->hi <= o.hi && o.stop + o.back <= a->stop + a->back;
+    });
+    ahead.push_back(&o);
+  }
 }
+
+void DeviceClock::rerun_conveyor(int c) { queue(c); }
 
 bool DeviceClock::inside(const PartState& p, const Region& r) const {
   if (p.holder == Holder::removed || p.holder == Holder::carried) return false;
@@ -225,9 +288,14 @@ void DeviceClock::settle() {
       PartState& p = parts_[i];
       if (!p.velocity.isZero() && p.end_s <= now_) {
         const auto& conv = cell_->conveyors[static_cast<std::size_t>(p.conveyor)];
-        place(i, p.pose_at(now_));
-        p.velocity.setZero(), p.end_s = kInf;  // at the end stop: still
-        events_.push_back({now_, "conveyor_end", p.def.name, conv.name, 0});
+        const int behind = p.behind;
+        p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;  // still
+        ++revision_;
+        if (behind >= 0)
+          events_.push_back({now_, "conveyor_queue", p.def.name, parts_[static_cast<std::size_t>(behind)].def.name, 0});
+        else
+          events_.push_back({now_, "conveyor_end", p.def.name, conv.name, 0});
+        queue(p.conveyor);  // the parts behind it now stop against it
         changed = true;
       }
     }
@@ -235,8 +303,10 @@ void DeviceClock::settle() {
       for (const auto& s : cell_->sinks)
         if (inside(p, s.region)) {
           p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
+          const int belt = p.holder == Holder::conveyor ? p.conveyor : -1;
           p.holder = Holder::removed;
           ++revision_;
+          if (belt >= 0) queue(belt);  // the parts queued behind it move on
           events_.push_back({now_, "sink", p.def.name, s.name, 0});
           changed = true;
         }
@@ -298,8 +368,10 @@ void DeviceClock::advance_to(double t) {
 void DeviceClock::carry(std::size_t i, int line) {
   PartState& p = parts_[i];
   p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
+  const int belt = p.holder == Holder::conveyor ? p.conveyor : -1;
   p.holder = Holder::carried, p.conveyor = -1;
   ++revision_;
+  if (belt >= 0) queue(belt);  // the parts queued behind it move on
   events_.push_back({now_, "grasp", p.def.name, "", line});
   settle();
 }

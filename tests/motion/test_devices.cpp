@@ -251,3 +251,56 @@ TEST_CASE("next_change is infinite for a cell at rest") {
   clock.advance_to(1e9);
   CHECK(clock.time_s() == 1e9);
 }
+
+TEST_CASE("parts queue at the belt's end stop: each stops against the one ahead in its band") {
+  Workcell w;
+  w.conveyors.push_back(belt(100, 0));  // always running
+  w.parts.push_back(cube("a", 900));
+  w.parts.push_back(cube("b", 700));
+  w.parts.push_back(cube("c", 650));
+  w.parts.push_back(cube("beside", 600));
+  w.parts.back().pose = at(600, 50, 10);  // its band (y 40..60) overlaps no other part's (y -10..10)
+  motion::PartDef turned = cube("turned", 400);  // turned 45 degrees about z: reaches 10√2 ahead
+  turned.pose = motion::trans(400, 0, 10, 0, 0, 45);
+  w.parts.push_back(turned);
+  DeviceClock clock(w);
+  clock.advance_to(100);
+  const auto x = [&](std::size_t i) { return clock.part_pose(i).translation().x(); };
+  CHECK(x(0) == Approx(1000).margin(1e-9));  // origin at the end stop
+  CHECK(x(1) == Approx(980).margin(1e-9));   // touching a
+  CHECK(x(2) == Approx(960).margin(1e-9));   // touching b
+  CHECK(x(3) == Approx(1000).margin(1e-9));  // nothing ahead in its band
+  CHECK(x(4) == Approx(950 - 10 * std::sqrt(2.0)).margin(1e-9));
+  const auto* b = find(clock, "conveyor_queue", "b");
+  REQUIRE(b);
+  CHECK(b->detail == "a");
+  CHECK(b->time_s == Approx((980 - 700) / 100.0).margin(1e-9));
+  CHECK(find(clock, "conveyor_queue", "c")->detail == "b");
+  CHECK(find(clock, "conveyor_end", "a"));
+  CHECK(find(clock, "conveyor_end", "beside"));
+  CHECK_FALSE(find(clock, "conveyor_end", "b"));
+
+  SECTION("the queue moves on when its head is taken away") {
+    clock.carry(0, 12);
+    clock.advance_to(100.1);
+    CHECK(x(1) == Approx(990).margin(1e-9));  // 0.1 s at 100 mm/s
+    clock.advance_to(200);
+    CHECK(x(1) == Approx(1000).margin(1e-9));
+    CHECK(x(2) == Approx(980).margin(1e-9));
+    CHECK(x(4) == Approx(970 - 10 * std::sqrt(2.0)).margin(1e-9));
+  }
+  SECTION("a stopped belt holds the queue where it is, and it closes up when the belt runs again") {
+    Workcell v = w;
+    v.conveyors[0].signal = 1;
+    DeviceClock d(v);
+    d.set_signal(1, true);
+    d.advance_to(2);  // a at 1000 since 1 s; b at 900, c at 850 (both still moving)
+    d.set_signal(1, false);
+    d.advance_to(50);
+    CHECK(d.part_pose(1).translation().x() == Approx(900).margin(1e-9));
+    d.set_signal(1, true);
+    d.advance_to(100);
+    CHECK(d.part_pose(1).translation().x() == Approx(980).margin(1e-9));
+    CHECK(d.part_pose(2).translation().x() == Approx(960).margin(1e-9));
+  }
+}

@@ -24,7 +24,8 @@ struct PartState {
   Location anchor = Location::Identity();  // pose at anchor_s
   double anchor_s = 0;
   collision::Vec3 velocity = collision::Vec3::Zero();  // mm/s, world
-  double end_s = std::numeric_limits<double>::infinity();  // reaches the conveyor end then
+  double end_s = std::numeric_limits<double>::infinity();  // stops on the conveyor then
+  int behind = -1;   // on a conveyor: the part it stops against (-1: the end stop or none)
   int feeder = -1;   // the feeder that placed it (-1: declared in the cell)
   int ordinal = 0;   // declared: index among the cell's parts; fed: 0 for the feeder's first part
   Location pose_at(double t) const;
@@ -33,7 +34,7 @@ struct PartState {
 // One line of the report's `events` list.
 struct CellEvent {
   double time_s = 0;
-  std::string kind;     // signal, feeder, sink, conveyor_end, grasp, close_on_air, release, placed
+  std::string kind;     // signal, feeder, sink, conveyor_end, conveyor_queue, grasp, close_on_air, release, placed
   std::string subject;  // signal number or part name
   std::string detail;   // on/off, device name, pose text
   int line = 0;         // program line when the program caused it; 0: a device
@@ -88,6 +89,7 @@ class DeviceClock {
   void change(int k, bool on, int line);
   void place(std::size_t part, const Location& pose);  // holder, velocity, end time from now_
   void rerun_conveyor(int c);        // conveyor c started or stopped: re-anchor its parts
+  void queue(int c);                 // motions and stops of conveyor c's parts from now_
   bool running(int c) const;
   bool sensed(const Sensor& s) const;
   bool inside(const PartState& p, const Region& r) const;  // origin in r at now_ (entering counts)
