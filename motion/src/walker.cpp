@@ -575,6 +575,7 @@ struct Walker::Walk {
     while (t_prev < stop) {
       const double change = std::min(stop, w.world_.next_part_change());
       double speed = 0;
+      broad();  // the belt-borne parts' near lists (their room: below)
       for (const GapPair& p : w.world_.gap_pairs()) speed = std::max(speed, p.speed_mm_s);
       moving_pairs();
       if (!(speed > 0)) {  // nothing moves until the next change
@@ -605,6 +606,7 @@ struct Walker::Walk {
           for (const GapPair& p : gaps)
             if (p.speed_mm_s > 0) dt = std::min(dt, p.allow_mm / p.speed_mm_s);
         }
+        dt = std::min(dt, w.world_.belt_time());  // the pairs the broad phase left out stay beyond keep
       }
       double t = std::min(change, t_prev + dt);
       if (!(t > t_prev)) t = std::min(stop, std::nextafter(t_prev, stop));
@@ -662,15 +664,6 @@ ContinuousChecker* Walker::checker(collision::Engine* engine) {
   return continuous_.get();
 }
 
-// The broad phase's near lists for the walk's first stretch (World::broad_refresh): keep is the
-// clearance report's threshold (at least the clearance), room the longest stretch of one body
-// without gap stepping (step_mm; with it the walk keeps each body within its room).
-void Walker::broad_refresh(const WalkState& state) {
-  if (!world_.broad_phase()) return;
-  world_.pose(state.joints, state.time_s);
-  world_.broad_refresh(std::max(settings_.report_within_mm, settings_.clearance_mm), step_mm(settings_));
-}
-
 MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
   if (!(until_s > state.time_s)) return {};
@@ -686,7 +679,6 @@ MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
   walk.dwelling = true;
   if (walk.checker) walk.continuous_path();
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
-  broad_refresh(state);
   MotionResult r = walk.dwell(settings_.stepping == Stepping::gap, until_s);
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });
   return r;
@@ -696,7 +688,6 @@ MotionResult Walker::walk(const Trajectory& tr, WalkState& state, double until_s
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
   Walk walk{.w = *this, .tr = tr, .st = state, .engine = engine, .clearance = halting_clearance(settings_), .checker = checker(engine)};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
-  if (engine) broad_refresh(state);
   MotionResult r = walk.run(until_s);
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });
   return r;

@@ -22,7 +22,10 @@ constexpr std::size_t kBroadMinPairs = 64;
 // Skin [mm] beyond keep_mm within which still bodies are kept near an arm body: larger keeps
 // more pairs, smaller recomputes them more often (bench/bench_workcell.cpp).
 constexpr double kSkinMm = 50;
+constexpr double kRefreshSkin = 0.5;  // the near lists are recomputed once this much of the skin is used
 constexpr std::size_t kMaxMovers = 32;  // one bit each in Broad::mask
+// A part on a conveyor keeps the still bodies near it that its belt reaches in this time [s].
+constexpr double kBeltHorizonS = 0.5;
 }  // namespace
 
 // The broad phase's state: the arm bodies it covers (movers), the still bodies in two trees
@@ -44,8 +47,22 @@ struct World::Broad {
   bool ready = false;                 // near lists computed (else every pair is kept)
   double keep = 0, radius = 0;
   robots::JointVector q0;
+  // Per part slot, a part on a running conveyor (it moves at speed_mm_s until the devices' next
+  // change, which recomputes it): the still bodies near it at time t0, and the least gap bound
+  // of the others then.
+  struct Belt {
+    bool ready = false;
+    double t0 = 0, lower = INFINITY, speed = 0;
+    std::vector<collision::BodyId> near;  // sorted
+  };
+  std::vector<Belt> belts;
+  // Per part slot: changed since a full contact query last found every pair free (World::query);
+  // only tested parts enter the tree, so a part placed touching the robot's base is still found.
+  std::vector<char> untested;
+  bool any_untested = false;
   std::vector<collision::BodyPair> fixed_pairs;  // cell pairs the broad phase never leaves out
   std::vector<collision::BodyPair> scratch;
+  std::vector<collision::BodyId> scratch_ids;
   std::vector<double> room;           // per reach() index
 };
 
@@ -145,12 +162,13 @@ void World::build_engine(const Cell& cell) {
     unprepared_.push_back(id);
   }
   engine_.emplace(std::move(e));
-  // The broad phase: arm bodies on the chain (no hand joint, no motion of their own) against the
+  // The broad phase: arm bodies on the chain (no motion of their own; fingers too: their reach
+  // holds both hand states, and a hand change recomputes the near lists) against the
   // objects and resting parts, when there are enough such pairs.
   auto b = std::make_unique<Broad>();
   b->mover_of.assign(mounts_.size(), -1);
   for (collision::BodyId id = 0; id < arm_bodies_ && b->movers.size() < kMaxMovers; ++id)
-    if (mounts_[id].frame >= 0 && mounts_[id].hand < 0 && !mounts_[id].own_motion) {
+    if (mounts_[id].frame >= 0 && !mounts_[id].own_motion) {
       b->mover_of[id] = static_cast<int>(b->movers.size());
       b->movers.emplace_back().id = id;
     }
@@ -162,6 +180,8 @@ void World::build_engine(const Cell& cell) {
     b->mask.assign(mounts_.size(), 0);
     b->in_tree.assign(mounts_.size(), 0);
     b->rest_at.resize(slots_.size());
+    b->belts.resize(slots_.size());
+    b->untested.assign(slots_.size(), 0);
     for (const collision::BodyId o : objects) b->in_tree[o] = 1;
     b->objects.build(*engine_, objects);
     b->keep = std::max(cell.collision.report_within_mm, cell.collision.clearance_mm);
@@ -186,7 +206,47 @@ bool World::broad_skips(collision::BodyId a, collision::BodyId b) const {
     const int k = s.mover_of[m];
     return k >= 0 && s.in_tree[o] && !(s.mask[o] >> k & 1u);
   };
-  return skips(a, b) || skips(b, a);
+  const auto belt_skips = [&](collision::BodyId m, collision::BodyId o) {
+    if (!part(m) || !s.in_tree[o] || !belt_valid(m - first_part_)) return false;
+    const Broad::Belt& belt = s.belts[m - first_part_];
+    return !std::binary_search(belt.near.begin(), belt.near.end(), o);
+  };
+  // A fixed robot body (the base link) and a resting part in the tree: neither moves, and the
+  // part was tested at every pose since it came to rest (the tree takes tested parts only).
+  const auto still_still = [&](collision::BodyId f, collision::BodyId o) {
+    return f < arm_bodies_ && mounts_[f].frame < 0 && part(o) && s.in_tree[o];
+  };
+  return skips(a, b) || skips(b, a) || belt_skips(a, b) || belt_skips(b, a) || still_still(a, b) || still_still(b, a);
+}
+
+bool World::belt_valid(std::size_t slot) const {
+  const Broad::Belt& belt = broad_->belts[slot];
+  return belt.ready && slots_[slot].holder == Holder::conveyor && slots_[slot].speed_mm_s == belt.speed;
+}
+
+// What is left of a belt-borne part's room [mm] at time t (as room() for the arm's bodies).
+double World::belt_room(std::size_t slot, double t) const {
+  const Broad::Belt& belt = broad_->belts[slot];
+  if (!belt_valid(slot)) return INFINITY;
+  const double moved = slots_[slot].speed_mm_s * std::abs(t - belt.t0) * (1 + 1e-9) + 1e-9;
+  return belt.lower - broad_->keep - moved - 1e-9 * broad_->keep;
+}
+
+double World::belt_time() const {
+  double t = INFINITY;
+  if (!broad_) return t;
+  for (std::size_t s = 0; s < broad_->belts.size(); ++s)
+    if (belt_valid(s)) t = std::min(t, belt_room(s, posed_t_) / slots_[s].speed_mm_s);
+  return t;
+}
+
+bool World::belts_need(double room_mm) const {
+  for (std::size_t s = 0; s < broad_->belts.size(); ++s) {
+    const Slot& slot = slots_[s];
+    const bool moving = slot.clock >= 0 && slot.holder == Holder::conveyor && slot.speed_mm_s > 0 && !absent_[s];
+    if (moving && (!belt_valid(s) || belt_room(s, posed_t_) < room_mm)) return true;
+  }
+  return false;
 }
 
 std::span<const double> World::room() {
@@ -210,10 +270,14 @@ void World::broad_refresh(double keep_mm, double room_mm) {
   if (!broad_ || posed_q_.size() == 0) return;
   Broad& b = *broad_;
   bool need = !b.ready || (b.parts_dirty && has_parts_) || keep_mm != b.keep;
+  // Recomputed once half the skin is used: gap stepping keeps each stretch within 0.9 of the
+  // room, so a room run down to the step would cut the stretches short before it (the arm would
+  // approach the left-out bodies as if they were there).
+  const double low = std::max(room_mm, kRefreshSkin * kSkinMm);
   if (!need)
     for (const double r : room())
-      if (r < room_mm) need = true;
-  if (need) broad_build(keep_mm, room_mm, true);
+      if (r < low) need = true;
+  if (need || belts_need(low)) broad_build(keep_mm, room_mm, true);
 }
 
 void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
@@ -228,14 +292,15 @@ void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
       const collision::BodyId id = first_part_ + static_cast<collision::BodyId>(s);
       const Slot& slot = slots_[s];
       const bool rest = slot.clock >= 0 && slot.holder == Holder::world && slot.speed_mm_s == 0;
-      b.in_tree[id] = rest;
+      b.in_tree[id] = rest && !b.untested[s];
+      if (!b.in_tree[id]) continue;
       if (!rest) continue;
       b.rest_at[s] = clock.parts()[static_cast<std::size_t>(slot.clock)].pose_at(clock.time_s());
       engine_->set_pose(id, b.rest_at[s]);
       resting.push_back(id);
     }
+    b.parts_dirty = false;  // set again when an untested resting part is tested (World::query)
     b.parts.build(*engine_, resting);
-    b.parts_dirty = false;
     changed = true;
   }
   b.keep = keep_mm;
@@ -254,11 +319,39 @@ void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
     for (const collision::BodyId o : m.next) b.mask[o] |= bit;
     m.near.swap(m.next);
   }
+  // Parts on a running conveyor, at their poses now.
+  for (std::size_t s = 0; s < b.belts.size(); ++s) {
+    Broad::Belt& belt = b.belts[s];
+    const Slot& slot = slots_[s];
+    const bool moving = slot.clock >= 0 && slot.holder == Holder::conveyor && slot.speed_mm_s > 0 && !absent_[s];
+    if (!moving) {
+      changed = changed || belt.ready;
+      belt.ready = false;
+      continue;
+    }
+    const collision::Engine::PlacedBounds at = engine_->placed_bounds(first_part_ + static_cast<collision::BodyId>(s));
+    const double radius = keep_mm + std::max({kSkinMm, 4 * room_mm, slot.speed_mm_s * kBeltHorizonS});
+    b.scratch_ids.clear();
+    belt.lower = std::min(b.objects.query(at, radius, b.scratch_ids), b.parts.query(at, radius, b.scratch_ids));
+    std::sort(b.scratch_ids.begin(), b.scratch_ids.end());
+    belt.t0 = posed_t_;
+    belt.speed = slot.speed_mm_s;
+    if (!belt.ready || b.scratch_ids != belt.near) changed = true;
+    belt.near.swap(b.scratch_ids);
+    belt.ready = true;
+  }
   b.ready = true;
   if (changed) rebuild_pairs();
 }
 
-void World::set_hand(bool closed) { hand_closed_ = closed; }
+void World::set_hand(bool closed) {
+  // The fingers move without the joints: their near lists are recomputed (every pair meanwhile).
+  if (broad_ && broad_->ready && closed != hand_closed_) {
+    broad_->ready = false;
+    rebuild_pairs();
+  }
+  hand_closed_ = closed;
+}
 
 std::span<const collision::BodyPair> World::pairs() const {
   if (own_list()) return part_pairs_;
@@ -281,6 +374,7 @@ double World::next_part_change() const {
 
 void World::pose(const robots::JointVector& q, double t) {
   posed_q_ = q;
+  posed_t_ = t;
   robots::link_frames(*robot_, q, frames_);
   for (const collision::BodyId id : moving_) {
     const BodyMount& m = mounts_[id];
@@ -340,7 +434,7 @@ void World::pose_parts(const DeviceClock& clock, double t, bool all) {
       // no longer where the tree has it: all its pairs are kept until the tree is rebuilt.
       if (broad_ && broad_->in_tree[id] && !(at.matrix() == broad_->rest_at[id - first_part_].matrix())) {
         broad_->in_tree[id] = 0;
-        broad_->parts_dirty = left_tree = true;
+        broad_->untested[id - first_part_] = broad_->any_untested = left_tree = true;
       }
     }
   }
@@ -364,7 +458,8 @@ void World::refresh(const DeviceClock& clock) {
     // A part placed, moved or taken leaves the broad phase's tree: all its pairs are kept until
     // the tree is rebuilt (at the next stretch, whose poses are all at or after this change).
     if (broad_ && (!placed || p.holder != s.holder || p.holder != Holder::world || !p.velocity.isZero())) {
-      if (broad_->in_tree[id] || p.holder == Holder::world) broad_->parts_dirty = true;
+      // (It stays an item of the tree until the next rebuild: harmless, only in_tree counts.)
+      if (broad_->in_tree[id] || !placed || p.holder != s.holder) broad_->untested[id - first_part_] = broad_->any_untested = true;
       broad_->in_tree[id] = 0;
     }
     if (placed && p.holder == Holder::removed && s.holder != Holder::removed)
@@ -489,7 +584,7 @@ void World::query(const collision::QueryRequest& request, collision::QueryResult
     if (!need)
       for (const double r : room())
         if (r < 0) need = true;
-    if (need) broad_build(keep, 0, false);  // changed parts keep all their pairs meanwhile
+    if (need || belts_need(0)) broad_build(keep, 0, false);  // changed parts keep all their pairs meanwhile
   }
   if (!own_list()) return engine_->query(request, out);
   collision::QueryRequest r = request;
@@ -504,6 +599,13 @@ void World::query(const collision::QueryRequest& request, collision::QueryResult
     r.pairs = std::span<const collision::BodyPair>(filtered_);
   }
   engine_->query(r, out);
+  // Every pair of the changed parts was tested here and found free: they may enter the tree.
+  if (broad_ && broad_->any_untested && !request.pairs && request.contact && !out.collided && !any_absent_) {
+    for (std::size_t s = 0; s < slots_.size(); ++s)
+      if (broad_->untested[s] && slots_[s].clock >= 0 && slots_[s].holder == Holder::world) broad_->parts_dirty = true;
+    std::fill(broad_->untested.begin(), broad_->untested.end(), 0);
+    broad_->any_untested = false;
+  }
 }
 
 std::string World::body_name(collision::BodyId id) const {

@@ -66,7 +66,6 @@ class Walker {
   // Scratch, reused across walks (no allocation per checked pose).
   std::vector<double> pair_mm_;
   GapScratch gap_scratch_;
-  void broad_refresh(const WalkState& state);
   std::vector<double> gaps_here_, gaps_next_;  // container gaps at two checked poses (Walk)
   std::vector<double> window_mu_;              // per pair, its motion bound over a stretch (Walk)
   std::vector<collision::BodyPair> hit_pairs_, probe_pairs_;

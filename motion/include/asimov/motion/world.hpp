@@ -109,6 +109,9 @@ class World {
   void broad_refresh(double keep_mm, double room_mm);
   // Per reach() index, at the current poses (+inf for a body the broad phase does not cover).
   std::span<const double> room();
+  // The same for the parts on a running conveyor, as time [s]: the least room over their belt
+  // speeds at the current time (+inf when none is covered). A dwell keeps its stretches within it.
+  double belt_time() const;
   bool broad_phase() const { return broad_ != nullptr; }
   // Reported body name: "part:NAME", "carried part:NAME" for the part in the gripper.
   std::string body_name(collision::BodyId id) const;
@@ -140,7 +143,11 @@ class World {
   std::unique_ptr<Broad> broad_;  // null: no broad phase
   void broad_build(double keep_mm, double room_mm, bool parts_tree);
   bool broad_skips(collision::BodyId a, collision::BodyId b) const;  // a pair the broad phase leaves out
-  robots::JointVector posed_q_;   // the joints of the last pose()
+  double belt_room(std::size_t slot, double t) const;
+  bool belt_valid(std::size_t slot) const;
+  bool belts_need(double room_mm) const;  // some belt-borne part has less room than room_mm now
+  robots::JointVector posed_q_;   // the joints and time of the last pose()
+  double posed_t_ = 0;
 
   const robots::Robot* robot_;
   collision::Pose base_;
