@@ -57,7 +57,8 @@ struct World::Broad {
   };
   std::vector<Belt> belts;
   // Per part slot: changed since a full contact query last found every pair free (World::query);
-  // only tested parts enter the tree, so a part placed touching the robot's base is still found.
+  // only tested parts lose their pairs with the robot's fixed bodies, so a part placed touching
+  // the robot's base is still found.
   std::vector<char> untested;
   bool any_untested = false;
   std::vector<collision::BodyPair> fixed_pairs;  // cell pairs the broad phase never leaves out
@@ -214,7 +215,7 @@ bool World::broad_skips(collision::BodyId a, collision::BodyId b) const {
   // A fixed robot body (the base link) and a resting part in the tree: neither moves, and the
   // part was tested at every pose since it came to rest (the tree takes tested parts only).
   const auto still_still = [&](collision::BodyId f, collision::BodyId o) {
-    return f < arm_bodies_ && mounts_[f].frame < 0 && part(o) && s.in_tree[o];
+    return f < arm_bodies_ && mounts_[f].frame < 0 && part(o) && s.in_tree[o] && !s.untested[o - first_part_];
   };
   return skips(a, b) || skips(b, a) || belt_skips(a, b) || belt_skips(b, a) || still_still(a, b) || still_still(b, a);
 }
@@ -292,14 +293,13 @@ void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
       const collision::BodyId id = first_part_ + static_cast<collision::BodyId>(s);
       const Slot& slot = slots_[s];
       const bool rest = slot.clock >= 0 && slot.holder == Holder::world && slot.speed_mm_s == 0;
-      b.in_tree[id] = rest && !b.untested[s];
-      if (!b.in_tree[id]) continue;
+      b.in_tree[id] = rest;
       if (!rest) continue;
       b.rest_at[s] = clock.parts()[static_cast<std::size_t>(slot.clock)].pose_at(clock.time_s());
       engine_->set_pose(id, b.rest_at[s]);
       resting.push_back(id);
     }
-    b.parts_dirty = false;  // set again when an untested resting part is tested (World::query)
+    b.parts_dirty = false;
     b.parts.build(*engine_, resting);
     changed = true;
   }
@@ -459,6 +459,7 @@ void World::refresh(const DeviceClock& clock) {
     // the tree is rebuilt (at the next stretch, whose poses are all at or after this change).
     if (broad_ && (!placed || p.holder != s.holder || p.holder != Holder::world || !p.velocity.isZero())) {
       // (It stays an item of the tree until the next rebuild: harmless, only in_tree counts.)
+      if (p.holder == Holder::world) broad_->parts_dirty = true;
       if (broad_->in_tree[id] || !placed || p.holder != s.holder) broad_->untested[id - first_part_] = broad_->any_untested = true;
       broad_->in_tree[id] = 0;
     }
