@@ -12,7 +12,9 @@
 // the arm, the objects but its conveyor and the parts not on its conveyor; the carried part
 // against everything but the bodies rigid with the flange (the gripper). A carried part moves
 // with the flange: its displacement bound is a reach() entry of its own (the flange link's radii
-// plus its reach from the flange), so step rules and gap stepping include it.
+// plus its reach from the flange), so step rules and gap stepping include it. In a cell with many
+// pairs of a moving body and a still one, the broad phase leaves out of pairs() those whose gap
+// provably stays beyond keep_mm while the moving body stays within its room() (broad_refresh).
 #pragma once
 #include "asimov/collision/engine.hpp"
 #include "asimov/motion/cell.hpp"
