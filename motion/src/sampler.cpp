@@ -176,13 +176,15 @@ int gap_intervals(std::span<const double> pair_mm, std::span<const GapPair> pair
 }
 
 std::size_t gap_next_sample(std::span<const robots::BodyReach> reach, std::span<const LineSample> samples,
-                            std::size_t from, std::span<const GapPair> pairs, GapScratch& scratch, double& bound_mm) {
+                            std::size_t from, std::span<const GapPair> pairs, GapScratch& scratch, double& bound_mm,
+                            std::span<const double> room) {
   const std::size_t n = reach.size(), m = pairs.size();
   // A pair with a fixed body moves by its other body's bound, so its sum is that body's: per
   // body the least allowance of such pairs decides them all, and the loop over samples visits
   // bodies and the pairs of two moving bodies only (a cell of 50 parts has ~400 pairs with a
   // fixed body and a few moving ones).
   scratch.limit.assign(n, INFINITY);
+  for (std::size_t k = 0; k < n && k < room.size(); ++k) scratch.limit[k] = room[k];
   scratch.moving.clear();
   for (std::size_t i = 0; i < m; ++i) {
     const GapPair& p = pairs[i];

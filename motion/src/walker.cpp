@@ -117,6 +117,14 @@ struct Walker::Walk {
     return true;
   }
 
+  // Before each stretch of a motion: the broad phase's near lists, recomputed when an arm body
+  // has less room than a stretch of step_mm (World::broad_refresh); gap stepping then keeps each
+  // body's motion over the stretch within its room (docs/collision.md §14).
+  void broad() {
+    if (engine && w.world_.broad_phase())
+      w.world_.broad_refresh(std::max(w.settings_.report_within_mm, w.settings_.clearance_mm), step_mm(w.settings_));
+  }
+
   Tag tag(double t) const { return {true, t, w.world_.pairs_revision()}; }
   bool valid(const Tag& g, double t, const std::vector<double>& v) const {
     return g.ok && g.t == t && g.rev == w.world_.pairs_revision() && v.size() == w.world_.pairs().size();
@@ -381,9 +389,12 @@ struct Walker::Walk {
       // Next checked sample j: the next one, or with gap stepping the farthest the gaps allow.
       std::size_t j = i + 1;
       double bound = samples[j].bound_mm;
+      broad();
       if (gap) {
         update_gaps(t_prev);
-        j = std::min(gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.gap_scratch_, bound), last);
+        j = std::min(gap_next_sample(w.world_.reach(), samples, i, w.world_.gap_pairs(), w.gap_scratch_, bound,
+                                     w.world_.room()),
+                     last);
         // Its per-pair sums to the sample it chose (>= j: a bound for the stretch): the
         // stretch's motion bounds, line_motion's.
         if (checker) {
@@ -459,10 +470,17 @@ struct Walker::Walk {
     while (i < last) {
       if (interrupt_requested()) return interrupt_halt(t_prev, sigma_from);
       int k = 1;
+      broad();
       if (gap) {
         pair_bounds();
         update_gaps(t_prev);
         k = gap_intervals(w.pair_mm_, w.world_.gap_pairs(), last - i);
+        // Each arm body within its broad-phase room (at least one interval: broad() left it room
+        // for one interval of step_mm).
+        const std::span<const double> room = w.world_.room();
+        for (std::size_t b = 0; b < room.size(); ++b)
+          if (const double per = robots::max_displacement(w.world_.reach()[b], step); per > 0 && room[b] < k * per)
+            k = std::max(1, static_cast<int>(std::min<double>(k, std::floor(room[b] / per))));
         // k intervals of pair_mm_ each (the first may start past a grid point, the last end
         // before one): the stretch's motion bounds, joint_motion's.
         if (checker) {
@@ -499,12 +517,16 @@ struct Walker::Walk {
       if (!gap) return d <= limit;
       for (const GapPair& p : w.world_.gap_pairs())
         if (pair_displacement(w.world_.reach(), p, travel) > p.allow_mm) return false;
+      const std::span<const double> room = w.world_.room();  // the broad phase's (docs/collision.md §14)
+      for (std::size_t b = 0; b < room.size(); ++b)
+        if (robots::max_displacement(w.world_.reach()[b], travel) > room[b]) return false;
       return true;
     };
     double t_prev = st.time_s, dt = stop - t_prev;
     CollisionReport report;
     while (t_prev < stop) {
       if (interrupt_requested()) return interrupt_halt(t_prev, tr.profile.sigma(t_prev - tr.t0));
+      broad();
       if (gap) update_gaps(t_prev);
       else if (checker) gaps_here(t_prev);
       double t = std::min(stop, t_prev + dt), body = 0;
@@ -553,6 +575,7 @@ struct Walker::Walk {
     while (t_prev < stop) {
       const double change = std::min(stop, w.world_.next_part_change());
       double speed = 0;
+      broad();  // the belt-borne parts' near lists (their room: below)
       for (const GapPair& p : w.world_.gap_pairs()) speed = std::max(speed, p.speed_mm_s);
       moving_pairs();
       if (!(speed > 0)) {  // nothing moves until the next change
@@ -566,10 +589,24 @@ struct Walker::Walk {
       }
       double dt = limit / speed;
       if (gap) {  // each moving pair within its allowance (at least the step)
-        update_gaps(t_prev);
         dt = std::numeric_limits<double>::infinity();
-        for (const GapPair& p : w.world_.gap_pairs())
-          if (p.speed_mm_s > 0) dt = std::min(dt, p.allow_mm / p.speed_mm_s);
+        // The gaps of the moving pairs only (the others cannot change distance while the arm
+        // rests); every pair's when the engine skipped one of them (then the orders differ).
+        w.world_.query({.clearance_mm = clearance, .pairs = std::optional(checked_pairs()), .contact = false, .gaps = true},
+                       w.result_);
+        const std::span<const GapPair> gaps = w.world_.gap_pairs();
+        if (w.result_.gaps.size() == dwell_pairs.size()) {
+          const double c = w.settings_.clearance_mm, step = step_mm(w.settings_);
+          for (std::size_t k = 0; k < dwell_pairs.size(); ++k) {
+            const GapPair& p = gaps[dwell_index[k]];
+            dt = std::min(dt, gap_allowance(w.result_.gaps[k], c, step) / p.speed_mm_s);
+          }
+        } else {
+          update_gaps(t_prev);
+          for (const GapPair& p : gaps)
+            if (p.speed_mm_s > 0) dt = std::min(dt, p.allow_mm / p.speed_mm_s);
+        }
+        dt = std::min(dt, w.world_.belt_time());  // the pairs the broad phase left out stay beyond keep
       }
       double t = std::min(change, t_prev + dt);
       if (!(t > t_prev)) t = std::min(stop, std::nextafter(t_prev, stop));
@@ -627,19 +664,6 @@ ContinuousChecker* Walker::checker(collision::Engine* engine) {
   return continuous_.get();
 }
 
-// A cell with parts: the pairs that cannot come near while each arm body moves at most its
-// bound of the joints' travel sleep through the walk (World::sleep_far; a dwell: travel 0).
-bool Walker::sleep_far(const robots::JointVector& travel, const WalkState& state, bool rest) {
-  if (!world_.has_parts()) return false;
-  if (rest && world_.asleep_at_rest(state.joints)) return true;
-  sleep_bound_.clear();
-  for (const robots::BodyReach& reach : world_.reach()) sleep_bound_.push_back(robots::max_displacement(reach, travel));
-  world_.pose(state.joints, state.time_s);
-  world_.sleep_far(sleep_bound_, halting_clearance(settings_), std::max(settings_.report_within_mm, settings_.clearance_mm),
-                   rest ? &state.joints : nullptr);
-  return true;
-}
-
 MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
   if (!(until_s > state.time_s)) return {};
@@ -655,7 +679,6 @@ MotionResult Walker::dwell(WalkState& state, double until_s, int step) {
   walk.dwelling = true;
   if (walk.checker) walk.continuous_path();
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
-  sleep_far(robots::JointVector::Zero(state.joints.size()), state, true);  // kept for the next dwell
   MotionResult r = walk.dwell(settings_.stepping == Stepping::gap, until_s);
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });
   return r;
@@ -665,9 +688,7 @@ MotionResult Walker::walk(const Trajectory& tr, WalkState& state, double until_s
   collision::Engine* engine = settings_.enabled ? world_.engine() : nullptr;
   Walk walk{.w = *this, .tr = tr, .st = state, .engine = engine, .clearance = halting_clearance(settings_), .checker = checker(engine)};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
-  const bool sleep = engine && state.time_s < tr.end_time() && sleep_far(blended_travel(tr, state.time_s, tr.end_time()), state, false);
   MotionResult r = walk.run(until_s);
-  if (sleep) world_.wake();
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });
   return r;
 }

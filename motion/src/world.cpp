@@ -3,6 +3,8 @@
 
 #include "asimov/motion/scene.hpp"
 
+#include "broad_phase.hpp"
+
 #include <algorithm>
 #include <limits>
 
@@ -13,7 +15,60 @@ namespace {
 constexpr double kTouchMm = 1e-6;
 
 collision::BodyPair ordered(collision::BodyId a, collision::BodyId b) { return {std::min(a, b), std::max(a, b)}; }
+
+// Broad phase (docs/collision.md §14): used from this many pairs of an arm body and a still body
+// on (fewer cost less to test than the broad phase's own bookkeeping: the default cell has 16).
+constexpr std::size_t kBroadMinPairs = 64;
+// Skin [mm] beyond keep_mm within which still bodies are kept near an arm body: larger keeps
+// more pairs, smaller recomputes them more often (bench/bench_workcell.cpp).
+constexpr double kSkinMm = 50;
+constexpr double kRefreshSkin = 0.5;  // the near lists are recomputed once this much of the skin is used
+constexpr std::size_t kMaxMovers = 32;  // one bit each in Broad::mask
+// A part on a conveyor keeps the still bodies near it that its belt reaches in this time [s].
+constexpr double kBeltHorizonS = 0.5;
 }  // namespace
+
+// The broad phase's state: the arm bodies it covers (movers), the still bodies in two trees
+// (objects, built once; resting parts, rebuilt when they change), and per mover the still bodies
+// near it when last computed, at joints q0, with the least gap bound of the others.
+struct World::Broad {
+  struct Mover {
+    collision::BodyId id = 0;  // also its reach() index (an arm body)
+    double lower = INFINITY;   // least gap bound of the still bodies not in `near` (at q0)
+    std::vector<collision::BodyId> near, next;  // sorted
+  };
+  std::vector<Mover> movers;
+  std::vector<int> mover_of;          // per BodyId: index in movers, -1
+  std::vector<std::uint32_t> mask;    // per BodyId: bit m when near mover m
+  std::vector<char> in_tree;          // per BodyId: a still body in a tree (objects; resting parts while unchanged)
+  std::vector<Location> rest_at;      // per part slot: its pose when put in the tree
+  StillTree objects, parts;
+  bool parts_dirty = true;            // resting parts changed since the parts tree was built
+  bool ready = false;                 // near lists computed (else every pair is kept)
+  double keep = 0, radius = 0;
+  robots::JointVector q0;
+  // Per part slot, a part on a running conveyor (it moves at speed_mm_s until the devices' next
+  // change, which recomputes it): the still bodies near it at time t0, and the least gap bound
+  // of the others then.
+  struct Belt {
+    bool ready = false;
+    double t0 = 0, lower = INFINITY, speed = 0;
+    std::vector<collision::BodyId> near;  // sorted
+  };
+  std::vector<Belt> belts;
+  // Per part slot: changed since a full contact query last found every pair free (World::query);
+  // only tested parts lose their pairs with the robot's fixed bodies, so a part placed touching
+  // the robot's base is still found.
+  std::vector<char> untested;
+  bool any_untested = false;
+  std::vector<collision::BodyPair> fixed_pairs;  // cell pairs the broad phase never leaves out
+  std::vector<collision::BodyPair> scratch;
+  std::vector<collision::BodyId> scratch_ids;
+  std::vector<double> room;           // per reach() index
+};
+
+World::~World() = default;
+World::World(World&&) noexcept = default;
 
 World::World(const Cell& cell) : robot_(&cell.robot), base_(cell.base) {
   const auto& robot = cell.robot;
@@ -108,12 +163,198 @@ void World::build_engine(const Cell& cell) {
     unprepared_.push_back(id);
   }
   engine_.emplace(std::move(e));
+  // The broad phase: arm bodies on the chain (no motion of their own; fingers too: their reach
+  // holds both hand states, and a hand change recomputes the near lists) against the
+  // objects and resting parts, when there are enough such pairs.
+  auto b = std::make_unique<Broad>();
+  b->mover_of.assign(mounts_.size(), -1);
+  for (collision::BodyId id = 0; id < arm_bodies_ && b->movers.size() < kMaxMovers; ++id)
+    if (mounts_[id].frame >= 0 && !mounts_[id].own_motion) {
+      b->mover_of[id] = static_cast<int>(b->movers.size());
+      b->movers.emplace_back().id = id;
+    }
+  const collision::BodyId objects_end = has_parts_ ? first_part_ : static_cast<collision::BodyId>(mounts_.size());
+  std::vector<collision::BodyId> objects;
+  for (collision::BodyId id = static_cast<collision::BodyId>(arm_bodies_); id < objects_end; ++id) objects.push_back(id);
+  const std::size_t still = objects.size() + slots_.size();
+  if (cell.collision.broad_phase && !b->movers.empty() && b->movers.size() * still >= kBroadMinPairs) {
+    b->mask.assign(mounts_.size(), 0);
+    b->in_tree.assign(mounts_.size(), 0);
+    b->rest_at.resize(slots_.size());
+    b->belts.resize(slots_.size());
+    b->untested.assign(slots_.size(), 0);
+    for (const collision::BodyId o : objects) b->in_tree[o] = 1;
+    b->objects.build(*engine_, objects);
+    b->keep = std::max(cell.collision.report_within_mm, cell.collision.clearance_mm);
+    b->room.assign(reach_.size(), INFINITY);
+    for (const collision::BodyPair& p : cell_pairs)
+      if (!((b->mover_of[p.a] >= 0 && b->in_tree[p.b]) || (b->mover_of[p.b] >= 0 && b->in_tree[p.a]))) b->fixed_pairs.push_back(p);
+    broad_ = std::move(b);
+    rebuild_pairs();  // every pair until the near lists are computed at the first pose
+  }
 }
 
-void World::set_hand(bool closed) { hand_closed_ = closed; }
+GapPair World::cell_gap(const collision::BodyPair& p) const {
+  const BodyMount &a = mounts_[p.a], &b = mounts_[p.b];
+  return {a.frame >= 0 ? static_cast<int>(p.a) : -1, b.frame >= 0 ? static_cast<int>(p.b) : -1,
+          a.own_motion ? -1 : std::max(a.frame, 0), b.own_motion ? -1 : std::max(b.frame, 0), 0};
+}
+
+bool World::broad_skips(collision::BodyId a, collision::BodyId b) const {
+  if (!broad_ || !broad_->ready) return false;
+  const Broad& s = *broad_;
+  const auto skips = [&](collision::BodyId m, collision::BodyId o) {
+    const int k = s.mover_of[m];
+    return k >= 0 && s.in_tree[o] && !(s.mask[o] >> k & 1u);
+  };
+  const auto belt_skips = [&](collision::BodyId m, collision::BodyId o) {
+    if (!part(m) || !s.in_tree[o] || !belt_valid(m - first_part_)) return false;
+    const Broad::Belt& belt = s.belts[m - first_part_];
+    return !std::binary_search(belt.near.begin(), belt.near.end(), o);
+  };
+  // A fixed robot body (the base link) and a resting part in the tree: neither moves, and the
+  // part was tested at every pose since it came to rest (the tree takes tested parts only).
+  const auto still_still = [&](collision::BodyId f, collision::BodyId o) {
+    return f < arm_bodies_ && mounts_[f].frame < 0 && part(o) && s.in_tree[o] && !s.untested[o - first_part_];
+  };
+  return skips(a, b) || skips(b, a) || belt_skips(a, b) || belt_skips(b, a) || still_still(a, b) || still_still(b, a);
+}
+
+bool World::belt_valid(std::size_t slot) const {
+  const Broad::Belt& belt = broad_->belts[slot];
+  return belt.ready && slots_[slot].holder == Holder::conveyor && slots_[slot].speed_mm_s == belt.speed;
+}
+
+// What is left of a belt-borne part's room [mm] at time t (as room() for the arm's bodies).
+double World::belt_room(std::size_t slot, double t) const {
+  const Broad::Belt& belt = broad_->belts[slot];
+  if (!belt_valid(slot)) return INFINITY;
+  const double moved = slots_[slot].speed_mm_s * std::abs(t - belt.t0) * (1 + 1e-9) + 1e-9;
+  return belt.lower - broad_->keep - moved - 1e-9 * broad_->keep;
+}
+
+double World::belt_time() const {
+  double t = INFINITY;
+  if (!broad_) return t;
+  for (std::size_t s = 0; s < broad_->belts.size(); ++s)
+    if (belt_valid(s)) t = std::min(t, belt_room(s, posed_t_) / slots_[s].speed_mm_s);
+  return t;
+}
+
+bool World::belts_need(double room_mm) const {
+  for (std::size_t s = 0; s < broad_->belts.size(); ++s) {
+    const Slot& slot = slots_[s];
+    const bool moving = slot.clock >= 0 && slot.holder == Holder::conveyor && slot.speed_mm_s > 0 && !absent_[s];
+    if (moving && (!belt_valid(s) || belt_room(s, posed_t_) < room_mm)) return true;
+  }
+  return false;
+}
+
+std::span<const double> World::room() {
+  if (!broad_) return {};
+  Broad& b = *broad_;
+  if (!b.ready) {
+    std::fill(b.room.begin(), b.room.end(), INFINITY);
+    return b.room;
+  }
+  const robots::JointVector delta = posed_q_ - b.q0;
+  for (const Broad::Mover& m : b.movers) {
+    // Every left-out still body is >= lower - (k's motion since q0) apart; room is what is left
+    // beyond keep, less room for the rounding of the bound.
+    const double moved = robots::max_displacement(reach_[m.id], delta) * (1 + 1e-9) + 1e-9;
+    b.room[m.id] = m.lower - b.keep - moved - 1e-9 * b.keep;
+  }
+  return b.room;
+}
+
+void World::broad_refresh(double keep_mm, double room_mm) {
+  if (!broad_ || posed_q_.size() == 0) return;
+  Broad& b = *broad_;
+  bool need = !b.ready || (b.parts_dirty && has_parts_) || keep_mm != b.keep;
+  // Recomputed once half the skin is used: gap stepping keeps each stretch within 0.9 of the
+  // room, so a room run down to the step would cut the stretches short before it (the arm would
+  // approach the left-out bodies as if they were there).
+  const double low = std::max(room_mm, kRefreshSkin * kSkinMm);
+  if (!need)
+    for (const double r : room())
+      if (r < low) need = true;
+  if (need || belts_need(low)) broad_build(keep_mm, room_mm, true);
+}
+
+void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
+  Broad& b = *broad_;
+  bool changed = !b.ready;
+  if (b.parts_dirty && parts_tree && has_parts_ && runtime_) {
+    // The resting parts into the parts tree, posed in the engine where the clock has them now (a
+    // bisection may have left one at an earlier state's pose).
+    std::vector<collision::BodyId> resting;
+    const DeviceClock& clock = runtime_->clock();
+    for (std::size_t s = 0; s < slots_.size(); ++s) {
+      const collision::BodyId id = first_part_ + static_cast<collision::BodyId>(s);
+      const Slot& slot = slots_[s];
+      const bool rest = slot.clock >= 0 && slot.holder == Holder::world && slot.speed_mm_s == 0;
+      b.in_tree[id] = rest;
+      if (!rest) continue;
+      b.rest_at[s] = clock.parts()[static_cast<std::size_t>(slot.clock)].pose_at(clock.time_s());
+      engine_->set_pose(id, b.rest_at[s]);
+      resting.push_back(id);
+    }
+    b.parts_dirty = false;
+    b.parts.build(*engine_, resting);
+    changed = true;
+  }
+  b.keep = keep_mm;
+  b.radius = keep_mm + std::max(kSkinMm, 4 * room_mm);
+  b.q0 = posed_q_;
+  for (std::size_t k = 0; k < b.movers.size(); ++k) {
+    Broad::Mover& m = b.movers[k];
+    const collision::Engine::PlacedBounds at = engine_->placed_bounds(m.id);
+    m.next.clear();
+    m.lower = std::min(b.objects.query(at, b.radius, m.next), b.parts.query(at, b.radius, m.next));
+    std::sort(m.next.begin(), m.next.end());
+    if (m.next == m.near) continue;
+    changed = true;
+    const std::uint32_t bit = std::uint32_t{1} << k;
+    for (const collision::BodyId o : m.near) b.mask[o] &= ~bit;
+    for (const collision::BodyId o : m.next) b.mask[o] |= bit;
+    m.near.swap(m.next);
+  }
+  // Parts on a running conveyor, at their poses now.
+  for (std::size_t s = 0; s < b.belts.size(); ++s) {
+    Broad::Belt& belt = b.belts[s];
+    const Slot& slot = slots_[s];
+    const bool moving = slot.clock >= 0 && slot.holder == Holder::conveyor && slot.speed_mm_s > 0 && !absent_[s];
+    if (!moving) {
+      changed = changed || belt.ready;
+      belt.ready = false;
+      continue;
+    }
+    const collision::Engine::PlacedBounds at = engine_->placed_bounds(first_part_ + static_cast<collision::BodyId>(s));
+    const double radius = keep_mm + std::max({kSkinMm, 4 * room_mm, slot.speed_mm_s * kBeltHorizonS});
+    b.scratch_ids.clear();
+    belt.lower = std::min(b.objects.query(at, radius, b.scratch_ids), b.parts.query(at, radius, b.scratch_ids));
+    std::sort(b.scratch_ids.begin(), b.scratch_ids.end());
+    belt.t0 = posed_t_;
+    belt.speed = slot.speed_mm_s;
+    if (!belt.ready || b.scratch_ids != belt.near) changed = true;
+    belt.near.swap(b.scratch_ids);
+    belt.ready = true;
+  }
+  b.ready = true;
+  if (changed) rebuild_pairs();
+}
+
+void World::set_hand(bool closed) {
+  // The fingers move without the joints: their near lists are recomputed (every pair meanwhile).
+  if (broad_ && broad_->ready && closed != hand_closed_) {
+    broad_->ready = false;
+    rebuild_pairs();
+  }
+  hand_closed_ = closed;
+}
 
 std::span<const collision::BodyPair> World::pairs() const {
-  if (has_parts_) return part_pairs_;
+  if (own_list()) return part_pairs_;
   return engine_ ? engine_->enabled_pairs() : std::span<const collision::BodyPair>();
 }
 
@@ -132,7 +373,8 @@ double World::next_part_change() const {
 }
 
 void World::pose(const robots::JointVector& q, double t) {
-  if (rest_ && q != rest_q_) wake();  // asleep for the arm at rest there only
+  posed_q_ = q;
+  posed_t_ = t;
   robots::link_frames(*robot_, q, frames_);
   for (const collision::BodyId id : moving_) {
     const BodyMount& m = mounts_[id];
@@ -179,15 +421,24 @@ void World::pose(const robots::JointVector& q, double t) {
 
 void World::pose_parts(const DeviceClock& clock, double t, bool all) {
   const auto& parts = clock.parts();
+  bool left_tree = false;
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const PartState& p = parts[i];
     const collision::BodyId id = part_body(p);
     if (p.holder == Holder::carried) {
       engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(flange_)] * grip_);
     } else if (p.holder != Holder::removed && (all || !p.velocity.isZero())) {
-      engine_->set_pose(id, p.pose_at(t));
+      const Location at = p.pose_at(t);
+      engine_->set_pose(id, at);
+      // A part of the broad phase's tree posed elsewhere (an earlier state, for bisection) is
+      // no longer where the tree has it: all its pairs are kept until the tree is rebuilt.
+      if (broad_ && broad_->in_tree[id] && !(at.matrix() == broad_->rest_at[id - first_part_].matrix())) {
+        broad_->in_tree[id] = 0;
+        broad_->untested[id - first_part_] = broad_->any_untested = left_tree = true;
+      }
     }
   }
+  if (left_tree) rebuild_pairs();
 }
 
 // The parts' holders changed: new pairs, and the grasped or released part's contacts excused.
@@ -204,8 +455,14 @@ void World::refresh(const DeviceClock& clock) {
     s.speed_mm_s = p.velocity.norm();
     // A grasp or a release: the pairs that touch then are excused (marked here, tested once posed).
     if (placed && was_carried != (p.holder == Holder::carried)) to_excuse_[id - first_part_] = 1;
-    if (placed && p.holder != s.holder && !asleep_.empty())  // asleep for where it was
-      std::erase_if(asleep_, [id](const collision::BodyPair& x) { return x.a == id || x.b == id; });
+    // A part placed, moved or taken leaves the broad phase's tree: all its pairs are kept until
+    // the tree is rebuilt (at the next stretch, whose poses are all at or after this change).
+    if (broad_ && (!placed || p.holder != s.holder || p.holder != Holder::world || !p.velocity.isZero())) {
+      // (It stays an item of the tree until the next rebuild: harmless, only in_tree counts.)
+      if (p.holder == Holder::world) broad_->parts_dirty = true;
+      if (broad_->in_tree[id] || !placed || p.holder != s.holder) broad_->untested[id - first_part_] = broad_->any_untested = true;
+      broad_->in_tree[id] = 0;
+    }
     if (placed && p.holder == Holder::removed && s.holder != Holder::removed)
       std::erase_if(excused_, [id](const collision::BodyPair& x) { return x.a == id || x.b == id; });
     s.holder = p.holder;
@@ -224,16 +481,29 @@ void World::refresh(const DeviceClock& clock) {
 
 void World::rebuild_pairs() {
   ++pairs_revision_;
-  if (asleep_.empty()) {
+  if (broad_ && broad_->ready) {
+    // The cell's pairs in their order (sorted): those the broad phase never leaves out, and the
+    // enabled pairs of each arm body with the objects near it.
+    Broad& b = *broad_;
+    b.scratch = b.fixed_pairs;
+    for (const Broad::Mover& m : b.movers)
+      for (const collision::BodyId o : m.near)
+        if ((!has_parts_ || o < first_part_) && engine_->pair_enabled(m.id, o)) b.scratch.push_back(ordered(m.id, o));
+    std::sort(b.scratch.begin(), b.scratch.end());
+    part_pairs_.assign(b.scratch.begin(), b.scratch.end());
+    part_gaps_.clear();
+    for (const collision::BodyPair& p : part_pairs_) part_gaps_.push_back(cell_gap(p));
+  } else if (broad_) {
+    part_pairs_.assign(engine_->enabled_pairs().begin(), engine_->enabled_pairs().end());
+    if (has_parts_) part_pairs_ = cell_pairs_;
+    part_gaps_.clear();
+    for (const collision::BodyPair& p : part_pairs_) part_gaps_.push_back(cell_gap(p));
+  } else {
     part_pairs_ = cell_pairs_;
     part_gaps_ = cell_gaps_;
-  } else {
-    part_pairs_.clear();
-    part_gaps_.clear();
-    for (std::size_t i = 0; i < cell_pairs_.size(); ++i)
-      if (!asleep(cell_pairs_[i])) part_pairs_.push_back(cell_pairs_[i]), part_gaps_.push_back(cell_gaps_[i]);
   }
   moving_pairs_ = arm_moving_pairs_;
+  if (!has_parts_) return;
   const int slot = static_cast<int>(reach_.size() - 1);
   const collision::BodyId parts_end = first_part_ + static_cast<collision::BodyId>(slots_.size());
   const auto present = [&](collision::BodyId id) { return slots_[id - first_part_].clock >= 0 && slots_[id - first_part_].holder != Holder::removed; };
@@ -247,7 +517,7 @@ void World::rebuild_pairs() {
   };
   const auto add = [&](collision::BodyId a, collision::BodyId b) {
     const collision::BodyPair p = ordered(a, b);
-    if (excused(p) || asleep(p)) return;
+    if (excused(p) || broad_skips(p.a, p.b)) return;
     const auto [ra, la] = mover(p.a);
     const auto [rb, lb] = mover(p.b);
     double speed = 0;
@@ -297,46 +567,6 @@ void World::excuse_touching(collision::BodyId id) {
   }
 }
 
-void World::sleep_far(std::span<const double> bound_mm, double clearance_mm, double margin_mm,
-                      const robots::JointVector* rest) {
-  if (!has_parts_ || !engine_) return;
-  wake();
-  rest_ = rest != nullptr;
-  if (rest) rest_q_ = *rest;
-  // The gaps of pairs() in its order (the engine's own enabled_pairs() are sorted otherwise); a
-  // pair the engine skips (not enabled) would shift them: then nothing sleeps.
-  engine_->query({.clearance_mm = clearance_mm, .pairs = std::span<const collision::BodyPair>(part_pairs_),
-                  .contact = false, .gaps = true},
-                 scratch_result_);
-  if (scratch_result_.gaps.size() != part_pairs_.size()) return;
-  // The body of a pair that moves on the arm chain, when the other does not move at all.
-  const auto arm_mover = [&](const collision::BodyPair& p, const GapPair& g) -> int {
-    if (g.speed_mm_s != 0 || (g.a >= 0) == (g.b >= 0)) return -1;
-    const collision::BodyId id = g.a >= 0 ? p.a : p.b;
-    const collision::BodyId other = g.a >= 0 ? p.b : p.a;
-    if (id >= arm_bodies_ || mounts_[id].hand >= 0 || mounts_[id].own_motion) return -1;
-    if (part(other) && slots_[other - first_part_].holder != Holder::world) return -1;
-    return g.a >= 0 ? g.a : g.b;
-  };
-  const double keep = std::max(margin_mm, clearance_mm);
-  for (std::size_t i = 0; i < part_pairs_.size(); ++i) {
-    const int k = arm_mover(part_pairs_[i], part_gaps_[i]);
-    if (k < 0 || static_cast<std::size_t>(k) >= bound_mm.size()) continue;
-    const double g = scratch_result_.gaps[i], b = bound_mm[static_cast<std::size_t>(k)] * (1 + 1e-9) + 1e-9;
-    if (kLineSafety * (g - clearance_mm) >= b && g - b > keep) asleep_.push_back(part_pairs_[i]);
-  }
-  if (asleep_.empty()) return;
-  std::sort(asleep_.begin(), asleep_.end());
-  rebuild_pairs();
-}
-
-void World::wake() {
-  rest_ = false;
-  if (asleep_.empty()) return;
-  asleep_.clear();
-  rebuild_pairs();
-}
-
 void World::free_pose_seen() {
   if (excused_.empty()) return;
   const std::size_t before = excused_.size();
@@ -348,7 +578,16 @@ void World::free_pose_seen() {
 }
 
 void World::query(const collision::QueryRequest& request, collision::QueryResult& out) {
-  if (!has_parts_) return engine_->query(request, out);
+  if (broad_ && posed_q_.size() != 0) {
+    // Any pose: the near lists are recomputed when a left-out pair may be nearer than keep now.
+    const double keep = std::max(broad_->keep, request.clearance_mm);
+    bool need = !broad_->ready || keep != broad_->keep;
+    if (!need)
+      for (const double r : room())
+        if (r < 0) need = true;
+    if (need || belts_need(0)) broad_build(keep, 0, false);  // changed parts keep all their pairs meanwhile
+  }
+  if (!own_list()) return engine_->query(request, out);
   collision::QueryRequest r = request;
   const auto gone = [this](const collision::BodyPair& p) {
     return (part(p.a) && absent_[p.a - first_part_]) || (part(p.b) && absent_[p.b - first_part_]);
@@ -361,6 +600,13 @@ void World::query(const collision::QueryRequest& request, collision::QueryResult
     r.pairs = std::span<const collision::BodyPair>(filtered_);
   }
   engine_->query(r, out);
+  // Every pair of the changed parts was tested here and found free: they may enter the tree.
+  if (broad_ && broad_->any_untested && !request.pairs && request.contact && !out.collided && !any_absent_) {
+    for (std::size_t s = 0; s < slots_.size(); ++s)
+      if (broad_->untested[s] && slots_[s].clock >= 0 && slots_[s].holder == Holder::world) broad_->parts_dirty = true;
+    std::fill(broad_->untested.begin(), broad_->untested.end(), 0);
+    broad_->any_untested = false;
+  }
 }
 
 std::string World::body_name(collision::BodyId id) const {

@@ -5,6 +5,9 @@
 
 #include "asimov/robots/robot.hpp"
 
+#include <algorithm>
+#include <random>
+
 using namespace asimov;
 
 namespace {
@@ -263,4 +266,56 @@ TEST_CASE("far resting parts sleep through the motions without hiding or moving 
     for (std::size_t i = 0; i < clock.parts().size(); ++i)
       if (clock.parts()[i].def.name.rfind("decoy", 0) == 0) CHECK(clock.parts()[i].holder == motion::Holder::world);
   }
+}
+
+// The broad phase (docs/collision.md §14) against every pair at every pose (broad_phase off, the
+// reference): random cells of resting parts and small objects around the pick and the slide,
+// some near the path, continuous and sampled. The outcome, the contact (bodies, time), the
+// checked poses' verdicts and the clearance report (pairs within report_within_mm and their least
+// distances) must agree; fails when the broad phase leaves out a pair that comes near.
+TEST_CASE("the broad phase finds the same contacts and clearance report as every pair, random cells") {
+  std::mt19937 rng(1217);
+  std::uniform_real_distribution<double> ux(150, 850), uy(-600, 600), uz(-395, -150), us(10, 60);
+  int contacts = 0, reported = 0, runs = 0;
+  for (int cell_i = 0; cell_i < 16; ++cell_i) {
+    const bool continuous = cell_i % 2 == 0;
+    motion::Cell base = plate_cell(true);
+    base.collision.continuous = continuous;
+    if (cell_i % 4 < 2) base.objects.pop_back();  // no post
+    for (int i = 0; i < 30; ++i) {
+      const double s = us(rng);
+      // Cells 8..15: most bodies behind the robot (far from every path), a few in front.
+      const double x = cell_i >= 8 && i % 4 != 0 ? ux(rng) - 1100 : ux(rng);
+      const motion::Location p = at(x, uy(rng), uz(rng) + s / 2);
+      if (i % 3 == 0) base.objects.push_back({"o" + std::to_string(i), collision::make_box({s, s, s}), p});
+      else base.workcell.parts.push_back({"r" + std::to_string(i), "", collision::make_box({s, s, s}), p});
+    }
+    motion::Cell off = base;
+    off.collision.broad_phase = false;
+    CAPTURE(cell_i, continuous);
+    Run a(base), b(off);
+    const auto ra = a.run(kSlide);
+    const auto rb = b.run(kSlide);
+    ++runs;
+    REQUIRE(ra.status == rb.status);
+    if (ra.status == interpreter::RunStatus::collision) {
+      ++contacts;
+      CHECK(ra.collision.body_a + " / " + ra.collision.body_b == rb.collision.body_a + " / " + rb.collision.body_b);
+      CHECK(std::abs(ra.collision.time_s - rb.collision.time_s) <= 2e-6 + 1e-12);
+    }
+    const auto& pa = a.sim.recorders().clearance.pairs;
+    const auto& pb = b.sim.recorders().clearance.pairs;
+    CHECK(pa.size() == pb.size());
+    for (const auto& x : pb) {
+      const auto it = std::find_if(pa.begin(), pa.end(), [&](const auto& y) { return y.pair == x.pair; });
+      REQUIRE(it != pa.end());
+      CHECK(std::abs(it->distance_mm - x.distance_mm) <= 1e-6);
+      ++reported;
+    }
+  }
+  CHECK(runs == 16);
+  CHECK(contacts > 0);
+  CHECK(contacts < runs);
+  CHECK(reported > 0);
+  WARN(contacts << " contacts, " << reported << " clearance-report pairs compared");
 }

@@ -172,10 +172,10 @@ TEST_CASE("trajectory: the exact path starts and ends at the planned joints", "[
   CHECK(tr.target.isApprox(Location(robots::flange_pose(cell.robot, tr.to))));  // BASE, TOOL identity
 }
 
-// World::sleep_far (docs/cell-format.md "Speed"): a pair leaves pairs() only when its bodies'
-// exact distance at the current poses exceeds the margin plus the arm body's bound, whatever the
-// order of pairs() against the engine's own pair list; wake() restores every pair.
-TEST_CASE("sleep_far puts to sleep only the pairs farther than margin plus bound", "[walker]") {
+// World's broad phase (docs/collision.md §14): a pair leaves pairs() only when its bodies' exact
+// distance at the current poses exceeds keep plus the arm body's room, whatever the order of
+// pairs() against the engine's own pair list; with the broad phase off every pair stays.
+TEST_CASE("the broad phase leaves out only the pairs farther than keep plus room", "[walker]") {
   Cell cell = wall_cell();
   cell.objects.clear();
   // Resting parts near and far from the arm at its start joints, and an object between.
@@ -183,32 +183,39 @@ TEST_CASE("sleep_far puts to sleep only the pairs farther than margin plus bound
     cell.workcell.parts.push_back({"p" + std::to_string(i), "", collision::make_box({40, 40, 40}),
                                    trans(-900 + 150 * i, 300, 200, 0, 0, 0)});
   cell.objects.push_back(test::box_object("post", {40, 40, 400}, {500, 0, 0}));
-  // One part on the flange itself: its pairs with the wrist touch, so they never sleep.
+  // One part on the flange itself: its pairs with the wrist touch, so they always stay.
   const Location flange = robots::flange_pose(cell.robot, start_joints(cell));
   cell.workcell.parts.push_back({"on_flange", "", collision::make_box({40, 40, 40}), flange});
-  CellRuntime runtime(cell);
-  World world(cell);
+  Cell off = cell;
+  off.collision.broad_phase = false;
+  CellRuntime runtime(cell), runtime_off(off);
+  World world(cell), reference(off);
   world.attach(runtime);
+  reference.attach(runtime_off);
   world.build_engine(cell);
+  reference.build_engine(off);
   REQUIRE(world.engine());
+  REQUIRE(world.broad_phase());
+  REQUIRE(!reference.broad_phase());
   world.pose(start_joints(cell), 0);
-  const std::vector<collision::BodyPair> all(world.pairs().begin(), world.pairs().end());
-  for (const double bound : {0.0, 150.0}) {
-    CAPTURE(bound);
-    const std::vector<double> bounds(world.reach().size(), bound);
-    constexpr double kMargin = 10;
-    world.sleep_far(bounds, 0, kMargin);
-    const std::vector<collision::BodyPair> awake(world.pairs().begin(), world.pairs().end());
-    std::size_t asleep = 0;
+  reference.pose(start_joints(cell), 0);
+  const std::vector<collision::BodyPair> all(reference.pairs().begin(), reference.pairs().end());
+  for (const double room : {1.0, 150.0}) {
+    CAPTURE(room);
+    constexpr double kKeep = 10;
+    world.broad_refresh(kKeep, room);
+    const std::vector<collision::BodyPair> kept(world.pairs().begin(), world.pairs().end());
+    CHECK(std::is_sorted(kept.begin(), kept.end()) == std::is_sorted(all.begin(), all.end()));
+    std::size_t left_out = 0;
     for (const collision::BodyPair& p : all) {
-      if (std::find(awake.begin(), awake.end(), p) != awake.end()) continue;
-      ++asleep;
-      const double d = world.engine()->distance(p.a, p.b, {.upper_mm = kMargin + bound + 1}).distance;
-      CHECK(d > kMargin + bound);
+      if (std::find(kept.begin(), kept.end(), p) != kept.end()) continue;
+      ++left_out;
+      const double d = world.engine()->distance(p.a, p.b, {.upper_mm = kKeep + room + 1}).distance;
+      CHECK(d > kKeep + room);
     }
-    CHECK(asleep > 0);
-    CHECK(asleep < all.size());  // the part on the flange stays
-    world.wake();
-    CHECK(std::vector<collision::BodyPair>(world.pairs().begin(), world.pairs().end()) == all);
+    for (const collision::BodyPair& p : kept) CHECK(std::find(all.begin(), all.end(), p) != all.end());
+    CHECK(left_out > 0);
+    CHECK(kept.size() + left_out == all.size());
+    for (const double r : world.room()) CHECK(r >= room);
   }
 }

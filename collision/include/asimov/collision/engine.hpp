@@ -59,6 +59,16 @@ class Engine {
 
   void set_pose(BodyId id, const Pose& local_to_world);
 
+  // Step 2's container of a body at its current pose, as the per-pair gaps (QueryRequest::gaps)
+  // bound distances: its world minimax box, its vertex sphere, and `magnitude`, the body's share
+  // of a pair's rounding margin (a pair's margin is 64 ulp of the sum of its two bodies' shares).
+  // For broad phases over many bodies (motion/src/broad_phase.hpp, docs/collision.md §14).
+  struct PlacedBounds {
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero(), centre = Vec3::Zero();
+    double radius = 0, magnitude = 0;
+  };
+  PlacedBounds placed_bounds(BodyId id);
+
   // The query at the current poses (QueryRequest: clearance, pairs, contact and/or gaps).
   // Pairs are tested in a fixed order, so the answer is deterministic. The second form reuses
   // `out` (its gaps keep their capacity): after the first queries it does not allocate.

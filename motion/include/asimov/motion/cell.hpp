@@ -55,6 +55,10 @@ struct CollisionSettings {
   bool continuous = true;
   double report_within_mm = 10;  // clearance report: pairs that came nearer than this [mm]
   OnClearance on_clearance = OnClearance::halt;
+  // The broad phase over the bodies that do not move (docs/collision.md §14): used when a cell has
+  // enough pairs of an arm body and an object or resting part for it to pay. false: every pair at
+  // every checked pose (the reference the tests compare with; not a cell-file key).
+  bool broad_phase = true;
 };
 
 struct Cell {

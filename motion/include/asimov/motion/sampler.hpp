@@ -119,7 +119,10 @@ struct GapScratch {
   std::vector<double> limit;           // per body: the least allowance of its pairs with a fixed body
   std::vector<std::uint32_t> moving;   // the pairs of two moving bodies
 };
+// `room` (empty, or one per reach body): a further limit per body, as the least allowance of its
+// pairs with a fixed body is (the broad phase's room, World::room()).
 std::size_t gap_next_sample(std::span<const robots::BodyReach> reach, std::span<const LineSample> samples,
-                            std::size_t from, std::span<const GapPair> pairs, GapScratch& scratch, double& bound_mm);
+                            std::size_t from, std::span<const GapPair> pairs, GapScratch& scratch, double& bound_mm,
+                            std::span<const double> room = {});
 
 }  // namespace asimov::motion

@@ -66,8 +66,6 @@ class Walker {
   // Scratch, reused across walks (no allocation per checked pose).
   std::vector<double> pair_mm_;
   GapScratch gap_scratch_;
-  bool sleep_far(const robots::JointVector& travel, const WalkState& state, bool rest);
-  std::vector<double> sleep_bound_;  // per reach() body: its motion bound over the walk (World::sleep_far)
   std::vector<double> gaps_here_, gaps_next_;  // container gaps at two checked poses (Walk)
   std::vector<double> window_mu_;              // per pair, its motion bound over a stretch (Walk)
   std::vector<collision::BodyPair> hit_pairs_, probe_pairs_;

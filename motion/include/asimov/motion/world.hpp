@@ -12,7 +12,9 @@
 // the arm, the objects but its conveyor and the parts not on its conveyor; the carried part
 // against everything but the bodies rigid with the flange (the gripper). A carried part moves
 // with the flange: its displacement bound is a reach() entry of its own (the flange link's radii
-// plus its reach from the flange), so step rules and gap stepping include it.
+// plus its reach from the flange), so step rules and gap stepping include it. In a cell with many
+// pairs of a moving body and a still one, the broad phase leaves out of pairs() those whose gap
+// provably stays beyond keep_mm while the moving body stays within its room() (broad_refresh).
 #pragma once
 #include "asimov/collision/engine.hpp"
 #include "asimov/motion/cell.hpp"
@@ -21,6 +23,7 @@
 #include "asimov/robots/displacement_bound.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -48,6 +51,8 @@ class World {
   // the cell, else on the first build_engine(). The world borrows the cell (its robot, and its
   // objects' meshes, which the engine uses in place): the cell must outlive it unchanged.
   explicit World(const Cell& cell);
+  ~World();
+  World(World&&) noexcept;
 
   // Builds the engine (bodies, participation, fixed poses) from `cell`; once.
   void build_engine(const Cell& cell);
@@ -74,7 +79,7 @@ class World {
   std::span<const collision::BodyPair> pairs() const;
   // Gap stepping: per pair of pairs() (same order) its moving bodies (reach() indices), links
   // and the speed of its conveyor-borne parts; allow_mm is for the walker to fill from the gaps.
-  std::span<GapPair> gap_pairs() { return has_parts_ ? std::span<GapPair>(part_gaps_) : std::span<GapPair>(gap_pairs_); }
+  std::span<GapPair> gap_pairs() { return own_list() ? std::span<GapPair>(part_gaps_) : std::span<GapPair>(gap_pairs_); }
   // Changes whenever pairs() changes (parts appear, leave, are grasped or released).
   std::uint64_t pairs_revision() const { return pairs_revision_; }
 
@@ -92,19 +97,24 @@ class World {
   // After a pose found free: pairs excused at a grasp or release (touching then) that are
   // apart now are tested again (docs/cell-format.md "Gripping").
   void free_pose_seen();
-  // Far pairs asleep for one walk (a cell with parts: docs/cell-format.md "Speed"). A pair of an
-  // arm body k on the chain (no hand joint, no motion of its own) and a body that does not move
-  // (an object, a part resting in the world) whose gap at the current poses exceeds k's motion
-  // bound over the walk, bound_mm[k] (reach() indices), by more than margin_mm (and by the
-  // clearance) cannot touch nor come within margin_mm during it, and never limits gap stepping
-  // (0.9 of its allowance exceeds the bound): it leaves pairs() until wake(). A part that changes
-  // holder wakes its pairs. Needs the engine posed at the walk's start.
-  // With `rest` (a dwell: bounds 0) the pairs sleep while the arm stays at those joints: the
-  // first pose() elsewhere wakes them, so consecutive dwells keep them asleep.
-  void sleep_far(std::span<const double> bound_mm, double clearance_mm, double margin_mm,
-                 const robots::JointVector* rest = nullptr);
-  void wake();
-  bool asleep_at_rest(const robots::JointVector& q) const { return rest_ && q == rest_q_; }
+  // Broad phase (a cell with many pairs of an arm body and a body that does not move: an object,
+  // a resting part; docs/collision.md §14). The pairs of such a body k with the still bodies whose
+  // container gap may be within keep_mm + a skin stay in pairs(); every other one is at least
+  // room()[k] + keep_mm apart (its gap, less k's motion since) and leaves pairs() while k moves
+  // less than room()[k] from the current poses: it can neither touch (keep_mm >= the clearance)
+  // nor enter the clearance report (keep_mm >= report_within_mm). broad_refresh recomputes the
+  // near bodies (at the current poses) when some room() is below room_mm, when keep_mm changed, or
+  // when resting parts changed; pairs_revision() changes only when pairs() does. Walks call it
+  // before each stretch and keep every arm body's motion over it below its room(). query() also
+  // recomputes them when a room() is negative (a pose given from elsewhere) or the clearance
+  // exceeds keep_mm, so any pose is checked against every pair that may matter.
+  void broad_refresh(double keep_mm, double room_mm);
+  // Per reach() index, at the current poses (+inf for a body the broad phase does not cover).
+  std::span<const double> room();
+  // The same for the parts on a running conveyor, as time [s]: the least room over their belt
+  // speeds at the current time (+inf when none is covered). A dwell keeps its stretches within it.
+  double belt_time() const;
+  bool broad_phase() const { return broad_ != nullptr; }
   // Reported body name: "part:NAME", "carried part:NAME" for the part in the gripper.
   std::string body_name(collision::BodyId id) const;
   // The carried part's pose for the arm at q (nullopt: none carried).
@@ -128,6 +138,18 @@ class World {
   collision::BodyId part_body(const PartState& p) const;
   bool part(collision::BodyId id) const { return has_parts_ && id >= first_part_; }
   int link_of(collision::BodyId id) const;  // arm bodies: frame; others 0
+  // pairs() is World's own list (parts, or the broad phase), not the engine's enabled pairs.
+  bool own_list() const { return has_parts_ || broad_ != nullptr; }
+  GapPair cell_gap(const collision::BodyPair& p) const;
+  struct Broad;
+  std::unique_ptr<Broad> broad_;  // null: no broad phase
+  void broad_build(double keep_mm, double room_mm, bool parts_tree);
+  bool broad_skips(collision::BodyId a, collision::BodyId b) const;  // a pair the broad phase leaves out
+  double belt_room(std::size_t slot, double t) const;
+  bool belt_valid(std::size_t slot) const;
+  bool belts_need(double room_mm) const;  // some belt-borne part has less room than room_mm now
+  robots::JointVector posed_q_;   // the joints and time of the last pose()
+  double posed_t_ = 0;
 
   const robots::Robot* robot_;
   collision::Pose base_;
@@ -156,12 +178,6 @@ class World {
   std::vector<collision::BodyPair> part_pairs_;  // pairs(): cell_pairs_ then the parts'
   std::vector<GapPair> part_gaps_;
   std::vector<collision::BodyPair> excused_, filtered_;
-  std::vector<collision::BodyPair> asleep_;      // sorted (sleep_far)
-  bool rest_ = false;                            // asleep_ holds while the arm is at rest_q_
-  robots::JointVector rest_q_;
-  bool asleep(const collision::BodyPair& p) const {
-    return !asleep_.empty() && std::binary_search(asleep_.begin(), asleep_.end(), p);
-  }
   std::vector<char> absent_;                     // per slot, at a pose earlier than the clock
   std::vector<char> to_excuse_;                  // per slot: grasped or released since the last pose
   bool any_absent_ = false;
