@@ -1,0 +1,190 @@
+// Distance query, step 3 [ours, after PQP/FCL's bounding-volume trees]: a per-body binary tree
+// of oriented boxes over the faces, built lazily on the body's first distance query (the
+// halvings tree's voxels hold many faces each and their content boxes are loose; docs/collision.md
+// §11). Nodes are PCA boxes in float; leaves hold one face (small bodies) or a few (big ones,
+// for memory: §13). Header-only descent so the engine's leaf visitor inlines.
+#pragma once
+#include "asimov/collision/polyhedron.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace asimov::collision {
+
+// An oriented box of the body's local frame: every point x of the node's faces has
+// |axis_k . (x - c)| <= h_k with the float axis and centre as stored (exactly, up to a pad for
+// the double rounding of the build). The axes are orthonormal only to float rounding; the
+// bound below allows for that.
+struct DistanceNode {
+  float c[3];
+  float h[3];
+  float axis[3][3];      // axis[k]: the k-th box axis (unit to float rounding)
+  std::uint32_t first;   // inner node: left child index; leaf: first face in DistanceTree::faces
+  std::uint32_t second;  // inner node: right child index; leaf: kLeaf | face count
+  static constexpr std::uint32_t kLeaf = 0x80000000u;
+  bool leaf() const { return (second & kLeaf) != 0; }
+  std::uint32_t count() const { return second & ~kLeaf; }
+  double size() const { return static_cast<double>(h[0]) + h[1] + h[2]; }
+};
+
+struct DistanceTree {
+  std::vector<DistanceNode> nodes;   // nodes[0] is the root; empty when the mesh has no face
+  std::vector<std::uint32_t> faces;  // face indices, each leaf's a contiguous run
+  std::size_t bytes() const { return nodes.capacity() * sizeof(DistanceNode) + faces.capacity() * sizeof(std::uint32_t); }
+};
+
+// Faces per leaf: 1 up to this many faces (the fastest descent); above, a few per leaf, so a
+// 10^6-face body's tree stays near 30 bytes per face (docs/collision.md §13).
+constexpr std::size_t kDistanceTreeSmall = 65536;
+constexpr std::uint32_t kDistanceLeafBig = 6;
+
+DistanceTree build_distance_tree(const Polyhedron& mesh, std::uint32_t leaf_faces);
+inline DistanceTree build_distance_tree(const Polyhedron& mesh) {
+  return build_distance_tree(mesh, mesh.triangles.size() <= kDistanceTreeSmall ? 4 : kDistanceLeafBig);
+}
+
+// Lower bound on the distance of two nodes' contents, X of body A's tree and Y of B's, for one
+// relative pose (a = r b + t): the distance of X to the axis-aligned box of Y in X's axes, and of
+// Y to that of X in Y's axes (the larger), less the pair's rounding slack (2 eps_r) and a relative
+// 4e-6 of the sizes in play for the float axes (orthonormal only to 1e-7; docs/collision.md §11).
+struct DistanceBound {
+  Mat3 r;
+  Vec3 t;
+  double slack;
+  DistanceBound(const Pose& a_from_b, double slack_mm) : r(a_from_b.linear()), t(a_from_b.translation()), slack(slack_mm) {}
+
+  // One of the two nodes as seen from the other's frame, computed once per expansion (both
+  // children of the split node are tested against it). Splitting X: Y's axes and centre in A's
+  // frame. Splitting Y: X's axes in B's frame (rows) and a_k . (t - cx).
+  struct Fixed {
+    double v[3][3];
+    double w[3];
+  };
+  Fixed fixed_y(const DistanceNode& y) const {
+    Fixed f;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        f.v[j][i] = r(i, 0) * y.axis[j][0] + r(i, 1) * y.axis[j][1] + r(i, 2) * y.axis[j][2];
+    for (int i = 0; i < 3; ++i) f.w[i] = r(i, 0) * y.c[0] + r(i, 1) * y.c[1] + r(i, 2) * y.c[2] + t[i];
+    return f;
+  }
+  Fixed fixed_x(const DistanceNode& x) const {
+    Fixed f;
+    const double d[3] = {t[0] - x.c[0], t[1] - x.c[1], t[2] - x.c[2]};
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < 3; ++j) f.v[k][j] = x.axis[k][0] * r(0, j) + x.axis[k][1] * r(1, j) + x.axis[k][2] * r(2, j);
+      f.w[k] = x.axis[k][0] * d[0] + x.axis[k][1] * d[1] + x.axis[k][2] * d[2];
+    }
+    return f;
+  }
+  // Child x of the split node X against the fixed Y (fixed_y(y)).
+  [[gnu::always_inline]] double x_child(const DistanceNode& x, const DistanceNode& y, const Fixed& fy) const {
+    double tx[3], m[3][3];
+    const double d[3] = {fy.w[0] - x.c[0], fy.w[1] - x.c[1], fy.w[2] - x.c[2]};
+    for (int k = 0; k < 3; ++k) {
+      const double a0 = x.axis[k][0], a1 = x.axis[k][1], a2 = x.axis[k][2];
+      tx[k] = a0 * d[0] + a1 * d[1] + a2 * d[2];
+      for (int j = 0; j < 3; ++j) m[k][j] = a0 * fy.v[j][0] + a1 * fy.v[j][1] + a2 * fy.v[j][2];
+    }
+    return finish(x, y, tx, m);
+  }
+  // Child y of the split node Y against the fixed X (fixed_x(x)).
+  [[gnu::always_inline]] double y_child(const DistanceNode& x, const DistanceNode& y, const Fixed& fx) const {
+    double tx[3], m[3][3];
+    const double c0 = y.c[0], c1 = y.c[1], c2 = y.c[2];
+    for (int k = 0; k < 3; ++k) {
+      tx[k] = fx.v[k][0] * c0 + fx.v[k][1] * c1 + fx.v[k][2] * c2 + fx.w[k];
+      for (int j = 0; j < 3; ++j) m[k][j] = fx.v[k][0] * y.axis[j][0] + fx.v[k][1] * y.axis[j][1] + fx.v[k][2] * y.axis[j][2];
+    }
+    return finish(x, y, tx, m);
+  }
+  double operator()(const DistanceNode& x, const DistanceNode& y) const { return x_child(x, y, fixed_y(y)); }
+
+  // tx: Y's centre less X's in X's axes; m[k][j] = a_k . (r b_j).
+  [[gnu::always_inline]] double finish(const DistanceNode& x, const DistanceNode& y, const double (&tx)[3],
+                                       const double (&m)[3][3]) const {
+    const double hx[3] = {x.h[0], x.h[1], x.h[2]}, hy[3] = {y.h[0], y.h[1], y.h[2]};
+    double s1 = 0, s2 = 0, dd = 0, sup = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double g = std::fabs(tx[k]) - hx[k] -
+                       (std::fabs(m[k][0]) * hy[0] + std::fabs(m[k][1]) * hy[1] + std::fabs(m[k][2]) * hy[2]);
+      s1 += g > 0 ? g * g : 0.0;
+      dd += tx[k] * tx[k];
+      sup += std::fabs(tx[k]) * hx[k];
+    }
+    for (int j = 0; j < 3; ++j) {
+      const double ty = m[0][j] * tx[0] + m[1][j] * tx[1] + m[2][j] * tx[2];
+      const double g = std::fabs(ty) - hy[j] -
+                       (std::fabs(m[0][j]) * hx[0] + std::fabs(m[1][j]) * hx[1] + std::fabs(m[2][j]) * hx[2]);
+      s2 += g > 0 ? g * g : 0.0;
+      sup += std::fabs(ty) * hy[j];
+    }
+    // Along the line of centres u = d / |d|: both boxes' supports, |d| - sum |u.a_k| h_k - ...
+    // (tight for boxes small against their distance, whatever their turn).
+    double lb = std::sqrt(s1 > s2 ? s1 : s2);
+    if (dd > 0) lb = std::max(lb, (dd - sup) / std::sqrt(dd));
+    const double rel = 4e-6 * (std::fabs(tx[0]) + std::fabs(tx[1]) + std::fabs(tx[2]) + x.size() + y.size());
+    return lb - slack - rel;
+  }
+};
+
+// A node pair waiting in the descent, with its bound.
+struct DistancePair {
+  std::uint32_t x, y;
+  double lb;
+};
+
+// Best first from the roots: the pair with the smallest bound is expanded next (a heap in
+// `stack`, reused between queries), splitting the larger node (or the one not a leaf) and
+// keeping each child whose bound is below `best` (the cut-off at first, lowered by `leaf`); the
+// descent ends when the smallest bound left is not below best. `leaf(x, y)` is called for every
+// pair of leaves reached. `tests` counts the bounds computed.
+template <class Leaf>
+void descend_distance_tree(const DistanceTree& ta, const DistanceTree& tb, const DistanceBound& bound, const double& best,
+                           std::vector<DistancePair>& stack, std::uint64_t& tests, Leaf&& leaf) {
+  stack.clear();
+  if (ta.nodes.empty() || tb.nodes.empty()) return;
+  const double lb = bound(ta.nodes[0], tb.nodes[0]);
+  ++tests;
+  if (!(lb < best)) return;
+  auto farther = [](const DistancePair& p, const DistancePair& q) { return p.lb > q.lb; };
+  stack.push_back({0, 0, lb});
+  while (!stack.empty()) {
+    std::pop_heap(stack.begin(), stack.end(), farther);
+    const DistancePair cur = stack.back();
+    stack.pop_back();
+    if (!(cur.lb < best)) return;
+    const DistanceNode& x = ta.nodes[cur.x];
+    const DistanceNode& y = tb.nodes[cur.y];
+    const bool xl = x.leaf(), yl = y.leaf();
+    if (xl && yl) {
+      leaf(x, y);
+      continue;
+    }
+    const bool split_a = !xl && (yl || x.size() >= y.size());
+    tests += 2;
+    DistancePair p1, p2;
+    if (split_a) {
+      const DistanceBound::Fixed f = bound.fixed_y(y);
+      p1 = {x.first, cur.y, bound.x_child(ta.nodes[x.first], y, f)};
+      p2 = {x.second, cur.y, bound.x_child(ta.nodes[x.second], y, f)};
+    } else {
+      const DistanceBound::Fixed f = bound.fixed_x(x);
+      p1 = {cur.x, y.first, bound.y_child(x, tb.nodes[y.first], f)};
+      p2 = {cur.x, y.second, bound.y_child(x, tb.nodes[y.second], f)};
+    }
+    if (p1.lb < best) {
+      stack.push_back(p1);
+      std::push_heap(stack.begin(), stack.end(), farther);
+    }
+    if (p2.lb < best) {
+      stack.push_back(p2);
+      std::push_heap(stack.begin(), stack.end(), farther);
+    }
+  }
+}
+
+}  // namespace asimov::collision
