@@ -1,8 +1,8 @@
 // Distance query, step 3 [ours, after PQP/FCL's bounding-volume trees]: a per-body binary tree
 // of oriented boxes over the faces, built lazily on the body's first distance query (the
 // halvings tree's voxels hold many faces each and their content boxes are loose; docs/collision.md
-// §11). Nodes are PCA boxes in float; leaves hold one face (small bodies) or a few (big ones,
-// for memory: §13). Header-only descent so the engine's leaf visitor inlines.
+// §11). Nodes are PCA boxes in float, leaves a few faces. Header-only descent so the engine's
+// leaf visitor inlines.
 #pragma once
 #include "asimov/collision/polyhedron.hpp"
 
@@ -36,15 +36,12 @@ struct DistanceTree {
   std::size_t bytes() const { return nodes.capacity() * sizeof(DistanceNode) + faces.capacity() * sizeof(std::uint32_t); }
 };
 
-// Faces per leaf: 1 up to this many faces (the fastest descent); above, a few per leaf, so a
-// 10^6-face body's tree stays near 30 bytes per face (docs/collision.md §13).
-constexpr std::size_t kDistanceTreeSmall = 65536;
-constexpr std::uint32_t kDistanceLeafBig = 6;
+// Faces per leaf (at most): the face pairs of two leaves are cheap to bound one by one
+// (engine.cpp), and fewer nodes mean fewer node pairs; a 10^6-face body's tree is about 30
+// bytes per face (docs/collision.md §13).
+constexpr std::uint32_t kDistanceLeafFaces = 8;
 
-DistanceTree build_distance_tree(const Polyhedron& mesh, std::uint32_t leaf_faces);
-inline DistanceTree build_distance_tree(const Polyhedron& mesh) {
-  return build_distance_tree(mesh, mesh.triangles.size() <= kDistanceTreeSmall ? 4 : kDistanceLeafBig);
-}
+DistanceTree build_distance_tree(const Polyhedron& mesh, std::uint32_t leaf_faces = kDistanceLeafFaces);
 
 // Lower bound on the distance of two nodes' contents, X of body A's tree and Y of B's, for one
 // relative pose (a = r b + t): the distance of X to the axis-aligned box of Y in X's axes, and of

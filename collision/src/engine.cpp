@@ -471,6 +471,19 @@ struct Engine::Impl {
     return m * m / nn;
   }
 
+  // Squared gap of the triangles' projections on the line of their centroids (a lower bound on
+  // their squared distance), 0 when the projections overlap. Coordinates relative to s[0], so the
+  // rounding scales with the triangles and their distance, not with their place.
+  static double centre_line_bound2(const TriangleVerts& s, const TriangleVerts& t) {
+    const Vec3 t0 = t[0] - s[0], t1 = t[1] - s[0], t2 = t[2] - s[0];
+    const Vec3 s1 = s[1] - s[0], s2 = s[2] - s[0];
+    const Vec3 u = t0 + t1 + t2 - s1 - s2;  // 3 (centroid of t - centroid of s)
+    const double hi_s = std::max({0.0, u.dot(s1), u.dot(s2)});
+    const double lo_t = std::min({u.dot(t0), u.dot(t1), u.dot(t2)});
+    const double g = lo_t - hi_s, uu = u.squaredNorm();
+    return g > 0 && uu > 0 ? g * g / uu : 0.0;
+  }
+
   // A pair of leaves of the distance trees (the bodies are known apart: no face pair meets):
   // each face pair whose world boxes and planes' bound are nearer than `best` is measured.
   void distance_leaf_pair(Body& a, Body& b, const DistanceNode& x, const DistanceNode& y, double& best,
@@ -487,7 +500,7 @@ struct Engine::Impl {
         // The planes' bound (rounded: a relative 1e-12 of room, far below the 1e-9 asked of the
         // distance), then the closest points.
         const double b2 = best * best * (1 - 1e-12);
-        if (plane_bound2(ta, tb) >= b2 || plane_bound2(tb, ta) >= b2) continue;
+        if (plane_bound2(ta, tb) >= b2 || plane_bound2(tb, ta) >= b2 || centre_line_bound2(ta, tb) >= b2) continue;
         ++res.face_pairs;
         Vec3 pa, pb;
         const double d = std::sqrt(disjoint_triangle_distance2(ta, tb, pa, pb));
