@@ -491,16 +491,26 @@ struct Engine::Impl {
     const std::uint32_t* fas = a.distance_tree->faces.data() + x.first;
     const std::uint32_t* fbs = b.distance_tree->faces.data() + y.first;
     const std::uint32_t na = x.count(), nb = y.count();
+    // B's world faces once per leaf pair, and their union box: an A face no nearer to it than
+    // best skips the whole row.
+    std::array<const WorldFace*, kDistanceLeafFaces> wbs;
+    Vec3 ulo = Vec3::Constant(INFINITY), uhi = Vec3::Constant(-INFINITY);
+    for (std::uint32_t j = 0; j < nb; ++j) {
+      wbs[j] = &world_face(b, fbs[j]);
+      ulo = ulo.cwiseMin(wbs[j]->lo);
+      uhi = uhi.cwiseMax(wbs[j]->hi);
+    }
     for (std::uint32_t i = 0; i < na; ++i) {
       const WorldFace& wa = world_face(a, fas[i]);
+      if (!(box_distance2(wa.lo, wa.hi, ulo, uhi) < best * best)) continue;
       for (std::uint32_t j = 0; j < nb; ++j) {
-        const WorldFace& wb = world_face(b, fbs[j]);
+        const WorldFace& wb = *wbs[j];
         if (!(box_distance2(wa.lo, wa.hi, wb.lo, wb.hi) < best * best)) continue;
         const TriangleVerts &ta = wa.t, &tb = wb.t;
-        // The planes' bound (rounded: a relative 1e-12 of room, far below the 1e-9 asked of the
-        // distance), then the closest points.
+        // The centroid line's and the planes' bounds (rounded: a relative 1e-12 of room, far
+        // below the 1e-9 asked of the distance), then the closest points.
         const double b2 = best * best * (1 - 1e-12);
-        if (plane_bound2(ta, tb) >= b2 || plane_bound2(tb, ta) >= b2 || centre_line_bound2(ta, tb) >= b2) continue;
+        if (centre_line_bound2(ta, tb) >= b2 || plane_bound2(ta, tb) >= b2 || plane_bound2(tb, ta) >= b2) continue;
         ++res.face_pairs;
         Vec3 pa, pb;
         const double d = std::sqrt(disjoint_triangle_distance2(ta, tb, pa, pb));
