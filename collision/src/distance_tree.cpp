@@ -17,17 +17,22 @@ float round_up(double v) {
 
 // The node's box: PCA axes of its faces' vertices (largest spread first), rounded to float, then
 // the centre and half sides measured along those float axes, so the box holds every vertex.
-void fit(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, DistanceNode& node) {
-  Vec3 mean = Vec3::Zero();
-  for (std::size_t i = 0; i < count; ++i)
-    for (const std::uint32_t v : mesh.triangles[faces[i]]) mean += mesh.vertices[v];
-  mean /= static_cast<double>(3 * count);
-  Mat3 cov = Mat3::Zero();
+// Two passes over the vertices: the moments (relative to the first vertex, so the covariance
+// does not cancel far from the origin), then the ranges; when `key` is given, the second pass
+// also writes each face's centroid (times 3) along the first axis, the split's key.
+void fit(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, DistanceNode& node, double* key) {
+  const Vec3 ref = mesh.vertices[mesh.triangles[faces[0]][0]];
+  Vec3 sum = Vec3::Zero();
+  Mat3 sum2 = Mat3::Zero();
   for (std::size_t i = 0; i < count; ++i)
     for (const std::uint32_t v : mesh.triangles[faces[i]]) {
-      const Vec3 d = mesh.vertices[v] - mean;
-      cov += d * d.transpose();
+      const Vec3 d = mesh.vertices[v] - ref;
+      sum += d;
+      sum2 += d * d.transpose();
     }
+  const double nv = static_cast<double>(3 * count);
+  const Vec3 mean = sum / nv;
+  const Mat3 cov = sum2 / nv - mean * mean.transpose();
   Mat3 axes = Mat3::Identity();  // rows
   if (cov.allFinite()) {
     Eigen::SelfAdjointEigenSolver<Mat3> es;
@@ -47,7 +52,8 @@ void fit(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, 
   }
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   double mag = 0;  // largest |coordinate| in play, for the rounding pad
-  for (std::size_t i = 0; i < count; ++i)
+  for (std::size_t i = 0; i < count; ++i) {
+    double k0 = 0;
     for (const std::uint32_t v : mesh.triangles[faces[i]]) {
       const Vec3& p = mesh.vertices[v];
       mag = std::max(mag, p.cwiseAbs().maxCoeff());
@@ -55,8 +61,11 @@ void fit(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, 
         const double s = a[k].dot(p);
         lo[k] = std::min(lo[k], s);
         hi[k] = std::max(hi[k], s);
+        if (k == 0) k0 += s;
       }
     }
+    if (key) key[i] = k0;
+  }
   // Centre: the middle of each range along its axis (the axes nearly orthonormal), in float.
   const Vec3 c = 0.5 * ((lo[0] + hi[0]) * a[0] + (lo[1] + hi[1]) * a[1] + (lo[2] + hi[2]) * a[2]);
   for (int j = 0; j < 3; ++j) node.c[j] = static_cast<float>(c[j]);
@@ -94,7 +103,7 @@ DistanceTree build_distance_tree(const Polyhedron& mesh, std::uint32_t leaf_face
     std::uint32_t* f = tree.faces.data() + w.begin;
     {
       DistanceNode node{};
-      fit(mesh, f, count, node);
+      fit(mesh, f, count, node, count <= leaf_faces ? nullptr : key.data() + w.begin);
       tree.nodes[w.node] = node;
     }
     DistanceNode& node = tree.nodes[w.node];
@@ -104,13 +113,8 @@ DistanceTree build_distance_tree(const Polyhedron& mesh, std::uint32_t leaf_face
       continue;
     }
     // Split along the widest axis at the centroids' mean.
-    const Vec3 a0(node.axis[0][0], node.axis[0][1], node.axis[0][2]);
     double mean = 0;
-    for (std::size_t i = 0; i < count; ++i) {
-      const Triangle& t = mesh.triangles[f[i]];
-      key[w.begin + i] = a0.dot(mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]);
-      mean += key[w.begin + i];
-    }
+    for (std::size_t i = 0; i < count; ++i) mean += key[w.begin + i];
     mean /= static_cast<double>(count);
     std::size_t mid = 0;
     for (std::size_t i = 0; i < count; ++i)
