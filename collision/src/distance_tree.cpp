@@ -15,6 +15,47 @@ float round_up(double v) {
   return f;
 }
 
+// The stored float axes and centre, read back from the node: GCC 12 at -O2 was seen to carry
+// the unrounded doubles past the float stores when all was inlined, and the ranges measured along
+// them missed the stored box by a float rounding (tests/collision/test_distance_tree.cpp).
+[[gnu::noinline]] Vec3 axis_of(const DistanceNode& node, int k) {
+  return Vec3(node.axis[k][0], node.axis[k][1], node.axis[k][2]);
+}
+[[gnu::noinline]] Vec3 centre_of(const DistanceNode& node) { return Vec3(node.c[0], node.c[1], node.c[2]); }
+
+// Centre and half sides along the node's float axes: the ranges of its faces' vertices, padded
+// for the rounding; when `key` is given, each face's centroid (times 3) along the first axis,
+// the split's key.
+void measure(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, DistanceNode& node, double* key) {
+  const Vec3 a[3] = {axis_of(node, 0), axis_of(node, 1), axis_of(node, 2)};
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  double mag = 0;  // largest |coordinate| in play, for the rounding pad
+  for (std::size_t i = 0; i < count; ++i) {
+    double k0 = 0;
+    for (const std::uint32_t v : mesh.triangles[faces[i]]) {
+      const Vec3& p = mesh.vertices[v];
+      mag = std::max(mag, p.cwiseAbs().maxCoeff());
+      for (int k = 0; k < 3; ++k) {
+        const double s = a[k].dot(p);
+        lo[k] = std::min(lo[k], s);
+        hi[k] = std::max(hi[k], s);
+        if (k == 0) k0 += s;
+      }
+    }
+    if (key) key[i] = k0;
+  }
+  // Centre: the middle of each range along its axis (the axes nearly orthonormal), in float.
+  const Vec3 c = 0.5 * ((lo[0] + hi[0]) * a[0] + (lo[1] + hi[1]) * a[1] + (lo[2] + hi[2]) * a[2]);
+  for (int j = 0; j < 3; ++j) node.c[j] = static_cast<float>(c[j]);
+  const Vec3 cf = centre_of(node);
+  for (int k = 0; k < 3; ++k) {
+    const double pc = a[k].dot(cf);
+    // a_k . (v - c) = a_k . v - a_k . c, each rounded within a few ulps of 3 |a| mag: padded.
+    const double pad = 1e-14 * (3 * mag + std::fabs(pc) + 1e-300);
+    node.h[k] = round_up(std::max(hi[k] - pc, pc - lo[k]) + pad);
+  }
+}
+
 // The node's box: PCA axes of its faces' vertices (largest spread first), rounded to float, then
 // the centre and half sides measured along those float axes, so the box holds every vertex.
 // Two passes over the vertices: the moments (relative to the first vertex, so the covariance
@@ -45,37 +86,9 @@ void fit(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, 
       if (!axes.allFinite() || std::fabs(axes.determinant() - 1) > 1e-6) axes = Mat3::Identity();
     }
   }
-  Vec3 a[3];
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 3; ++k)
     for (int j = 0; j < 3; ++j) node.axis[k][j] = static_cast<float>(axes(k, j));
-    a[k] = Vec3(node.axis[k][0], node.axis[k][1], node.axis[k][2]);
-  }
-  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
-  double mag = 0;  // largest |coordinate| in play, for the rounding pad
-  for (std::size_t i = 0; i < count; ++i) {
-    double k0 = 0;
-    for (const std::uint32_t v : mesh.triangles[faces[i]]) {
-      const Vec3& p = mesh.vertices[v];
-      mag = std::max(mag, p.cwiseAbs().maxCoeff());
-      for (int k = 0; k < 3; ++k) {
-        const double s = a[k].dot(p);
-        lo[k] = std::min(lo[k], s);
-        hi[k] = std::max(hi[k], s);
-        if (k == 0) k0 += s;
-      }
-    }
-    if (key) key[i] = k0;
-  }
-  // Centre: the middle of each range along its axis (the axes nearly orthonormal), in float.
-  const Vec3 c = 0.5 * ((lo[0] + hi[0]) * a[0] + (lo[1] + hi[1]) * a[1] + (lo[2] + hi[2]) * a[2]);
-  for (int j = 0; j < 3; ++j) node.c[j] = static_cast<float>(c[j]);
-  const Vec3 cf(node.c[0], node.c[1], node.c[2]);
-  for (int k = 0; k < 3; ++k) {
-    const double pc = a[k].dot(cf);
-    // a_k . (v - c) = a_k . v - a_k . c, each rounded within a few ulps of 3 |a| mag: padded.
-    const double pad = 1e-14 * (3 * mag + std::fabs(pc) + 1e-300);
-    node.h[k] = round_up(std::max(hi[k] - pc, pc - lo[k]) + pad);
-  }
+  measure(mesh, faces, count, node, key);
 }
 
 }  // namespace
