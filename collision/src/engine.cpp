@@ -485,7 +485,8 @@ struct Engine::Impl {
   }
 
   // A pair of leaves of the distance trees (the bodies are known apart: no face pair meets):
-  // each face pair whose world boxes and planes' bound are nearer than `best` is measured.
+  // each face pair whose world boxes, centroid line and planes' bounds are nearer than `best` is
+  // measured. Leaves hold at most kDistanceLeafFaces faces (the engine's trees are built so).
   void distance_leaf_pair(Body& a, Body& b, const DistanceNode& x, const DistanceNode& y, double& best,
                           DistanceResult& res) {
     const std::uint32_t* fas = a.distance_tree->faces.data() + x.first;
