@@ -146,7 +146,7 @@ struct DistanceBound {
     // boxes' supports, |d| - sum |u.a_k| h_k - sum |u.b_j| h_j (tight for boxes small against
     // their distance, whatever their turn).
     const V2 s = vmax(s1, s2);
-    V2 lb, line;
+    V2 lb{0, 0}, line{0, 0};
     for (int l = 0; l < 2; ++l) {
       lb[l] = std::sqrt(s[l]);
       line[l] = dd[l] > sup[l] ? (dd[l] - sup[l]) / std::sqrt(dd[l]) : 0.0;
