@@ -359,6 +359,7 @@ struct DistanceRow {
   int contact = 0, agree = 0, containment = 0, other = 0;
   double max_rel = 0;  // largest relative difference of the distances where both measured one
   double face_pairs = 0;  // ours: mean face pairs measured per query
+  double node_pairs = 0;  // ours: mean box pairs of the distance trees bounded per query
   double ratio() const { return ours.median / peer.median; }
   double mean_ratio() const { return ours.mean / peer.mean; }
 };
@@ -399,6 +400,7 @@ DistanceRow distance_row(const std::string& name, const Polyhedron& fixed, const
     const bool oc = ours[i].status == collision::DistanceStatus::contact;
     row.contact += oc;
     row.face_pairs += static_cast<double>(ours[i].face_pairs) / static_cast<double>(poses.size());
+    row.node_pairs += static_cast<double>(ours[i].node_pairs) / static_cast<double>(poses.size());
     if (oc && peer[i] <= kTouchMm) {
       ++row.agree;
     } else if (!oc) {
@@ -418,9 +420,9 @@ DistanceRow distance_row(const std::string& name, const Polyhedron& fixed, const
 
 void print(const DistanceRow& r) {
   std::printf("%-48s %6zu  ours %8.2f %8.2f %8.2f  fcl %8.2f %8.2f %8.2f  ratio %5.2f (mean %4.2f)  contact %d  "
-              "agree %d (containment %d, other %d, max rel diff %.1e)  face pairs %.1f\n",
+              "agree %d (containment %d, other %d, max rel diff %.1e)  face pairs %.1f  node pairs %.0f\n",
               r.name.c_str(), r.queries, r.ours.median, r.ours.p95, r.ours.mean, r.peer.median, r.peer.p95, r.peer.mean,
-              r.ratio(), r.mean_ratio(), r.contact, r.agree, r.containment, r.other, r.max_rel, r.face_pairs);
+              r.ratio(), r.mean_ratio(), r.contact, r.agree, r.containment, r.other, r.max_rel, r.face_pairs, r.node_pairs);
   std::fflush(stdout);
 }
 
@@ -565,7 +567,8 @@ int main(int argc, char** argv) {
                  {"ours_p95_us", r.ours.p95}, {"ours_mean_us", r.ours.mean}, {"peer_p95_us", r.peer.p95},
                  {"peer_mean_us", r.peer.mean}, {"mean_ratio", r.mean_ratio()}, {"queries", r.queries},
                  {"contact", r.contact}, {"disagree_containment", r.containment}, {"disagree_other", r.other},
-                 {"max_relative_difference", r.max_rel}, {"mean_face_pairs", r.face_pairs}});
+                 {"max_relative_difference", r.max_rel}, {"mean_face_pairs", r.face_pairs},
+                 {"mean_node_pairs", r.node_pairs}});
   for (const BigRow& r : big) {
     nlohmann::json row = {{"name", "big mesh preprocessing, " + std::to_string(r.faces) + " faces"},
                           {"ours_us", r.ours_ms * 1e3}, {"peer", "fcl BVHModel<OBBRSS> build"},

@@ -1,15 +1,10 @@
-// Distance query, step 3 [ours]: branch and bound over both bodies' halvings trees
-// (voxel_grid.hpp), in double. A pair of nodes is dropped when a lower bound on the distance
-// between their boxes is not below the best distance found so far (or the cut-off); children
-// are expanded nearest first. Header-only so the engine's leaf visitor inlines.
+// Distance query, step 2 [ours]: a lower bound on the distance of two bodies' containers (or
+// any two local axis-aligned boxes), in double, before any tree is built. The descent over the
+// faces is distance_tree.hpp.
 #pragma once
-#include "voxel_grid.hpp"
+#include "minimax.hpp"
 
-#include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdint>
-#include <vector>
 
 namespace asimov::collision {
 
@@ -39,56 +34,5 @@ struct DistanceNodeTest {
     return std::sqrt(s1 > s2 ? s1 : s2) - slack;
   }
 };
-
-// A pair of nodes waiting in the distance descent: refs, boxes, and their lower bound.
-struct DistanceEntry {
-  std::uint32_t x, y;
-  Vec3 xc, xh, yc, yh;
-  double lb;
-};
-
-// Best first from the roots: the pair with the smallest bound is expanded next (a heap in
-// `heap`, reused between queries), splitting the node with the larger box, so only node pairs
-// whose bound is below the final distance are ever expanded. `leaf(va, vb)` is called for every
-// pair of non-empty voxels whose bound is below `best` (which it may lower).
-template <class Leaf>
-void descend_distance(const VoxelGrid& ga, const VoxelGrid& gb, const DistanceNodeTest& nt, const double& best,
-                      std::vector<DistanceEntry>& heap, Leaf&& leaf) {
-  heap.clear();
-  if (ga.root == VoxelGrid::kNoRoot || gb.root == VoxelGrid::kNoRoot) return;
-  auto vec = [](const std::array<float, 3>& a) { return Vec3(a[0], a[1], a[2]); };
-  auto farther = [](const DistanceEntry& p, const DistanceEntry& q) { return p.lb > q.lb; };
-  DistanceEntry root{ga.root, gb.root, vec(ga.root_centre), vec(ga.root_half), vec(gb.root_centre), vec(gb.root_half), 0};
-  root.lb = nt.lower_bound(root.xc, root.xh, root.yc, root.yh);
-  if (!(root.lb < best)) return;
-  heap.push_back(root);
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), farther);
-    const DistanceEntry cur = heap.back();
-    heap.pop_back();
-    if (!(cur.lb < best)) return;  // the smallest bound left: nothing nearer remains
-    const bool x_leaf = (cur.x & TreeNode::kLeaf) != 0, y_leaf = (cur.y & TreeNode::kLeaf) != 0;
-    if (x_leaf && y_leaf) {
-      leaf(cur.x & ~TreeNode::kLeaf, cur.y & ~TreeNode::kLeaf);
-      continue;
-    }
-    const bool split_a = !x_leaf && (y_leaf || cur.xh.sum() >= cur.yh.sum());
-    const TreeNode& node = split_a ? ga.tree[cur.x] : gb.tree[cur.y];
-    for (std::size_t s = 0; s < 4; ++s) {
-      if (node.child[s] == TreeNode::kNone) continue;
-      DistanceEntry e = cur;
-      const Vec3 c(node.cx[s], node.cy[s], node.cz[s]), h(node.hx[s], node.hy[s], node.hz[s]);
-      if (split_a) {
-        e.x = node.child[s], e.xc = c, e.xh = h;
-      } else {
-        e.y = node.child[s], e.yc = c, e.yh = h;
-      }
-      e.lb = nt.lower_bound(e.xc, e.xh, e.yc, e.yh);
-      if (!(e.lb < best)) continue;
-      heap.push_back(e);
-      std::push_heap(heap.begin(), heap.end(), farther);
-    }
-  }
-}
 
 }  // namespace asimov::collision

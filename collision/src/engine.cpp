@@ -7,6 +7,7 @@
 #include "container_gap.hpp"
 #include "containment.hpp"
 #include "distance_descent.hpp"
+#include "distance_tree.hpp"
 #include "face_distance.hpp"
 #include "face_plane.hpp"
 #include "face_test.hpp"
@@ -87,6 +88,7 @@ struct Body {
   bool closed = false;              // containment applies (§6.1)
   std::vector<std::vector<std::uint32_t>> shells;  // per shell, a few of its vertices (shell_samples)
   std::optional<VoxelGrid> grid;    // step 3, built on first use
+  std::unique_ptr<DistanceTree> distance_tree;  // the distance query's face tree, built on first use
   std::vector<Vec3> world;          // world vertices, all valid when world_version == version
   std::uint64_t world_version = 0;  //   (allocated on the first full mapping: the exact containment test)
   // Else vertex i mapped alone (step 4), valid when its page's version[i % kVertexPage] ==
@@ -157,9 +159,6 @@ struct Engine::Impl {
   };
   std::vector<Kept> a_faces;
   TestedPairs<> tested;
-  // The distance query measures far more face pairs than a collision query tests (every pair
-  // whose boxes are nearer than the best so far): 64 Ki slots, so repeats stay rare.
-  TestedPairs<16> measured;
 
   static bool never_tested(const Body& a, const Body& b) {
     return (a.def.group >= 0 && a.def.group == b.def.group) || (a.def.is_static && b.def.is_static);
@@ -456,18 +455,7 @@ struct Engine::Impl {
   }
 
   // --- distance query (docs/collision.md §11) ---
-  // A voxel pair of the distance descent (the bodies are known apart: no face pair meets): every
-  // face pair not measured yet in this query whose world boxes are nearer than `best`, nearest
-  // boxes first (best falls fast, the rest are then dropped by their boxes). Never stops the
-  // descent (returns false).
-  struct Candidate {
-    double lb2;
-    std::uint32_t fa, fb;
-    const WorldFace *wa, *wb;
-  };
-  std::vector<Candidate> candidates;
-  std::vector<DistanceEntry> heap;  // the distance descent's pending node pairs
-  std::vector<std::pair<std::uint32_t, const WorldFace*>> kept_b;
+  std::vector<DistancePair> distance_stack;  // the distance descent's pending node pairs
 
   // Squared distance from t's vertices to the plane of s when all lie strictly on one side
   // (a lower bound on the faces' squared distance), else 0.
@@ -483,60 +471,59 @@ struct Engine::Impl {
     return m * m / nn;
   }
 
-  bool distance_voxel_pair(BodyId ia, BodyId ib, std::uint32_t va, std::uint32_t vb, double& best,
-                           DistanceResult& res) {
-    Body& a = bodies[ia];
-    Body& b = bodies[ib];
-    const auto fas = a.grid->faces_in(va);
-    const auto fbs = b.grid->faces_in(vb);
-    // Each voxel's content box as a world axis-aligned box: a face whose world box is no nearer
-    // than `best` to the other voxel's has no pair nearer here (the other face's part in its
-    // voxel lies in that box, and only parts inside the voxels need to be near: §11).
-    auto world_aabb = [](const Body& x, const Box& local, Vec3& lo, Vec3& hi) {
-      const Vec3 c = x.pose * (0.5 * (local.lo + local.hi));
-      const Vec3 h = x.pose.linear().cwiseAbs() * (0.5 * (local.hi - local.lo));
-      lo = c - h, hi = c + h;
-    };
-    Vec3 alo, ahi, blo, bhi;
-    world_aabb(a, a.grid->content[va], alo, ahi);
-    world_aabb(b, b.grid->content[vb], blo, bhi);
-    const double bb = best * best;
-    kept_b.clear();
-    for (const std::uint32_t fb : fbs) {
-      const WorldFace& wb = world_face(b, fb);
-      if (box_distance2(alo, ahi, wb.lo, wb.hi) < bb) kept_b.push_back({fb, &wb});
+  // Squared gap of the triangles' projections on the line of their centroids (a lower bound on
+  // their squared distance), 0 when the projections overlap. Coordinates relative to s[0], so the
+  // rounding scales with the triangles and their distance, not with their place.
+  static double centre_line_bound2(const TriangleVerts& s, const TriangleVerts& t) {
+    const Vec3 t0 = t[0] - s[0], t1 = t[1] - s[0], t2 = t[2] - s[0];
+    const Vec3 s1 = s[1] - s[0], s2 = s[2] - s[0];
+    const Vec3 u = t0 + t1 + t2 - s1 - s2;  // 3 (centroid of t - centroid of s)
+    const double hi_s = std::max({0.0, u.dot(s1), u.dot(s2)});
+    const double lo_t = std::min({u.dot(t0), u.dot(t1), u.dot(t2)});
+    const double g = lo_t - hi_s, uu = u.squaredNorm();
+    return g > 0 && uu > 0 ? g * g / uu : 0.0;
+  }
+
+  // A pair of leaves of the distance trees (the bodies are known apart: no face pair meets):
+  // each face pair whose world boxes, centroid line and planes' bounds are nearer than `best` is
+  // measured. Leaves hold at most kDistanceLeafFaces faces (the engine's trees are built so).
+  void distance_leaf_pair(Body& a, Body& b, const DistanceNode& x, const DistanceNode& y, double& best,
+                          DistanceResult& res) {
+    const std::uint32_t* fas = a.distance_tree->faces.data() + x.first;
+    const std::uint32_t* fbs = b.distance_tree->faces.data() + y.first;
+    const std::uint32_t na = x.count(), nb = y.count();
+    // B's world faces once per leaf pair, and their union box: an A face no nearer to it than
+    // best skips the whole row.
+    std::array<const WorldFace*, kDistanceLeafFaces> wbs;
+    Vec3 ulo = Vec3::Constant(INFINITY), uhi = Vec3::Constant(-INFINITY);
+    for (std::uint32_t j = 0; j < nb; ++j) {
+      wbs[j] = &world_face(b, fbs[j]);
+      ulo = ulo.cwiseMin(wbs[j]->lo);
+      uhi = uhi.cwiseMax(wbs[j]->hi);
     }
-    candidates.clear();
-    if (kept_b.empty()) return false;
-    for (const std::uint32_t fa : fas) {
-      const WorldFace& wa = world_face(a, fa);
-      if (!(box_distance2(wa.lo, wa.hi, blo, bhi) < bb)) continue;
-      for (const auto& [fb, wb] : kept_b) {
-        const double lb2 = box_distance2(wa.lo, wa.hi, wb->lo, wb->hi);
-        if (lb2 < bb) candidates.push_back({lb2, fa, fb, &wa, wb});
+    for (std::uint32_t i = 0; i < na; ++i) {
+      const WorldFace& wa = world_face(a, fas[i]);
+      if (!(box_distance2(wa.lo, wa.hi, ulo, uhi) < best * best)) continue;
+      for (std::uint32_t j = 0; j < nb; ++j) {
+        const WorldFace& wb = *wbs[j];
+        if (!(box_distance2(wa.lo, wa.hi, wb.lo, wb.hi) < best * best)) continue;
+        const TriangleVerts &ta = wa.t, &tb = wb.t;
+        // The centroid line's and the planes' bounds (rounded: a relative 1e-12 of room, far
+        // below the 1e-9 asked of the distance), then the closest points.
+        const double b2 = best * best * (1 - 1e-12);
+        if (centre_line_bound2(ta, tb) >= b2 || plane_bound2(ta, tb) >= b2 || plane_bound2(tb, ta) >= b2) continue;
+        ++res.face_pairs;
+        Vec3 pa, pb;
+        const double d = std::sqrt(disjoint_triangle_distance2(ta, tb, pa, pb));
+        if (d < best) {
+          best = d;
+          res.status = DistanceStatus::exact;
+          res.distance = d;
+          res.face_a = fas[i], res.face_b = fbs[j];
+          res.point_a = pa, res.point_b = pb;
+        }
       }
     }
-    std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) { return x.lb2 < y.lb2; });
-    for (const Candidate& c : candidates) {
-      if (!(c.lb2 < best * best)) break;
-      if (measured.seen_or_insert(c.fa, c.fb)) continue;
-      const TriangleVerts &ta = c.wa->t, &tb = c.wb->t;
-      // The planes' bound (rounded: a relative 1e-12 of room, far below the 1e-9 asked of the
-      // distance), then the closest points.
-      const double b2 = best * best * (1 - 1e-12);
-      if (plane_bound2(ta, tb) >= b2 || plane_bound2(tb, ta) >= b2) continue;
-      ++res.face_pairs;
-      Vec3 pa, pb;
-      const double d = std::sqrt(disjoint_triangle_distance2(ta, tb, pa, pb));
-      if (d < best) {
-        best = d;
-        res.status = DistanceStatus::exact;
-        res.distance = d;
-        res.face_a = c.fa, res.face_b = c.fb;
-        res.point_a = pa, res.point_b = pb;
-      }
-    }
-    return false;
   }
 
   DistanceResult distance_pair(BodyId ia, BodyId ib, double upper) {
@@ -590,10 +577,13 @@ struct Engine::Impl {
     }
     preprocess(a);
     preprocess(b);
+    for (Body* x : {&a, &b})
+      if (!x->distance_tree) x->distance_tree = std::make_unique<DistanceTree>(build_distance_tree(x->mesh()));
     double best = upper;
-    measured.next_body_pair();
-    descend_distance(*a.grid, *b.grid, nt, best, heap,
-                     [&](std::uint32_t va, std::uint32_t vb) { distance_voxel_pair(ia, ib, va, vb, best, res); });
+    descend_distance_tree(*a.distance_tree, *b.distance_tree, DistanceBound(a_from_b, 2 * margin), best,
+                          distance_stack, res.node_pairs, [&](const DistanceNode& x, const DistanceNode& y) {
+                            distance_leaf_pair(a, b, x, y, best, res);
+                          });
     if (res.status != DistanceStatus::exact) res.distance = upper;  // nothing nearer than the cut-off
     return res;
   }

@@ -30,6 +30,7 @@ struct DistanceResult {
   Vec3 point_b = Vec3::Zero();           //   face_b, |point_a - point_b| = distance (contact: the
                                          //   contact point, or the inner body's vertex)
   std::uint64_t face_pairs = 0;          // face pairs whose distance was computed (cost)
+  std::uint64_t node_pairs = 0;          // box pairs of the two distance trees bounded (cost)
 };
 
 }  // namespace asimov::collision
