@@ -73,6 +73,7 @@ class Checker {
   CheckResult run() {
     for (std::size_t i = 0; i < src_.lines.size(); ++i) {
       line_ = static_cast<int>(i) + 1;
+      line_errors_ = 0;
       const ast::Line& l = src_.lines[i];
       column_ = l.column;
       if (l.data) {
@@ -110,6 +111,13 @@ class Checker {
  private:
   // --- diagnostics ---------------------------------------------------------------------
   void error_at(int line, int column, std::string detail) {
+    // A statement of 10^6 operators may hold as many errors (`$a * $a * ...`), each with a
+    // copy of its line: past what a LOAD reports (kMaxLoadErrors, the first ones of a line come
+    // first) they are only counted, so the report is the same and the memory linear.
+    if (line == line_ && line_errors_++ >= kMaxLoadErrors) {
+      ++out_.unreported;
+      return;
+    }
     Diagnostic d;
     d.message = "*Syntax error*";
     d.detail = std::move(detail);
@@ -528,7 +536,7 @@ class Checker {
   // string, 'r' real; 0 when only the run tells (a variable without prefix, an operator).
   static char location_kind(const Node& n) {
     if (n.kind == NodeKind::variable && n.text[0] == '#') return 'p';
-    if (n.kind == NodeKind::binary && n.op == ast::Op::compound) return 't';
+    if (n.kind == NodeKind::chain && n.ops[0] == ast::Op::compound) return 't';
     if (n.kind == NodeKind::function) switch (n.func) {
         case Func::ppoint: case Func::pdest: return 'p';
         case Func::trans: case Func::here: case Func::dest: case Func::null: case Func::inverse:
@@ -819,6 +827,7 @@ class Checker {
   CheckResult out_;
   std::shared_ptr<const std::vector<std::string>> text_;
   int line_ = 0, column_ = 1;
+  std::size_t line_errors_ = 0;         // errors of line_ so far
   int joint_count_ = 6;
   Kw data_kind_ = Kw::none;             // the open data section, if any
   int data_start_ = 0;                  // and its line
