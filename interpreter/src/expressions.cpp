@@ -46,6 +46,13 @@ Node ExpressionCompiler::climb(Node lhs, const std::vector<ast::Operation>& rest
     if (!own || precedence(lhs.ops[0]) != p) {  // a new chain, with lhs as its first operand
       Node chain;
       chain.kind = NodeKind::chain;
+      // Its length, counted ahead (up to the first weaker operator; every operator is counted
+      // by at most one chain per level): reserved, the vectors do not grow by doubling, which
+      // held up to three times the chain's nodes while it moved them.
+      std::size_t length = 2;  // lhs and rhs, then the operators of this level still ahead
+      for (std::size_t j = pos; j < rest.size() && precedence(rest[j].op) >= p; ++j) length += precedence(rest[j].op) == p;
+      chain.kids.reserve(length);
+      chain.ops.reserve(length - 1);
       chain.kids.push_back(std::move(lhs));
       lhs = std::move(chain);
       own = true;
