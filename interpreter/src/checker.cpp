@@ -114,10 +114,10 @@ class Checker {
     // A statement of 10^6 operators may hold as many errors (`$a * $a * ...`), each with a
     // copy of its line: past what a LOAD reports (kMaxLoadErrors, the first ones of a line come
     // first) they are only counted, so the report is the same and the memory linear.
-    if (line == line_ && line_errors_++ >= kMaxLoadErrors) {
-      ++out_.unreported;
-      return;
-    }
+    if (line == line_ && unreported()) return;
+    report(line, column, std::move(detail));
+  }
+  void report(int line, int column, std::string detail) {
     Diagnostic d;
     d.message = "*Syntax error*";
     d.detail = std::move(detail);
@@ -130,6 +130,12 @@ class Checker {
     }
     d.source_line = src_.text[static_cast<std::size_t>(line - 1)];
     out_.errors.push_back(std::move(d));
+  }
+  // Counts an error of the current line; true when it is past what is reported (error_at).
+  bool unreported() {
+    if (line_errors_++ < kMaxLoadErrors) return false;
+    ++out_.unreported;
+    return true;
   }
   void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
   // The 1-based column of the first `name(` (case-insensitive, a whole word) of the current
@@ -840,7 +846,9 @@ class Checker {
   std::map<unsigned, LabelInfo> labels_;
   std::vector<Goto> gotos_;
   ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail, const std::string& near) {
-    error_at(line_, near.empty() ? column_ : column_of(near), std::move(detail));
+    // Counted before the column is looked for: column_of reads the whole line, and a line may
+    // hold 10^6 unknown functions.
+    if (!unreported()) report(line_, near.empty() ? column_ : column_of(near), std::move(detail));
   }};
 };
 

@@ -230,6 +230,17 @@ TEST_CASE("an error at each of 10^6 operators: 20 reported, the rest counted", "
   CHECK(d.back().detail == fmt::format("{} more not reported (at most 20 per LOAD)", kMillion - 20));
 }
 
+TEST_CASE("10^5 unknown functions in a chain: the caret's search stops with the reported errors", "[hostile][expressions]") {
+  // Each error under a function name looks for its column in the whole line: 10^5 searches of
+  // a 1.2 MB line are 10^11 characters read; past the 20 reported only the count is kept.
+  InterpreterFixture f;
+  const auto d = f.load(program("x = 0" + repeat(" + NOSUCH(1)", kLong)));
+  REQUIRE(d.size() == interpreter::kMaxLoadErrors + 1);
+  CHECK(d[0].detail == "unknown function NOSUCH");
+  CHECK(d[0].column == 11);  // the first one, as written
+  CHECK(d.back().detail == fmt::format("{} more not reported (at most 20 per LOAD)", kLong - 20));
+}
+
 TEST_CASE("just inside the nesting limit: parsed, checked and run", "[hostile][expressions]") {
   {
     InterpreterFixture f;  // 60 parentheses around a sum of 900 terms
