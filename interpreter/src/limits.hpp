@@ -24,8 +24,8 @@ constexpr std::size_t kMaxDataBytes = std::size_t{256} << 20;
 // (a run of binary operators is one n-ary node, walked by loops: code.hpp); a statement past
 // these limits is refused at load with *Expression too complex* (docs/limits.md). Nesting: far
 // above what a person writes, far below what the stack holds, also under AddressSanitizer.
-// Operators: only memory bounds them (about 300 bytes each while loading, docs/limits.md), so
-// that one 64 MiB line cannot take gigabytes.
+// Operators: only memory bounds them (about 320 bytes each while loading, docs/limits.md): one
+// statement stays within about 3 GB, where a 64 MiB line could take 10.
 constexpr int kMaxExpressionNesting = 64;            // parentheses, brackets, calls and signs inside one another
 constexpr int kMaxExpressionOperators = 10'000'000;  // operators in one statement
 

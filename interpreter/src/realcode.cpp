@@ -61,25 +61,23 @@ inline bool int_mod(double x, double y, double& out) {
   return true;
 }
 
-template <Op op, K l, K r>
-double binary(const RNode& n, const FastCtx& c) {
-  const double x = get<l>(n.a, c);  // left before right, as the generic path
-  const double y = get<r>(n.b, c);
+template <Op op>
+inline double apply(double x, double y) {
   if constexpr (op == Op::mod)
     if (double m; x > -2147483648.0 && x < 2147483648.0 && y > -2147483648.0 && y < 2147483648.0 && int_mod(x, y, m))
       return m;
   return real_binary(op, x, y);
 }
 
-// acc op operand, one step of a chain (the same as binary, with the left side already known).
-template <Op op, K r>
-double step(double x, const RStep& s, const FastCtx& c) {
-  const double y = get<r>(s.operand, c);
-  if constexpr (op == Op::mod)
-    if (double m; x > -2147483648.0 && x < 2147483648.0 && y > -2147483648.0 && y < 2147483648.0 && int_mod(x, y, m))
-      return m;
-  return real_binary(op, x, y);
+template <Op op, K l, K r>
+double binary(const RNode& n, const FastCtx& c) {
+  const double x = get<l>(n.a, c);  // left before right, as the generic path
+  return apply<op>(x, get<r>(n.b, c));
 }
+
+// acc op operand, one step of a chain (binary with the left side already known).
+template <Op op, K r>
+double step(double x, const RStep& s, const FastCtx& c) { return apply<op>(x, get<r>(s.operand, c)); }
 
 // A chain of more than one operator: left to right, as the generic path.
 template <K first>
