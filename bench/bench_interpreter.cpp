@@ -9,6 +9,9 @@
 //    when `lua5.4` is not on PATH.
 // 2. LOAD (parse + check) of a generated 100,000-line program (programs of 100 lines with
 //    assignments, IF blocks, FOR loops and CALLs): CPU time, median of 3.
+// 3. Chains of operators (issue 17): one statement `x = 0 + 1 + 1 ...`, `x = 1 == 1 == ...` and
+//    `$s = "a" + "" + "" ...` of 10^4, 10^5 and 10^6 terms, LOAD and run of the one program in
+//    CPU time, median of 3; us_per_term staying flat from 10^4 to 10^6 is the linear cost.
 // Writes bench/results/interpreter.json (or argv[1]) and prints a table.
 #include "cpu_time.hpp"
 #include "asimov/interpreter/interpreter.hpp"
@@ -162,6 +165,35 @@ std::string generated_source(int lines) {
   return src;
 }
 
+struct ChainRow {
+  std::string kind;
+  int terms;
+  double load_us, run_us;
+};
+
+// LOAD and run of `.PROGRAM chain()` holding `head` followed by `terms - 1` times `step`.
+ChainRow chain_row(const std::string& kind, const std::string& head, const std::string& step, int terms) {
+  std::string src = ".PROGRAM chain()\n    " + head;
+  src.reserve(src.size() + step.size() * static_cast<std::size_t>(terms) + 16);
+  for (int i = 1; i < terms; ++i) src += step;
+  src += "\n.END\n";
+  std::vector<double> load, run;
+  for (int k = 0; k < 3; ++k) {
+    motion::Simulator sim(puma_cell());
+    std::ostringstream out;
+    interpreter::Interpreter interp(sim, out);
+    const double t0 = cpu_us();
+    if (!interp.load_source(src, "chain.v2").empty()) throw std::runtime_error("chain.v2 does not load: " + kind);
+    const double t1 = cpu_us();
+    const interpreter::RunResult r = interp.run("chain");
+    const double t2 = cpu_us();
+    if (r.status != interpreter::RunStatus::completed) throw std::runtime_error(interpreter::format_diagnostic(r.error));
+    load.push_back(t1 - t0);
+    run.push_back(t2 - t1);
+  }
+  return {kind, terms, median(load), median(run)};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -210,6 +242,14 @@ int main(int argc, char** argv) {
   }
   const double parse_us = median(parse);
 
+  // 3. Chains of 10^4, 10^5, 10^6 terms.
+  std::vector<ChainRow> chains;
+  for (int terms : {10'000, 100'000, 1'000'000}) {
+    chains.push_back(chain_row("x = 0 + 1 + 1 ...", "x = 0", " + 1", terms));
+    chains.push_back(chain_row("x = 1 == 1 == ...", "x = 1", " == 1", terms));
+    chains.push_back(chain_row("$s = \"a\" + \"\" + ...", "$s = \"a\"", " + \"\"", terms));
+  }
+
   std::string json = "[\n";
   if (have_lua) {
     const double peer_us = median(peer);
@@ -226,8 +266,17 @@ int main(int argc, char** argv) {
   json += "\n";
   json += fmt::format(R"J(  {{"name": "LOAD (parse + check) of a generated {}-line program", "ours_us": {:.1f}, "ours_worst_us": {:.1f}, "lines": {}, "us_per_line": {:.3f}, "runs": 3}})J",
                       line_count, parse_us, *std::max_element(parse.begin(), parse.end()), line_count, parse_us / static_cast<double>(line_count));
-  json += "\n]\n";
   std::printf("LOAD of %ld lines: %.1f ms (%.2f us/line)\n", line_count, parse_us / 1e3, parse_us / static_cast<double>(line_count));
+  for (const ChainRow& c : chains) {
+    const double per_term = (c.load_us + c.run_us) / c.terms;
+    std::string kind;  // the statement, as a JSON string
+    for (char ch : c.kind) kind += ch == '"' ? std::string("\\\"") : std::string(1, ch);
+    json += fmt::format(",\n  {{\"name\": \"one statement {} of {} terms (LOAD + run)\", \"terms\": {}, \"load_us\": {:.1f}, \"run_us\": {:.1f}, \"us_per_term\": {:.3f}, \"runs\": 3}}",
+                        kind, c.terms, c.terms, c.load_us, c.run_us, per_term);
+    std::printf("chain %-24s %8d terms: LOAD %8.1f ms, run %7.1f ms (%.3f us/term)\n", c.kind.c_str(), c.terms, c.load_us / 1e3,
+                c.run_us / 1e3, per_term);
+  }
+  json += "\n]\n";
   std::ofstream(out_path) << json;
   std::printf("wrote %s\n", out_path.string().c_str());
   return 0;

@@ -73,6 +73,7 @@ class Checker {
   CheckResult run() {
     for (std::size_t i = 0; i < src_.lines.size(); ++i) {
       line_ = static_cast<int>(i) + 1;
+      line_errors_ = 0;
       const ast::Line& l = src_.lines[i];
       column_ = l.column;
       if (l.data) {
@@ -110,6 +111,13 @@ class Checker {
  private:
   // --- diagnostics ---------------------------------------------------------------------
   void error_at(int line, int column, std::string detail) {
+    // A statement of 10^6 operators may hold as many errors (`$a * $a * ...`), each with a
+    // copy of its line: past what a LOAD reports (kMaxLoadErrors, the first ones of a line come
+    // first) they are only counted, so the report is the same and the memory linear.
+    if (line == line_ && unreported()) return;
+    report(line, column, std::move(detail));
+  }
+  void report(int line, int column, std::string detail) {
     Diagnostic d;
     d.message = "*Syntax error*";
     d.detail = std::move(detail);
@@ -122,6 +130,12 @@ class Checker {
     }
     d.source_line = src_.text[static_cast<std::size_t>(line - 1)];
     out_.errors.push_back(std::move(d));
+  }
+  // Counts an error of the current line; true when it is past what is reported (error_at).
+  bool unreported() {
+    if (line_errors_++ < kMaxLoadErrors) return false;
+    ++out_.unreported;
+    return true;
   }
   void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
   // The 1-based column of the first `name(` (case-insensitive, a whole word) of the current
@@ -528,7 +542,7 @@ class Checker {
   // string, 'r' real; 0 when only the run tells (a variable without prefix, an operator).
   static char location_kind(const Node& n) {
     if (n.kind == NodeKind::variable && n.text[0] == '#') return 'p';
-    if (n.kind == NodeKind::binary && n.op == ast::Op::compound) return 't';
+    if (n.kind == NodeKind::chain && n.ops[0] == ast::Op::compound) return 't';
     if (n.kind == NodeKind::function) switch (n.func) {
         case Func::ppoint: case Func::pdest: return 'p';
         case Func::trans: case Func::here: case Func::dest: case Func::null: case Func::inverse:
@@ -819,6 +833,7 @@ class Checker {
   CheckResult out_;
   std::shared_ptr<const std::vector<std::string>> text_;
   int line_ = 0, column_ = 1;
+  std::size_t line_errors_ = 0;         // errors of line_ so far
   int joint_count_ = 6;
   Kw data_kind_ = Kw::none;             // the open data section, if any
   int data_start_ = 0;                  // and its line
@@ -831,7 +846,9 @@ class Checker {
   std::map<unsigned, LabelInfo> labels_;
   std::vector<Goto> gotos_;
   ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail, const std::string& near) {
-    error_at(line_, near.empty() ? column_ : column_of(near), std::move(detail));
+    // Counted before the column is looked for: column_of reads the whole line, and a line may
+    // hold 10^6 unknown functions.
+    if (!unreported()) report(line_, near.empty() ? column_ : column_of(near), std::move(detail));
   }};
 };
 

@@ -29,6 +29,7 @@ struct CheckResult {
   std::vector<DataItem> data;                         // data sections, in file order
   std::size_t data_bytes = 0;                         // what their array elements will be charged
   std::vector<Diagnostic> errors;
+  std::size_t unreported = 0;                         // errors past kMaxLoadErrors in one line, only counted
 };
 
 // `joint_count`: values of a precision point in a .LOCATIONS section.

@@ -65,7 +65,7 @@ bool straight_path(Code code) { return kStraight[static_cast<std::size_t>(code)]
 
 void mark_plain(Node& n) {
   bool plain = n.kind == NodeKind::number || n.kind == NodeKind::variable
-      || n.kind == NodeKind::unary || (n.kind == NodeKind::binary && n.op != ast::Op::compound);
+      || n.kind == NodeKind::unary || (n.kind == NodeKind::chain && n.ops[0] != ast::Op::compound);  // ':' is a level of its own
   if (n.kind == NodeKind::variable && n.subscripted && n.kids.empty()) plain = false;  // a[]
   for (Node& k : n.kids) {
     mark_plain(k);
@@ -90,9 +90,16 @@ StaticKind static_kind(const Node& n) {
         default: return StaticKind::real;
       }
     }
-    case NodeKind::binary:
-      if (n.op != ast::Op::add) return binary_kind(n.op, StaticKind::unknown, StaticKind::unknown);
-      return binary_kind(n.op, static_kind(n.kids[0]), static_kind(n.kids[1]));
+    case NodeKind::chain: {
+      // The fold of binary_kind over the chain, from its last operator that is not '+' (an
+      // operator other than '+' decides alone), so only the operands after it are looked at;
+      // once unknown, always unknown.
+      std::size_t i = n.ops.size();
+      while (i > 0 && n.ops[i - 1] == ast::Op::add) --i;
+      StaticKind k = i > 0 ? binary_kind(n.ops[i - 1], StaticKind::unknown, StaticKind::unknown) : static_kind(n.kids[0]);
+      for (; i < n.ops.size() && k != StaticKind::unknown; ++i) k = binary_kind(ast::Op::add, k, static_kind(n.kids[i + 1]));
+      return k;
+    }
     case NodeKind::absent: break;
   }
   return StaticKind::unknown;

@@ -19,13 +19,17 @@ struct Ref {
   int slot = -1;                // index into the globals or the frame's slots (params, AUTO)
 };
 
-enum class NodeKind : unsigned char { number, string, variable, unary, binary, function, encode, absent };
+enum class NodeKind : unsigned char { number, string, variable, unary, chain, function, encode, absent };
 
 // An expression tree node. Variables carry their resolved slot; `kids` are operands,
 // subscripts (variables) or arguments (functions).
+// A chain is a left-associative run of binary operators of one precedence level, n-ary:
+// kids[0] ops[0] kids[1] ops[1] kids[2] ... means ((kids[0] ops[0] kids[1]) ops[1] kids[2]) ...
+// and is walked by a loop everywhere, so the tree is as deep as the nesting of the text (at
+// most levels x kMaxExpressionNesting), not as its operators are many (issue 17).
 struct Node {
   NodeKind kind = NodeKind::absent;
-  ast::Op op = ast::Op::add;    // unary / binary
+  ast::Op op = ast::Op::add;    // unary
   Func func = Func::pi;         // function
   double number = 0;            // number literal
   std::string text;             // string literal, or the variable's name for messages
@@ -34,6 +38,7 @@ struct Node {
   bool plain = false;           // only numbers, variables, unary and arithmetic / relational /
                                 // logical operators below: the evaluator's real fast path
   std::vector<Node> kids;
+  std::vector<ast::Op> ops;     // chain: kids.size() - 1 operators
   std::vector<ast::Format> formats;  // $ENCODE: one per item; code 0 = the next of `kids`
   std::shared_ptr<const RealCode> fast;  // top-level plain real trees: the compiled form
 };
@@ -88,10 +93,10 @@ const SimpleForm* simple_form(ast::Kw kw);
 // strings and numbers is a load-time error).
 enum class StaticKind { unknown, real, string };
 StaticKind static_kind(const Node& n);
-// The kind of `a op b` from the kinds of a and b (what static_kind says of a binary node,
-// without walking it again: a chain of n additions is checked in O(n)).
+// The kind of `a op b` from the kinds of a and b (what static_kind says of one step of a chain,
+// without walking its prefix again: a chain of n additions is checked in O(n)).
 StaticKind binary_kind(ast::Op op, StaticKind a, StaticKind b);
-// Sets Node::plain over the tree (bottom-up).
+// Sets Node::plain over the tree (bottom-up; recursion as deep as the tree, not as a chain is long).
 void mark_plain(Node& n);
 
 struct Param {

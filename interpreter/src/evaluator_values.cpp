@@ -101,10 +101,13 @@ Value Evaluator::eval(const Node& n) {
       if (n.op == Op::not_) return truth(x == 0);
       return x;
     }
-    case NodeKind::binary: {
-      const Value a = eval(n.kids[0]);  // both operands always: no short-circuit
-      const Value b = eval(n.kids[1]);
-      return apply_binary(n.op, a, b);
+    case NodeKind::chain: {  // left to right, both operands of each operator: no short-circuit
+      Value a = eval(n.kids[0]);
+      for (std::size_t i = 0; i < n.ops.size(); ++i) {
+        const Value b = eval(n.kids[i + 1]);
+        a = apply_binary(n.ops[i], a, b);
+      }
+      return a;
     }
     case NodeKind::function: return function(n);
     case NodeKind::encode: {
@@ -257,15 +260,18 @@ bool Evaluator::try_real(const Node& n, double& out) {
       out = n.op == Op::neg ? -x + 0.0 : n.op == Op::not_ ? truth(x == 0) : x;
       return true;
     }
-    case NodeKind::binary: {
+    case NodeKind::chain: {
       double a, b;
       const Node& l = n.kids[0];
-      const Node& r = n.kids[1];
       if (l.kind == NodeKind::number) a = l.number;  // constant operands without a call
       else if (!try_real(l, a)) return false;
-      if (r.kind == NodeKind::number) b = r.number;
-      else if (!try_real(r, b)) return false;
-      out = real_binary(n.op, a, b);
+      for (std::size_t i = 0; i < n.ops.size(); ++i) {
+        const Node& r = n.kids[i + 1];
+        if (r.kind == NodeKind::number) b = r.number;
+        else if (!try_real(r, b)) return false;
+        a = real_binary(n.ops[i], a, b);
+      }
+      out = a;
       return true;
     }
     default: return false;

@@ -23,11 +23,14 @@ Node ExpressionCompiler::expression(const ast::Expr& e) {
   return n;
 }
 
-// Precedence climbing over the flat operator list the parser produced.
+// Precedence climbing over the flat operator list the parser produced. Operators of one level
+// in a row extend one n-ary chain node (code.hpp): the loop goes from level to level, at most
+// seven deep, and never recurses per operator.
 Node ExpressionCompiler::climb(Node lhs, const std::vector<ast::Operation>& rest, std::size_t& pos, int min_prec) {
   // The kind of lhs is carried along the chain: asking static_kind of the grown left side at
   // each operator walked it again, quadratic in the chain's length.
   StaticKind kl = pos < rest.size() && precedence(rest[pos].op) >= min_prec ? static_kind(lhs) : StaticKind::unknown;
+  bool own = false;  // lhs is a chain built by this loop (not an operand that happens to be one)
   while (pos < rest.size() && precedence(rest[pos].op) >= min_prec) {
     const Op op = rest[pos].op;
     const int p = precedence(op);
@@ -40,12 +43,22 @@ Node ExpressionCompiler::climb(Node lhs, const std::vector<ast::Operation>& rest
       error("a string and a number cannot be mixed");
     else if ((kl == StaticKind::string || kr == StaticKind::string) && op != Op::add && !(op >= Op::eq && op <= Op::ge))
       error("this operator does not apply to strings");
-    Node bin;
-    bin.kind = NodeKind::binary;
-    bin.op = op;
-    bin.kids.push_back(std::move(lhs));
-    bin.kids.push_back(std::move(rhs));
-    lhs = std::move(bin);
+    if (!own || precedence(lhs.ops[0]) != p) {  // a new chain, with lhs as its first operand
+      Node chain;
+      chain.kind = NodeKind::chain;
+      // Its length, counted ahead (up to the first weaker operator; every operator is counted
+      // by at most one chain per level): reserved, the vectors do not grow by doubling, which
+      // held up to three times the chain's nodes while it moved them.
+      std::size_t length = 2;  // lhs and rhs, then the operators of this level still ahead
+      for (std::size_t j = pos; j < rest.size() && precedence(rest[j].op) >= p; ++j) length += precedence(rest[j].op) == p;
+      chain.kids.reserve(length);
+      chain.ops.reserve(length - 1);
+      chain.kids.push_back(std::move(lhs));
+      lhs = std::move(chain);
+      own = true;
+    }
+    lhs.ops.push_back(op);
+    lhs.kids.push_back(std::move(rhs));
     kl = binary_kind(op, kl, kr);
   }
   return lhs;

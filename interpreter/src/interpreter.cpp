@@ -74,8 +74,8 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   std::vector<Diagnostic> all = std::move(parsed.errors);
   all.insert(all.end(), checked.errors.begin(), checked.errors.end());
   std::stable_sort(all.begin(), all.end(), [](const Diagnostic& a, const Diagnostic& b) { return a.line < b.line; });
-  if (all.size() > kMaxLoadErrors) {  // the cap is said, with what it left out
-    const std::size_t more = all.size() - kMaxLoadErrors;
+  if (all.size() + checked.unreported > kMaxLoadErrors) {  // the cap is said, with what it left out
+    const std::size_t more = all.size() + checked.unreported - kMaxLoadErrors;
     all.resize(kMaxLoadErrors);
     Diagnostic note;
     note.message = "*Too many errors*";

@@ -20,10 +20,13 @@ constexpr double kSliceS = 0.001;
 // Array data of all programs of a process (values.hpp, docs/limits.md): ~1 million elements,
 // far above a controller's few MB, far below the machine; reached in about a second.
 constexpr std::size_t kMaxDataBytes = std::size_t{256} << 20;
-// Expressions are parsed, checked, compiled and evaluated by recursion; a statement past these
-// limits is refused at load with *Expression too complex* (docs/limits.md): far above what a
-// person writes, far below what the stack holds, also under AddressSanitizer.
-constexpr int kMaxExpressionNesting = 64;      // parentheses, brackets, calls and signs inside one another
-constexpr int kMaxExpressionOperators = 1000;  // operators in one statement (a chain is as deep as it is long)
+// Expressions are parsed, checked, compiled and evaluated by recursion per level of nesting
+// (a run of binary operators is one n-ary node, walked by loops: code.hpp); a statement past
+// these limits is refused at load with *Expression too complex* (docs/limits.md). Nesting: far
+// above what a person writes, far below what the stack holds, also under AddressSanitizer.
+// Operators: only memory bounds them (about 320 bytes each while loading, docs/limits.md): one
+// statement stays within about 3 GB, where a 64 MiB line could take 10.
+constexpr int kMaxExpressionNesting = 64;            // parentheses, brackets, calls and signs inside one another
+constexpr int kMaxExpressionOperators = 10'000'000;  // operators in one statement
 
 }  // namespace asimov::interpreter

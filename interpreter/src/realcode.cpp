@@ -61,14 +61,30 @@ inline bool int_mod(double x, double y, double& out) {
   return true;
 }
 
-template <Op op, K l, K r>
-double binary(const RNode& n, const FastCtx& c) {
-  const double x = get<l>(n.a, c);  // left before right, as the generic path
-  const double y = get<r>(n.b, c);
+template <Op op>
+inline double apply(double x, double y) {
   if constexpr (op == Op::mod)
     if (double m; x > -2147483648.0 && x < 2147483648.0 && y > -2147483648.0 && y < 2147483648.0 && int_mod(x, y, m))
       return m;
   return real_binary(op, x, y);
+}
+
+template <Op op, K l, K r>
+double binary(const RNode& n, const FastCtx& c) {
+  const double x = get<l>(n.a, c);  // left before right, as the generic path
+  return apply<op>(x, get<r>(n.b, c));
+}
+
+// acc op operand, one step of a chain (binary with the left side already known).
+template <Op op, K r>
+double step(double x, const RStep& s, const FastCtx& c) { return apply<op>(x, get<r>(s.operand, c)); }
+
+// A chain of more than one operator: left to right, as the generic path.
+template <K first>
+double chain(const RNode& n, const FastCtx& c) {
+  double x = get<first>(n.a, c);
+  for (const RStep *s = n.steps, *end = n.steps + n.slot; s != end; ++s) x = s->fn(x, *s, c);
+  return x;
 }
 
 constexpr int kKinds = static_cast<int>(K::count);
@@ -80,6 +96,18 @@ constexpr auto binary_table(std::integer_sequence<int, I...>) {
       &binary<static_cast<Op>(I / (kKinds * kKinds)), static_cast<K>(I / kKinds % kKinds), static_cast<K>(I % kKinds)>...};
 }
 constexpr auto kBinary = binary_table(std::make_integer_sequence<int, kOps * kKinds * kKinds>{});
+
+template <int... I>
+constexpr auto step_table(std::integer_sequence<int, I...>) {
+  return std::array<RStep::Fn, sizeof...(I)>{&step<static_cast<Op>(I / kKinds), static_cast<K>(I % kKinds)>...};
+}
+constexpr auto kStep = step_table(std::make_integer_sequence<int, kOps * kKinds>{});
+
+template <int... I>
+constexpr auto chain_row(std::integer_sequence<int, I...>) {
+  return std::array<RNode::Fn, kKinds>{&chain<static_cast<K>(I)>...};
+}
+constexpr auto kChain = chain_row(std::make_integer_sequence<int, kKinds>{});
 
 template <Op op, int... I>
 constexpr auto unary_row(std::integer_sequence<int, I...>) {
@@ -98,24 +126,31 @@ constexpr auto kParamElement = element_row<Scope::param>(std::make_integer_seque
 
 bool real_variable(const Node& n) { return n.text.empty() || (n.text[0] != '$' && n.text[0] != '#'); }
 
-// Nodes the compiled form handles, and how many RNodes they take.
-int count(const Node& n) {
+// Nodes the compiled form handles, and how many RNodes they take (and chain steps, added to
+// `steps`); -1 for a node it does not handle.
+long count(const Node& n, long& steps) {
   switch (n.kind) {
     case NodeKind::number: return 1;
     case NodeKind::variable:
       if (!real_variable(n)) return -1;
       if (!n.subscripted) return 1;
       if (n.kids.size() != 1) return -1;
-      if (const int k = count(n.kids[0]); k > 0) return k + 1;
+      if (const long k = count(n.kids[0], steps); k > 0) return k + 1;
       return -1;
     case NodeKind::unary:
       if (n.kids.size() != 1) return -1;
-      if (const int k = count(n.kids[0]); k > 0) return k + 1;
+      if (const long k = count(n.kids[0], steps); k > 0) return k + 1;
       return -1;
-    case NodeKind::binary: {
-      if (n.op == Op::compound || n.kids.size() != 2) return -1;
-      const int a = count(n.kids[0]), b = count(n.kids[1]);
-      return a > 0 && b > 0 ? a + b + 1 : -1;
+    case NodeKind::chain: {
+      if (n.ops[0] == Op::compound || n.kids.size() != n.ops.size() + 1) return -1;
+      long total = 1;
+      for (const Node& k : n.kids) {
+        const long c = count(k, steps);
+        if (c <= 0) return -1;
+        total += c;
+      }
+      if (n.ops.size() > 1) steps += static_cast<long>(n.ops.size());
+      return total;
     }
     default: return -1;
   }
@@ -131,10 +166,12 @@ K kind(const Node& n) {
 
 std::shared_ptr<const RealCode> RealCode::compile(const Node& n) {
   if (!n.plain) return nullptr;
-  const int size = count(n);
+  long steps = 0;
+  const long size = count(n, steps);
   if (size <= 0) return nullptr;
   auto code = std::make_shared<RealCode>();
   code->nodes_.reserve(static_cast<std::size_t>(size));  // no reallocation: nodes point at each other
+  code->steps_.reserve(static_cast<std::size_t>(steps));
   code->root_ = code->build(n);
   return code;
 }
@@ -162,12 +199,27 @@ const RNode* RealCode::build(const Node& n) {
       r.fn = n.op == Op::neg ? kNeg[i] : n.op == Op::not_ ? kNot[i] : kPlus[i];
       break;
     }
-    default: {  // binary
+    default: {  // chain
       r.a = build(n.kids[0]);
-      r.b = build(n.kids[1]);
-      const int i = (static_cast<int>(n.op) * kKinds + static_cast<int>(kind(n.kids[0]))) * kKinds
-          + static_cast<int>(kind(n.kids[1]));
-      r.fn = kBinary[static_cast<std::size_t>(i)];
+      if (n.ops.size() == 1) {  // one operator: a binary node, both operand kinds specialized
+        r.b = build(n.kids[1]);
+        const int i = (static_cast<int>(n.ops[0]) * kKinds + static_cast<int>(kind(n.kids[0]))) * kKinds
+            + static_cast<int>(kind(n.kids[1]));
+        r.fn = kBinary[static_cast<std::size_t>(i)];
+        break;
+      }
+      // The operands first (their own chains take their steps), then this chain's steps in
+      // one contiguous run.
+      std::vector<RStep> mine(n.ops.size());
+      for (std::size_t k = 0; k < n.ops.size(); ++k) {
+        const Node& operand = n.kids[k + 1];
+        mine[k].operand = build(operand);
+        mine[k].fn = kStep[static_cast<std::size_t>(static_cast<int>(n.ops[k]) * kKinds + static_cast<int>(kind(operand)))];
+      }
+      r.steps = steps_.data() + steps_.size();
+      r.slot = static_cast<int>(mine.size());
+      steps_.insert(steps_.end(), mine.begin(), mine.end());
+      r.fn = kChain[static_cast<std::size_t>(kind(n.kids[0]))];
       break;
     }
   }

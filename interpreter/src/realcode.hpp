@@ -24,13 +24,25 @@ struct FastCtx {
   Variable* const* slots = nullptr;
 };
 
+struct RStep;
+
 struct RNode {
   using Fn = double (*)(const RNode&, const FastCtx&);
   Fn fn = nullptr;
-  const RNode* a = nullptr;  // operands (binary), operand (unary), index (element)
+  const RNode* a = nullptr;  // operands (binary), operand (unary), index (element), first (chain)
   const RNode* b = nullptr;
+  const RStep* steps = nullptr;  // chain of more than one operator: `slot` steps
   double num = 0;            // constant
-  int slot = 0;              // variable slot
+  int slot = 0;              // variable slot; chain: number of steps
+};
+
+// One operator of a chain and its right operand: acc = acc op operand. A chain of n operators
+// runs as a loop over its steps (no recursion per operator, issue 17), each step a function
+// specialized per operator and operand kind like the binary nodes.
+struct RStep {
+  using Fn = double (*)(double acc, const RStep&, const FastCtx&);
+  Fn fn = nullptr;
+  const RNode* operand = nullptr;
 };
 
 class RealCode {
@@ -48,6 +60,7 @@ class RealCode {
  private:
   const RNode* build(const Node& n);
   std::vector<RNode> nodes_;
+  std::vector<RStep> steps_;  // the chains' steps, each chain's contiguous
   const RNode* root_ = nullptr;
 };
 
