@@ -201,8 +201,6 @@ void DeviceClock::queue(int c) {
   }
 }
 
-void DeviceClock::rerun_conveyor(int c) { queue(c); }
-
 bool DeviceClock::inside(const PartState& p, const Region& r) const {
   if (p.holder == Holder::removed || p.holder == Holder::carried) return false;
   // A moving part's interval comes from its anchor, so every instant of one run of the belt is
@@ -251,7 +249,7 @@ void DeviceClock::change(int k, bool on, int line) {
       timers_.push_back({now_ + rule.after_s, seq_++, rule.set, rule.to_on, 0});
   }
   for (std::size_t c = 0; c < cell_->conveyors.size(); ++c)
-    if (cell_->conveyors[c].signal == k) rerun_conveyor(static_cast<int>(c));
+    if (cell_->conveyors[c].signal == k) queue(static_cast<int>(c));  // it started or stopped
   for (std::size_t f = 0; f < cell_->feeders.size(); ++f)
     if (on && cell_->feeders[f].signal == k) {
       if (spot_empty(f)) feed(f, line);

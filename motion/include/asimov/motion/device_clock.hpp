@@ -88,8 +88,7 @@ class DeviceClock {
   void settle();                     // apply everything due at now_ until nothing changes
   void change(int k, bool on, int line);
   void place(std::size_t part, const Location& pose);  // holder, velocity, end time from now_
-  void rerun_conveyor(int c);        // conveyor c started or stopped: re-anchor its parts
-  void queue(int c);                 // motions and stops of conveyor c's parts from now_
+  void queue(int c);                 // motions and stops of conveyor c's parts from now_ (re-anchored)
   bool running(int c) const;
   bool sensed(const Sensor& s) const;
   bool inside(const PartState& p, const Region& r) const;  // origin in r at now_ (entering counts)
