@@ -1,5 +1,7 @@
 #include "container_gap.hpp"
 
+#include "asimov/collision/gap_bound.hpp"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -14,6 +16,16 @@ PlacedContainer place(const Container& c, const Pose& pose) {
 
 double container_gap(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b) {
   return container_gap(place(a, pose_a), place(b, pose_b), relative_margin(a, pose_a, b, pose_b));
+}
+
+// As container_gap, without its clamp at 0 (a bound may be negative: the pair may touch).
+double gap_bound(const Engine::PlacedBounds& a, const Engine::PlacedBounds& b) {
+  const double spheres = (a.centre - b.centre).norm() - a.radius - b.radius;
+  return std::max(box_distance(Box{a.lo, a.hi}, Box{b.lo, b.hi}), spheres) - relative_margin(a.magnitude, b.magnitude);
+}
+
+double gap_bound(const Engine::PlacedBounds& a, const Vec3& lo, const Vec3& hi, double share) {
+  return box_distance(Box{a.lo, a.hi}, Box{lo, hi}) - relative_margin(a.magnitude, share);
 }
 
 }  // namespace asimov::collision

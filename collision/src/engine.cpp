@@ -664,9 +664,7 @@ void Engine::set_pose(BodyId id, const Pose& local_to_world) {
 Engine::PlacedBounds Engine::placed_bounds(BodyId id) {
   Body& b = impl_->bodies.at(id);
   const Box& box = impl_->world_box(b);
-  // relative_margin's magnitude is the sum of both bodies' |t|_inf + 2 scale.
-  return {box.lo, box.hi, impl_->world_sphere_centre(b), b.container.radius,
-          b.pose.translation().cwiseAbs().maxCoeff() + 2 * b.container.scale};
+  return {box.lo, box.hi, impl_->world_sphere_centre(b), b.container.radius, margin_share(b.container, b.pose)};
 }
 
 void Engine::query(const QueryRequest& req, QueryResult& res) {

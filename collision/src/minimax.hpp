@@ -58,12 +58,15 @@ double box_gap(const Box& a, const Box& b);
 
 // Relative margin epsilon_r for a pair: generous multiple of the rounding in mapping local
 // coordinates of containers of scale s_a, s_b through poses with translations t_a, t_b.
+// Each mapped coordinate carries a few ulps of (|t| + sqrt(3) * scale); a pair mapping
+// world -> local -> other local compounds a handful of those. 64 ulps covers it with room.
+// A body's share, |t|_inf + 2 scale, is also what Engine::placed_bounds gives broad phases.
+inline double margin_share(const Container& c, const Pose& pose) {
+  return pose.translation().cwiseAbs().maxCoeff() + 2 * c.scale;
+}
+inline double relative_margin(double share_a, double share_b) { return 64 * DBL_EPSILON * (share_a + share_b); }
 inline double relative_margin(const Container& a, const Pose& pose_a, const Container& b, const Pose& pose_b) {
-  // Each mapped coordinate carries a few ulps of (|t| + sqrt(3) * scale); a pair mapping
-  // world -> local -> other local compounds a handful of those. 64 ulps covers it with room.
-  const double magnitude = pose_a.translation().cwiseAbs().maxCoeff() + pose_b.translation().cwiseAbs().maxCoeff() +
-                           2 * (a.scale + b.scale);
-  return 64 * DBL_EPSILON * magnitude;
+  return relative_margin(margin_share(a, pose_a), margin_share(b, pose_b));
 }
 
 }  // namespace asimov::collision

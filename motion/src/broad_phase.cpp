@@ -1,39 +1,15 @@
 #include "broad_phase.hpp"
 
+#include "asimov/collision/gap_bound.hpp"
+
 #include <algorithm>
-#include <cfloat>
 #include <cmath>
 #include <limits>
 
 namespace asimov::motion {
 namespace {
 constexpr std::uint32_t kLeafItems = 4;
-
-// The box distance as collision/src/container_gap.hpp computes it (same operations, same order).
-double box_distance(const collision::Vec3& alo, const collision::Vec3& ahi, const collision::Vec3& blo,
-                    const collision::Vec3& bhi) {
-  double sum = 0;
-  for (int i = 0; i < 3; ++i) {
-    const double d = std::max({0.0, alo[i] - bhi[i], blo[i] - ahi[i]});
-    sum += d * d;
-  }
-  return std::sqrt(sum);
-}
-
-// At least relative_margin of any pair whose shares sum to at most `shares` (the engine sums the
-// four terms in another order: a relative 1e-6 covers that rounding many times over).
-double margin(double shares) { return 64 * DBL_EPSILON * shares * (1 + 1e-6); }
 }  // namespace
-
-double box_gap_bound(const collision::Engine::PlacedBounds& k, const collision::Vec3& lo, const collision::Vec3& hi,
-                     double magnitude) {
-  return box_distance(k.lo, k.hi, lo, hi) - margin(k.magnitude + magnitude);
-}
-
-double body_gap_bound(const collision::Engine::PlacedBounds& k, const collision::Engine::PlacedBounds& o) {
-  const double spheres = (k.centre - o.centre).norm() - k.radius - o.radius;  // as container_gap
-  return std::max(box_distance(k.lo, k.hi, o.lo, o.hi), spheres) - margin(k.magnitude + o.magnitude);
-}
 
 void StillTree::build(collision::Engine& engine, const std::vector<collision::BodyId>& ids) {
   items_.clear();
@@ -92,7 +68,7 @@ double StillTree::query(const collision::Engine::PlacedBounds& k, double within_
   while (!stack_.empty()) {
     const Node& n = nodes_[stack_.back()];
     stack_.pop_back();
-    const double bound = box_gap_bound(k, n.lo, n.hi, n.magnitude);
+    const double bound = collision::gap_bound(k, n.lo, n.hi, n.magnitude);
     // A NaN bound (never from finite boxes) keeps the node: only a bound that is known far prunes.
     if (bound > within_mm) {
       rest = std::min(rest, bound);
@@ -104,7 +80,7 @@ double StillTree::query(const collision::Engine::PlacedBounds& k, double within_
       continue;
     }
     for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
-      const double b = body_gap_bound(k, items_[i].b);
+      const double b = collision::gap_bound(k, items_[i].b);
       if (b > within_mm) rest = std::min(rest, b);
       else near.push_back(items_[i].id);
     }

@@ -12,15 +12,6 @@
 
 namespace asimov::motion {
 
-// Lower bound [mm] on the engine's gap (container_gap, QueryRequest::gaps) of any pair of a body
-// placed at `k` with a body inside the box [lo, hi] whose margin share is at most `magnitude`:
-// the box distance is no larger for a box inside [lo, hi] (min, max and the rounded operations
-// that follow are monotone), and the pair's rounding margin is at most the one subtracted here.
-double box_gap_bound(const collision::Engine::PlacedBounds& k, const collision::Vec3& lo, const collision::Vec3& hi,
-                     double magnitude);
-// The same for one body (its box and vertex sphere, as container_gap takes the larger).
-double body_gap_bound(const collision::Engine::PlacedBounds& k, const collision::Engine::PlacedBounds& o);
-
 class StillTree {
  public:
   // The bodies `ids` at the engine's current poses (they must not move while the tree is used).
