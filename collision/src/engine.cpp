@@ -229,12 +229,17 @@ struct Engine::Impl {
     return ((xlo.x() > yhi.x() + pad) + (ylo.x() > xhi.x() + pad) + (xlo.y() > yhi.y() + pad) +
             (ylo.y() > xhi.y() + pad) + (xlo.z() > yhi.z() + pad) + (ylo.z() > xhi.z() + pad)) != 0;
   }
-  static void preprocess(Body& b) {
-    if (b.grid) return;
+  // The world-face cache (world_face), which step 4 and the distance query's leaves read.
+  static void prepare_faces(Body& b) {
     const std::size_t faces = b.mesh().triangles.size();
+    if (!b.face_pages.empty() || faces == 0) return;
     b.face_pages.resize((faces + kFacePage - 1) / kFacePage);
     if (faces <= kEagerFaces)
       for (auto& page : b.face_pages) page = std::make_unique<WorldFace[]>(kFacePage);
+  }
+  static void preprocess(Body& b) {
+    if (b.grid) return;
+    prepare_faces(b);
     b.grid = build_voxel_grid(b.mesh(), b.halvings, b.closed);
     b.shells = shell_samples(b.mesh(), kShellSamples);
   }
@@ -575,10 +580,11 @@ struct Engine::Impl {
       res.point_a = res.point_b = q.contact.point;
       return res;
     }
-    preprocess(a);
-    preprocess(b);
-    for (Body* x : {&a, &b})
+    // The search reads faces and the distance trees only (the voxel grids are step 3's).
+    for (Body* x : {&a, &b}) {
+      prepare_faces(*x);
       if (!x->distance_tree) x->distance_tree = std::make_unique<DistanceTree>(build_distance_tree(x->mesh()));
+    }
     double best = upper;
     descend_distance_tree(*a.distance_tree, *b.distance_tree, DistanceBound(a_from_b, 2 * margin), best,
                           distance_stack, res.node_pairs, [&](const DistanceNode& x, const DistanceNode& y) {
