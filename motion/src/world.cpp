@@ -153,11 +153,11 @@ void World::build_engine(const Cell& cell) {
   for (const collision::BodyPair& p : cell_pairs) {
     const BodyMount &a = mounts_[p.a], &b = mounts_[p.b];
     if (a.frame >= 0 && b.frame >= 0) arm_moving_pairs_.push_back(p);
-    gap_pairs_.push_back({a.frame >= 0 ? static_cast<int>(p.a) : -1, b.frame >= 0 ? static_cast<int>(p.b) : -1,
-                          a.own_motion ? -1 : std::max(a.frame, 0), b.own_motion ? -1 : std::max(b.frame, 0), 0});
+    gap_pairs_.push_back(cell_gap(p));
   }
   moving_pairs_ = arm_moving_pairs_;
-  if (has_parts_) cell_pairs_ = cell_pairs, cell_gaps_ = gap_pairs_, part_pairs_ = cell_pairs_, part_gaps_ = cell_gaps_;
+  // World's own list starts from the cell's pairs (parts, or the broad phase, change it).
+  cell_pairs_ = cell_pairs, cell_gaps_ = gap_pairs_, part_pairs_ = cell_pairs_, part_gaps_ = cell_gaps_;
   for (collision::BodyId id = 0; id < mounts_.size(); ++id) {
     if (mounts_[id].frame >= 0) moving_.push_back(id);
     unprepared_.push_back(id);
@@ -493,12 +493,7 @@ void World::rebuild_pairs() {
     part_pairs_.assign(b.scratch.begin(), b.scratch.end());
     part_gaps_.clear();
     for (const collision::BodyPair& p : part_pairs_) part_gaps_.push_back(cell_gap(p));
-  } else if (broad_) {
-    part_pairs_.assign(engine_->enabled_pairs().begin(), engine_->enabled_pairs().end());
-    if (has_parts_) part_pairs_ = cell_pairs_;
-    part_gaps_.clear();
-    for (const collision::BodyPair& p : part_pairs_) part_gaps_.push_back(cell_gap(p));
-  } else {
+  } else {  // every pair of the cell (no broad phase, or its near lists not computed yet)
     part_pairs_ = cell_pairs_;
     part_gaps_ = cell_gaps_;
   }
