@@ -123,6 +123,14 @@ void ClearanceRecorder::on_distance(const collision::BodyPair& pair, const colli
   held_.push_back({pair, r.distance, cost.t, cost.step, r.point_a, r.point_b});
 }
 
+void ClearanceRecorder::on_contact(const CollisionReport& report, const robots::JointVector&, double) {
+  if (clearance_mm <= 0) {
+    const collision::BodyPair pair{std::min(report.id_a, report.id_b), std::max(report.id_a, report.id_b)};
+    held_.push_back({pair, 0, report.time_s, report.step, report.point, report.point});
+  }
+  commit(report.time_s);
+}
+
 void ClearanceRecorder::commit(double until_s) {
   for (const ClearanceApproach& h : held_) {
     if (h.time_s > until_s) continue;  // after the contact: never reached

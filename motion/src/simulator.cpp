@@ -60,6 +60,7 @@ struct Simulator::Impl {
     settings.tool = cell.tool;
     dest = here();
     rec.clearance.within_mm = std::max(cell.collision.report_within_mm, cell.collision.clearance_mm);
+    rec.clearance.clearance_mm = cell.collision.clearance_mm;
     if (!cell.workcell.empty()) {
       runtime.emplace(cell);
       world.attach(*runtime);
@@ -266,6 +267,7 @@ void Simulator::set_clearance(double clearance_mm) {
   impl_->cell.collision.clearance_mm = clearance_mm;
   ClearanceRecorder& r = impl_->rec.clearance;
   r.within_mm = std::max(r.within_mm, clearance_mm);  // on_clearance warn lists the pairs within it
+  r.clearance_mm = clearance_mm;
 }
 
 Hand Simulator::hand() const { return impl_->hand; }

@@ -74,6 +74,8 @@ struct Walker::Walk {
     if (!r.collided) return false;
     report.body_a = w.world_.body_name(r.contact.body_a);
     report.body_b = w.world_.body_name(r.contact.body_b);
+    report.id_a = r.contact.body_a;
+    report.id_b = r.contact.body_b;
     report.point = r.contact.point;
     report.face_a = r.contact.face_a;
     report.face_b = r.contact.face_b;
@@ -296,6 +298,8 @@ struct Walker::Walk {
       const collision::DistanceResult d = engine->distance(pair.a, pair.b);
       r.body_a = w.world_.body_name(pair.a);
       r.body_b = w.world_.body_name(pair.b);
+      r.id_a = pair.a;
+      r.id_b = pair.b;
       r.point = 0.5 * (d.point_a + d.point_b);
       r.face_a = d.face_a;
       r.face_b = d.face_b;

@@ -157,12 +157,38 @@ TEST_CASE("clearance recorder: per pair the least distance up to the contact, ea
   measure({1, 2}, 2, 1.9);  // measured at the stretch's end, after the contact: never reached
   CollisionReport contact;
   contact.time_s = 1.5;
+  contact.id_a = 1, contact.id_b = 0;  // the contact's own pair, in either order
   rec.on_contact(contact, {}, 0);
   rec.on_walk_end();
   REQUIRE(rec.pairs.size() == 1);
   CHECK(rec.pairs[0].distance_mm == 0);
   CHECK(rec.pairs[0].time_s == 1.1);
   CHECK(rec.pairs[0].step == 3);
+}
+
+TEST_CASE("clearance recorder: a contact no distance query saw is its pair at 0 mm (clearance 0 only)", "[continuous][clearance]") {
+  for (const double clearance : {0.0, 2.0}) {
+    ClearanceRecorder rec;
+    rec.clearance_mm = clearance;
+    CollisionReport contact;
+    contact.time_s = 2.25;
+    contact.step = 4;
+    contact.point = {1, 2, 3};
+    contact.id_a = 7, contact.id_b = 5;
+    rec.on_contact(contact, {}, 0);
+    rec.on_walk_end();
+    if (clearance > 0) {  // a contact within a clearance is no distance of 0
+      CHECK(rec.pairs.empty());
+      continue;
+    }
+    REQUIRE(rec.pairs.size() == 1);
+    CHECK(rec.pairs[0].pair == collision::BodyPair{5, 7});
+    CHECK(rec.pairs[0].distance_mm == 0);
+    CHECK(rec.pairs[0].time_s == 2.25);
+    CHECK(rec.pairs[0].step == 4);
+    CHECK(rec.pairs[0].point_a == collision::Vec3(1, 2, 3));
+    CHECK(rec.pairs[0].point_b == collision::Vec3(1, 2, 3));
+  }
 }
 
 TEST_CASE("continuous: the far field costs no distance query, and the walker's bounds lose no contact", "[continuous]") {

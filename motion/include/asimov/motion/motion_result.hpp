@@ -31,6 +31,7 @@ struct CollisionReport {
   std::uint32_t face_a = 0, face_b = 0;             // triangle indices in body_a's / body_b's mesh
                                                     //   (0 for a containment contact)
   int step = 0;                                      // program step of the motion instruction
+  std::uint32_t id_a = 0, id_b = 0;                 // the bodies' engine ids (the clearance report's pair)
 };
 
 // Where an interrupted motion stopped: at its last checked pose (collision-free when checking

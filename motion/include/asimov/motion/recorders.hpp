@@ -161,9 +161,13 @@ struct ClearanceApproach {
 struct ClearanceRecorder final : WalkObserver {
   void on_distance(const collision::BodyPair& pair, const collision::DistanceResult& r, const DistanceCost& cost) override;
   void on_stretch(const Trajectory&, const Stretch&) override { commit(std::numeric_limits<double>::infinity()); }
-  void on_contact(const CollisionReport& report, const robots::JointVector&, double) override { commit(report.time_s); }
+  // At clearance 0 the contact pair came to 0 mm at the contact instant, however the contact
+  // was found (a checked pose, a probe, a graze); with a clearance the contact is a distance
+  // below it, which continuous checking measures.
+  void on_contact(const CollisionReport& report, const robots::JointVector&, double) override;
   void on_walk_end() override { commit(std::numeric_limits<double>::infinity()); }
   double within_mm = 10;
+  double clearance_mm = 0;  // the run's: a contact is a distance <= this
   std::vector<ClearanceApproach> pairs;  // in the order first met; per pair the least distance, earliest at ties
   // The pairs nearest first (ties: first met first).
   std::vector<ClearanceApproach> nearest_first() const;
