@@ -23,7 +23,8 @@ constexpr std::size_t kBroadMinPairs = 64;
 // more pairs, smaller recomputes them more often (bench/bench_workcell.cpp).
 constexpr double kSkinMm = 50;
 constexpr double kRefreshSkin = 0.5;  // the near lists are recomputed once this much of the skin is used
-constexpr std::size_t kMaxMovers = 32;  // one bit each in Broad::mask
+constexpr std::size_t kMaxMovers = 31;  // one bit each in Broad::mask
+constexpr unsigned kHeldBit = 31;      // the carried part's bit in Broad::mask
 // A part on a conveyor keeps the still bodies near it that its belt reaches in this time [s].
 constexpr double kBeltHorizonS = 0.5;
 }  // namespace
@@ -38,7 +39,11 @@ struct World::Broad {
     std::vector<collision::BodyId> near, next;  // sorted
   };
   std::vector<Mover> movers;
-  std::vector<int> mover_of;          // per BodyId: index in movers, -1
+  // The carried part, a mover while it is held (its reach: World's last reach() slot, which a
+  // grasp or release changes, so they drop its near list until the next build).
+  Mover held;
+  bool held_ready = false;
+  std::vector<int> mover_of;          // per BodyId: index in movers (kHeldBit: the carried part), -1
   std::vector<std::uint32_t> mask;    // per BodyId: bit m when near mover m
   std::vector<char> in_tree;          // per BodyId: a still body in a tree (objects; resting parts while unchanged)
   std::vector<Location> rest_at;      // per part slot: its pose when put in the tree
@@ -217,7 +222,15 @@ bool World::broad_skips(collision::BodyId a, collision::BodyId b) const {
   const auto still_still = [&](collision::BodyId f, collision::BodyId o) {
     return f < arm_bodies_ && mounts_[f].frame < 0 && part(o) && s.in_tree[o] && !s.untested[o - first_part_];
   };
-  return skips(a, b) || skips(b, a) || belt_skips(a, b) || belt_skips(b, a) || still_still(a, b) || still_still(b, a);
+  // Two still bodies of the trees (objects; parts at rest, each tested at every pose since it
+  // came to rest): their distance cannot change until one of them leaves the tree.
+  const auto tested = [&](collision::BodyId x) { return s.in_tree[x] && !(part(x) && s.untested[x - first_part_]); };
+  return skips(a, b) || skips(b, a) || belt_skips(a, b) || belt_skips(b, a) || still_still(a, b) || still_still(b, a) ||
+         (tested(a) && tested(b));
+}
+
+bool World::still_part(const Slot& s) {
+  return s.clock >= 0 && (s.holder == Holder::world || s.holder == Holder::conveyor) && s.speed_mm_s == 0;
 }
 
 bool World::belt_valid(std::size_t slot) const {
@@ -264,13 +277,18 @@ std::span<const double> World::room() {
     const double moved = robots::max_displacement(reach_[m.id], delta) * (1 + 1e-9) + 1e-9;
     b.room[m.id] = m.lower - b.keep - moved - 1e-9 * b.keep;
   }
+  if (has_parts_) {
+    const std::size_t slot = reach_.size() - 1;
+    const double moved = b.held_ready ? robots::max_displacement(reach_[slot], delta) * (1 + 1e-9) + 1e-9 : 0;
+    b.room[slot] = b.held_ready ? b.held.lower - b.keep - moved - 1e-9 * b.keep : INFINITY;
+  }
   return b.room;
 }
 
 void World::broad_refresh(double keep_mm, double room_mm) {
   if (!broad_ || posed_q_.size() == 0) return;
   Broad& b = *broad_;
-  bool need = !b.ready || (b.parts_dirty && has_parts_) || keep_mm != b.keep;
+  bool need = !b.ready || (b.parts_dirty && has_parts_) || keep_mm != b.keep || held_wanted();
   // Recomputed once half the skin is used: gap stepping keeps each stretch within 0.9 of the
   // room, so a room run down to the step would cut the stretches short before it (the arm would
   // approach the left-out bodies as if they were there).
@@ -285,14 +303,15 @@ void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
   Broad& b = *broad_;
   bool changed = !b.ready;
   if (b.parts_dirty && parts_tree && has_parts_ && runtime_) {
-    // The resting parts into the parts tree, posed in the engine where the clock has them now (a
-    // bisection may have left one at an earlier state's pose).
+    // The resting parts (on the table, a pallet, another part or a stopped belt) into the parts
+    // tree, posed in the engine where the clock has them now (a bisection may have left one at an
+    // earlier state's pose).
     std::vector<collision::BodyId> resting;
     const DeviceClock& clock = runtime_->clock();
     for (std::size_t s = 0; s < slots_.size(); ++s) {
       const collision::BodyId id = first_part_ + static_cast<collision::BodyId>(s);
       const Slot& slot = slots_[s];
-      const bool rest = slot.clock >= 0 && slot.holder == Holder::world && slot.speed_mm_s == 0;
+      const bool rest = still_part(slot);
       b.in_tree[id] = rest;
       if (!rest) continue;
       b.rest_at[s] = clock.parts()[static_cast<std::size_t>(slot.clock)].pose_at(clock.time_s());
@@ -319,6 +338,25 @@ void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
     for (const collision::BodyId o : m.next) b.mask[o] |= bit;
     m.near.swap(m.next);
   }
+  // The carried part, at its pose now (rigid with the flange: its reach is the last slot's).
+  if (carried_ && !posed_earlier_) {
+    Broad::Mover& m = b.held;
+    if (b.held_ready && m.id != *carried_) drop_held();
+    m.id = *carried_;
+    m.next.clear();
+    const collision::Engine::PlacedBounds at = engine_->placed_bounds(m.id);
+    m.lower = std::min(b.objects.query(at, b.radius, m.next), b.parts.query(at, b.radius, m.next));
+    std::sort(m.next.begin(), m.next.end());
+    if (!b.held_ready || m.next != m.near) {
+      changed = true;
+      const std::uint32_t bit = std::uint32_t{1} << kHeldBit;
+      for (const collision::BodyId o : m.near) b.mask[o] &= ~bit;
+      for (const collision::BodyId o : m.next) b.mask[o] |= bit;
+      m.near.swap(m.next);
+    }
+    b.mover_of[m.id] = static_cast<int>(kHeldBit);
+    b.held_ready = true;
+  }
   // Parts on a running conveyor, at their poses now.
   for (std::size_t s = 0; s < b.belts.size(); ++s) {
     Broad::Belt& belt = b.belts[s];
@@ -342,6 +380,20 @@ void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
   }
   b.ready = true;
   if (changed) rebuild_pairs();
+}
+
+bool World::held_wanted() const {
+  return carried_ && !broad_->held_ready && !posed_earlier_;
+}
+
+void World::drop_held() {
+  Broad& b = *broad_;
+  if (!b.held_ready) return;
+  const std::uint32_t bit = std::uint32_t{1} << kHeldBit;
+  for (const collision::BodyId o : b.held.near) b.mask[o] &= ~bit;
+  b.held.near.clear();
+  b.mover_of[b.held.id] = -1;
+  b.held_ready = false;
 }
 
 void World::set_hand(bool closed) {
@@ -375,6 +427,7 @@ double World::next_part_change() const {
 void World::pose(const robots::JointVector& q, double t) {
   posed_q_ = q;
   posed_t_ = t;
+  posed_earlier_ = false;
   robots::link_frames(*robot_, q, frames_);
   for (const collision::BodyId id : moving_) {
     const BodyMount& m = mounts_[id];
@@ -409,6 +462,12 @@ void World::pose(const robots::JointVector& q, double t) {
   scratch_ = *saved_;
   scratch_->advance_to(t);
   pose_parts(*scratch_, t, true);
+  // The carried part may not be on the flange then (before its grasp): all its pairs are kept.
+  posed_earlier_ = true;
+  if (broad_ && broad_->held_ready) {
+    drop_held();
+    rebuild_pairs();
+  }
   any_absent_ = false;
   std::vector<char> present(slots_.size(), 0);
   for (const PartState& p : scratch_->parts())
@@ -444,23 +503,28 @@ void World::pose_parts(const DeviceClock& clock, double t, bool all) {
 // The parts' holders changed: new pairs, and the grasped or released part's contacts excused.
 void World::refresh(const DeviceClock& clock) {
   seen_revision_ = clock.revision();
+  if (broad_) drop_held();  // a grasp or release changes the carried part's reach (below)
   carried_.reset();
   for (std::size_t i = 0; i < clock.parts().size(); ++i) {
     const PartState& p = clock.parts()[i];
     const collision::BodyId id = part_body(p);
     Slot& s = slots_[id - first_part_];
     const bool was_carried = s.holder == Holder::carried, placed = s.clock >= 0;
+    const bool was_still = placed && still_part(s);
     s.clock = static_cast<int>(i);
     s.conveyor = p.holder == Holder::conveyor ? p.conveyor : -1;
     s.speed_mm_s = p.velocity.norm();
     // A grasp or a release: the pairs that touch then are excused (marked here, tested once posed).
     if (placed && was_carried != (p.holder == Holder::carried)) to_excuse_[id - first_part_] = 1;
-    // A part placed, moved or taken leaves the broad phase's tree: all its pairs are kept until
-    // the tree is rebuilt (at the next stretch, whose poses are all at or after this change).
-    if (broad_ && (!placed || p.holder != s.holder || p.holder != Holder::world || !p.velocity.isZero())) {
+    // A part placed, moved, stopped or taken leaves the broad phase's tree and is untested: all
+    // its pairs are kept until the tree is rebuilt (at the next stretch, whose poses are all at
+    // or after this change) and a full query found them free. One still before and after, in
+    // the same holder, stays.
+    const bool still_now = (p.holder == Holder::world || p.holder == Holder::conveyor) && p.velocity.isZero();
+    if (broad_ && !(was_still && still_now && p.holder == s.holder)) {
       // (It stays an item of the tree until the next rebuild: harmless, only in_tree counts.)
-      if (p.holder == Holder::world) broad_->parts_dirty = true;
-      if (broad_->in_tree[id] || !placed || p.holder != s.holder) broad_->untested[id - first_part_] = broad_->any_untested = true;
+      if (still_now) broad_->parts_dirty = true;
+      broad_->untested[id - first_part_] = broad_->any_untested = true;
       broad_->in_tree[id] = 0;
     }
     if (placed && p.holder == Holder::removed && s.holder != Holder::removed)
@@ -576,7 +640,7 @@ void World::query(const collision::QueryRequest& request, collision::QueryResult
   if (broad_ && posed_q_.size() != 0) {
     // Any pose: the near lists are recomputed when a left-out pair may be nearer than keep now.
     const double keep = std::max(broad_->keep, request.clearance_mm);
-    bool need = !broad_->ready || keep != broad_->keep;
+    bool need = !broad_->ready || keep != broad_->keep || held_wanted();
     if (!need)
       for (const double r : room())
         if (r < 0) need = true;
@@ -598,7 +662,7 @@ void World::query(const collision::QueryRequest& request, collision::QueryResult
   // Every pair of the changed parts was tested here and found free: they may enter the tree.
   if (broad_ && broad_->any_untested && !request.pairs && request.contact && !out.collided && !any_absent_) {
     for (std::size_t s = 0; s < slots_.size(); ++s)
-      if (broad_->untested[s] && slots_[s].clock >= 0 && slots_[s].holder == Holder::world) broad_->parts_dirty = true;
+      if (broad_->untested[s] && still_part(slots_[s])) broad_->parts_dirty = true;
     std::fill(broad_->untested.begin(), broad_->untested.end(), 0);
     broad_->any_untested = false;
   }

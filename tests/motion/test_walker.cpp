@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <numbers>
 #include <atomic>
 #include <string>
 
@@ -218,4 +219,131 @@ TEST_CASE("the broad phase leaves out only the pairs farther than keep plus room
     CHECK(kept.size() + left_out == all.size());
     for (const double r : world.room()) CHECK(r >= room);
   }
+}
+
+// Parts on a stopped conveyor are still bodies like parts at rest: once a full query found
+// them free, their pairs with other still parts leave pairs() (neither can move until the
+// devices change); the belt starting takes them out of the tree and their near pairs back.
+TEST_CASE("the broad phase leaves out pairs of still parts, a stopped belt's too", "[walker]") {
+  Cell cell = wall_cell();
+  cell.objects.clear();
+  auto& w = cell.workcell;
+  w.conveyors.push_back({"belt", {trans(-800, 0, -20, 0, 0, 0), {1000, 200, 40}}, collision::Vec3::UnitX(), 100, 1});
+  cell.objects.push_back(test::box_object("belt", {1000, 200, 40}, {-800, 0, -20}));
+  for (int i = 0; i < 4; ++i)  // on the belt (output 1 off: it stands)
+    w.parts.push_back({"on_belt" + std::to_string(i), "", collision::make_box({20, 20, 20}), trans(-1100 + 150 * i, 80, 10, 0, 0, 0)});
+  for (int i = 0; i < 6; ++i)  // on the floor beside it, 30 mm from the belt's parts
+    w.parts.push_back({"rest" + std::to_string(i), "", collision::make_box({20, 20, 20}), trans(-1100 + 100 * i, 130, 10, 0, 0, 0)});
+  Cell off = cell;
+  off.collision.broad_phase = false;
+  CellRuntime runtime(cell), runtime_off(off);
+  World world(cell), reference(off);
+  world.attach(runtime);
+  reference.attach(runtime_off);
+  world.build_engine(cell);
+  reference.build_engine(off);
+  REQUIRE(world.broad_phase());
+  const JointVector q = start_joints(cell);
+  const auto name = [&](collision::BodyId id) { return world.engine()->body_name(id); };
+  const auto still_pairs = [&](const World& x) {
+    std::size_t n = 0;
+    for (const collision::BodyPair& p : x.pairs())
+      if (name(p.a).rfind("part:", 0) == 0 && name(p.b).rfind("part:", 0) == 0) ++n;
+    return n;
+  };
+  constexpr double kKeep = 10;
+  world.pose(q, 0);
+  reference.pose(q, 0);
+  world.broad_refresh(kKeep, 1);
+  CHECK(still_pairs(reference) == 24);  // each belt part with each part on the floor
+  CHECK(still_pairs(world) == 24);      // not tested yet: all kept
+  collision::QueryResult r;
+  world.query({}, r);
+  REQUIRE(!r.collided);
+  world.broad_refresh(kKeep, 1);
+  CHECK(still_pairs(world) == 0);
+  // Output 1 on: the belt runs; its parts' pairs with the floor parts near them come back.
+  runtime.clock().set_signal(1, true);
+  runtime_off.clock().set_signal(1, true);
+  world.pose(q, 0.1);
+  reference.pose(q, 0.1);
+  world.broad_refresh(kKeep, 1);
+  const std::vector<collision::BodyPair> kept(world.pairs().begin(), world.pairs().end());
+  std::size_t near = 0;
+  for (const collision::BodyPair& p : reference.pairs()) {
+    if (name(p.a).rfind("part:", 0) != 0 || name(p.b).rfind("part:", 0) != 0) continue;
+    if (world.engine()->distance(p.a, p.b, {.upper_mm = 100}).distance > 60) continue;
+    ++near;
+    CHECK(std::find(kept.begin(), kept.end(), p) != kept.end());
+  }
+  CHECK(near >= 4);
+}
+
+// The carried part is one of the broad phase's movers: its pairs with far still bodies leave
+// pairs() by the same distance rule, its room (the last reach() slot) shrinks as the flange
+// moves, and a grasp keeps all its pairs until the near lists are computed again.
+TEST_CASE("the broad phase covers the carried part", "[walker]") {
+  Cell cell = wall_cell();
+  cell.objects.clear();
+  for (int i = 0; i < 12; ++i)
+    cell.workcell.parts.push_back({"p" + std::to_string(i), "", collision::make_box({40, 40, 40}),
+                                   trans(-900 + 150 * i, 300, 200, 0, 0, 0)});
+  cell.objects.push_back(test::box_object("post", {40, 40, 400}, {500, 0, 0}));
+  const JointVector q = start_joints(cell);
+  const Location flange = robots::flange_pose(cell.robot, q);
+  cell.workcell.gripper.declared = true;
+  cell.workcell.gripper.zone = {Location::Identity(), {30, 30, 30}};
+  cell.workcell.parts.push_back({"held", "", collision::make_box({40, 40, 40}), flange});
+  Cell off = cell;
+  off.collision.broad_phase = false;
+  CellRuntime runtime(cell), runtime_off(off);
+  World world(cell), reference(off);
+  world.attach(runtime);
+  reference.attach(runtime_off);
+  world.build_engine(cell);
+  reference.build_engine(off);
+  REQUIRE(world.broad_phase());
+  REQUIRE(runtime.close(flange, 1));
+  REQUIRE(runtime_off.close(flange, 1));
+  world.pose(q, 0);
+  reference.pose(q, 0);
+  collision::BodyId held = 0;
+  while (held < world.engine()->body_count() && world.engine()->body_name(held) != "part:held") ++held;
+  REQUIRE(held < world.engine()->body_count());
+  CHECK(world.body_name(held) == "carried part:held");
+  const auto with_held = [&](const World& w) {
+    std::vector<collision::BodyPair> out;
+    for (const collision::BodyPair& p : w.pairs())
+      if (p.a == held || p.b == held) out.push_back(p);
+    return out;
+  };
+  const std::vector<collision::BodyPair> all = with_held(reference);
+  REQUIRE(all.size() >= 13);  // the other parts and the post (and the arm's bodies past the flange's)
+  constexpr double kKeep = 10;
+  // Before the near lists are computed (the grasp): every pair of the carried part is kept.
+  CHECK(with_held(world) == all);
+  CHECK(world.room().back() == INFINITY);
+  for (const double room : {1.0, 150.0}) {
+    CAPTURE(room);
+    world.broad_refresh(kKeep, room);
+    const std::vector<collision::BodyPair> kept = with_held(world);
+    std::size_t left_out = 0;
+    for (const collision::BodyPair& p : all) {
+      if (std::find(kept.begin(), kept.end(), p) != kept.end()) continue;
+      ++left_out;
+      CHECK(world.engine()->distance(p.a, p.b, {.upper_mm = kKeep + room + 1}).distance > kKeep + room);
+    }
+    CHECK(left_out > 0);
+    CHECK(kept.size() + left_out == all.size());
+    CHECK(world.room().back() >= room);
+    CHECK(world.room().back() < INFINITY);
+  }
+  // The flange moves 5 degrees about joint 1: the carried part's room is its motion bound less.
+  const double before = world.room().back();
+  JointVector q2 = q;
+  q2[0] += 5 * std::numbers::pi / 180;
+  world.pose(q2, 0.1);
+  const double moved = robots::max_displacement(world.reach().back(), q2 - q);
+  CHECK(moved > 1);
+  CHECK(world.room().back() == Approx(before - moved).margin(1e-6));
 }

@@ -131,6 +131,8 @@ class World {
     int conveyor = -1;
     double speed_mm_s = 0;  // on a running conveyor
   };
+  // A placed part that does not move: resting in the world or on a stopped conveyor.
+  static bool still_part(const Slot& s);
   void refresh(const DeviceClock& clock);
   void rebuild_pairs();
   void excuse_touching(collision::BodyId part);
@@ -145,6 +147,8 @@ class World {
   std::unique_ptr<Broad> broad_;  // null: no broad phase
   void broad_build(double keep_mm, double room_mm, bool parts_tree);
   bool broad_skips(collision::BodyId a, collision::BodyId b) const;  // a pair the broad phase leaves out
+  bool held_wanted() const;  // a carried part without its near list, at a pose of the clock's state
+  void drop_held();  // the carried part's near list is no more (it is kept whole until the next build)
   double belt_room(std::size_t slot, double t) const;
   bool belt_valid(std::size_t slot) const;
   bool belts_need(double room_mm) const;  // some belt-borne part has less room than room_mm now
@@ -182,6 +186,7 @@ class World {
   std::vector<char> to_excuse_;                  // per slot: grasped or released since the last pose
   bool any_absent_ = false;
   std::optional<collision::BodyId> carried_;
+  bool posed_earlier_ = false;  // the last pose() was at a state before the clock's (bisection)
   Location grip_ = Location::Identity();
   std::uint64_t seen_revision_ = ~std::uint64_t{0};
   std::uint64_t pairs_revision_ = 0;
