@@ -70,6 +70,22 @@ struct World::Broad {
   std::vector<collision::BodyPair> scratch;
   std::vector<collision::BodyId> scratch_ids;
   std::vector<double> room;           // per reach() index
+
+  // m's near list at its pose now (bit: its bit in mask); true when it changed.
+  bool renear(Mover& m, unsigned bit, collision::Engine& engine) {
+    const collision::Engine::PlacedBounds at = engine.placed_bounds(m.id);
+    m.next.clear();
+    m.lower = std::min(objects.query(at, radius, m.next), parts.query(at, radius, m.next));
+    std::sort(m.next.begin(), m.next.end());
+    if (m.next == m.near) return false;
+    unmark(m, bit);
+    for (const collision::BodyId o : m.next) mask[o] |= std::uint32_t{1} << bit;
+    m.near.swap(m.next);
+    return true;
+  }
+  void unmark(const Mover& m, unsigned bit) {
+    for (const collision::BodyId o : m.near) mask[o] &= ~(std::uint32_t{1} << bit);
+  }
 };
 
 World::~World() = default;
@@ -325,35 +341,14 @@ void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
   b.keep = keep_mm;
   b.radius = keep_mm + std::max(kSkinMm, 4 * room_mm);
   b.q0 = posed_q_;
-  for (std::size_t k = 0; k < b.movers.size(); ++k) {
-    Broad::Mover& m = b.movers[k];
-    const collision::Engine::PlacedBounds at = engine_->placed_bounds(m.id);
-    m.next.clear();
-    m.lower = std::min(b.objects.query(at, b.radius, m.next), b.parts.query(at, b.radius, m.next));
-    std::sort(m.next.begin(), m.next.end());
-    if (m.next == m.near) continue;
-    changed = true;
-    const std::uint32_t bit = std::uint32_t{1} << k;
-    for (const collision::BodyId o : m.near) b.mask[o] &= ~bit;
-    for (const collision::BodyId o : m.next) b.mask[o] |= bit;
-    m.near.swap(m.next);
-  }
+  for (std::size_t k = 0; k < b.movers.size(); ++k)
+    if (b.renear(b.movers[k], static_cast<unsigned>(k), *engine_)) changed = true;
   // The carried part, at its pose now (rigid with the flange: its reach is the last slot's).
   if (carried_ && !posed_earlier_) {
     Broad::Mover& m = b.held;
     if (b.held_ready && m.id != *carried_) drop_held();
     m.id = *carried_;
-    m.next.clear();
-    const collision::Engine::PlacedBounds at = engine_->placed_bounds(m.id);
-    m.lower = std::min(b.objects.query(at, b.radius, m.next), b.parts.query(at, b.radius, m.next));
-    std::sort(m.next.begin(), m.next.end());
-    if (!b.held_ready || m.next != m.near) {
-      changed = true;
-      const std::uint32_t bit = std::uint32_t{1} << kHeldBit;
-      for (const collision::BodyId o : m.near) b.mask[o] &= ~bit;
-      for (const collision::BodyId o : m.next) b.mask[o] |= bit;
-      m.near.swap(m.next);
-    }
+    if (b.renear(m, kHeldBit, *engine_) || !b.held_ready) changed = true;  // (ready: its pairs may leave)
     b.mover_of[m.id] = static_cast<int>(kHeldBit);
     b.held_ready = true;
   }
@@ -389,8 +384,7 @@ bool World::held_wanted() const {
 void World::drop_held() {
   Broad& b = *broad_;
   if (!b.held_ready) return;
-  const std::uint32_t bit = std::uint32_t{1} << kHeldBit;
-  for (const collision::BodyId o : b.held.near) b.mask[o] &= ~bit;
+  b.unmark(b.held, kHeldBit);
   b.held.near.clear();
   b.mover_of[b.held.id] = -1;
   b.held_ready = false;
