@@ -173,6 +173,26 @@ TEST_CASE("trajectory: the exact path starts and ends at the planned joints", "[
   CHECK(tr.target.isApprox(Location(robots::flange_pose(cell.robot, tr.to))));  // BASE, TOOL identity
 }
 
+namespace {
+// A cell's world with the broad phase and the reference without it (every pair at every pose),
+// each with its own runtime (members in this order: the worlds borrow their cells' meshes).
+Cell without_broad(Cell c) {
+  c.collision.broad_phase = false;
+  return c;
+}
+struct BroadPair {
+  explicit BroadPair(const Cell& c) : cell(c), off(without_broad(c)), runtime(cell), runtime_off(off), world(cell), reference(off) {
+    world.attach(runtime);
+    reference.attach(runtime_off);
+    world.build_engine(cell);
+    reference.build_engine(off);
+  }
+  Cell cell, off;
+  CellRuntime runtime, runtime_off;
+  World world, reference;
+};
+}  // namespace
+
 // World's broad phase (docs/collision.md §14): a pair leaves pairs() only when its bodies' exact
 // distance at the current poses exceeds keep plus the arm body's room, whatever the order of
 // pairs() against the engine's own pair list; with the broad phase off every pair stays.
@@ -187,14 +207,9 @@ TEST_CASE("the broad phase leaves out only the pairs farther than keep plus room
   // One part on the flange itself: its pairs with the wrist touch, so they always stay.
   const Location flange = robots::flange_pose(cell.robot, start_joints(cell));
   cell.workcell.parts.push_back({"on_flange", "", collision::make_box({40, 40, 40}), flange});
-  Cell off = cell;
-  off.collision.broad_phase = false;
-  CellRuntime runtime(cell), runtime_off(off);
-  World world(cell), reference(off);
-  world.attach(runtime);
-  reference.attach(runtime_off);
-  world.build_engine(cell);
-  reference.build_engine(off);
+  BroadPair both(cell);
+  World &world = both.world, &reference = both.reference;
+  CellRuntime &runtime = both.runtime, &runtime_off = both.runtime_off;
   REQUIRE(world.engine());
   REQUIRE(world.broad_phase());
   REQUIRE(!reference.broad_phase());
@@ -234,14 +249,9 @@ TEST_CASE("the broad phase leaves out pairs of still parts, a stopped belt's too
     w.parts.push_back({"on_belt" + std::to_string(i), "", collision::make_box({20, 20, 20}), trans(-1100 + 150 * i, 80, 10, 0, 0, 0)});
   for (int i = 0; i < 6; ++i)  // on the floor beside it, 30 mm from the belt's parts
     w.parts.push_back({"rest" + std::to_string(i), "", collision::make_box({20, 20, 20}), trans(-1100 + 100 * i, 130, 10, 0, 0, 0)});
-  Cell off = cell;
-  off.collision.broad_phase = false;
-  CellRuntime runtime(cell), runtime_off(off);
-  World world(cell), reference(off);
-  world.attach(runtime);
-  reference.attach(runtime_off);
-  world.build_engine(cell);
-  reference.build_engine(off);
+  BroadPair both(cell);
+  World &world = both.world, &reference = both.reference;
+  CellRuntime &runtime = both.runtime, &runtime_off = both.runtime_off;
   REQUIRE(world.broad_phase());
   const JointVector q = start_joints(cell);
   const auto name = [&](collision::BodyId id) { return world.engine()->body_name(id); };
@@ -294,14 +304,9 @@ TEST_CASE("the broad phase covers the carried part", "[walker]") {
   cell.workcell.gripper.declared = true;
   cell.workcell.gripper.zone = {Location::Identity(), {30, 30, 30}};
   cell.workcell.parts.push_back({"held", "", collision::make_box({40, 40, 40}), flange});
-  Cell off = cell;
-  off.collision.broad_phase = false;
-  CellRuntime runtime(cell), runtime_off(off);
-  World world(cell), reference(off);
-  world.attach(runtime);
-  reference.attach(runtime_off);
-  world.build_engine(cell);
-  reference.build_engine(off);
+  BroadPair both(cell);
+  World &world = both.world, &reference = both.reference;
+  CellRuntime &runtime = both.runtime, &runtime_off = both.runtime_off;
   REQUIRE(world.broad_phase());
   REQUIRE(runtime.close(flange, 1));
   REQUIRE(runtime_off.close(flange, 1));
