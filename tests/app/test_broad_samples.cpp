@@ -9,22 +9,15 @@
 #include "asimov/motion/simulator.hpp"
 
 #include "support/cell.hpp"
+#include "support/run_cli.hpp"
 
 #include <catch2/catch.hpp>
 
-#include <fstream>
 #include <sstream>
 
 using namespace asimov;
 
 namespace {
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 struct Outcome {
   interpreter::RunResult result;
   std::string out;
@@ -65,7 +58,7 @@ TEST_CASE("the broad phase changes nothing a user sees in the workcell samples, 
     for (const bool stock : {false, true})
       for (const bool continuous : {true, false}) {
         CAPTURE(program, stock, continuous);
-        std::string yaml = read(dir + cell_file);
+        std::string yaml = test::slurp(dir + cell_file);
         REQUIRE(!yaml.empty());
         // The rack's parts: first in the cell's own `parts:` list, or a new one.
         if (const auto at = yaml.find("\nparts:\n"); stock && at != std::string::npos) yaml.insert(at + 8, rack);
