@@ -277,6 +277,7 @@ TEST_CASE("the broad phase finds the same contacts and clearance report as every
   std::mt19937 rng(1217);
   std::uniform_real_distribution<double> ux(150, 850), uy(-600, 600), uz(-395, -150), us(10, 60);
   int contacts = 0, reported = 0, runs = 0;
+  double worst = 0;
   for (int cell_i = 0; cell_i < 16; ++cell_i) {
     const bool continuous = cell_i % 2 == 0;
     motion::Cell base = plate_cell(true);
@@ -285,8 +286,12 @@ TEST_CASE("the broad phase finds the same contacts and clearance report as every
     for (int i = 0; i < 30; ++i) {
       const double s = us(rng);
       // Cells 8..15: most bodies behind the robot (far from every path), a few in front.
+      // One draw per statement: the order of a call's arguments is unspecified (gcc and clang
+      // differ), and the cells must be the same whichever compiler builds the test.
       const double x = cell_i >= 8 && i % 4 != 0 ? ux(rng) - 1100 : ux(rng);
-      const motion::Location p = at(x, uy(rng), uz(rng) + s / 2);
+      const double y = uy(rng);
+      const double z = uz(rng) + s / 2;
+      const motion::Location p = at(x, y, z);
       if (i % 3 == 0) base.objects.push_back({"o" + std::to_string(i), collision::make_box({s, s, s}), p});
       else base.workcell.parts.push_back({"r" + std::to_string(i), "", collision::make_box({s, s, s}), p});
     }
@@ -306,10 +311,19 @@ TEST_CASE("the broad phase finds the same contacts and clearance report as every
     const auto& pa = a.sim.recorders().clearance.pairs;
     const auto& pb = b.sim.recorders().clearance.pairs;
     CHECK(pa.size() == pb.size());
+    // Each least distance is one the checker measured at an evaluated pose (checked pose or
+    // probe), and the broad phase may place the checked poses differently (a mover's room limits
+    // a stretch). Between two evaluated poses a pair moves at most A <= max(step_mm, d) (gap
+    // stepping's allowance at distance d, clearance 0), so each run's least distance m is within
+    // A/2 of the continuous minimum d* and d* >= m/2: two runs agree within max(step_mm, m)/2.
+    // A pair the broad phase left out while it came near is missing or far off.
+    const double step = base.collision.step_mm;
     for (const auto& x : pb) {
       const auto it = std::find_if(pa.begin(), pa.end(), [&](const auto& y) { return y.pair == x.pair; });
       REQUIRE(it != pa.end());
-      CHECK(std::abs(it->distance_mm - x.distance_mm) <= 1e-6);
+      const double diff = std::abs(it->distance_mm - x.distance_mm);
+      CHECK(diff <= std::max(step, std::max(it->distance_mm, x.distance_mm)) / 2 + 1e-9);
+      worst = std::max(worst, diff);
       ++reported;
     }
   }
@@ -317,5 +331,5 @@ TEST_CASE("the broad phase finds the same contacts and clearance report as every
   CHECK(contacts > 0);
   CHECK(contacts < runs);
   CHECK(reported > 0);
-  WARN(contacts << " contacts, " << reported << " clearance-report pairs compared");
+  WARN(contacts << " contacts, " << reported << " clearance-report pairs compared, largest difference " << worst << " mm");
 }
