@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace asimov::motion {
@@ -13,7 +12,7 @@ namespace {
 // threshold above what the window needs: the answer "beyond" (a lower bound) then proves the
 // following windows too while the arm moves less than that from there (Anchor). Measured on
 // bench_continuous: queries with a higher cut-off cost more than the ones they save.
-double budget_ = std::getenv("KB") ? std::atof(std::getenv("KB")) : 0.5;
+constexpr double budget_ = 0.5;
 // A lower bound at the far end of a motion bound mu from a lower bound d (with room for the
 // rounding of both).
 double less(double d, double mu) { return d - mu * (1 + 1e-9) - 1e-9; }
