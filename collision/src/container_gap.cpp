@@ -33,33 +33,58 @@ double gap_bound(const Engine::PlacedBounds& a, const Vec3& lo, const Vec3& hi, 
 namespace asimov::collision {
 
 double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_from_b, double slack, double enough,
-                int iterations, double stop) {
+                int iterations, double stop, Vec3* guess) {
   if (a.empty() || b.empty()) return 0;
   const Mat3 r = a_from_b.linear();
   const Vec3 t = a_from_b.translation();
-  double mag_a = 0, mag_b = 0;
-  for (const Vec3& p : a) mag_a = std::max(mag_a, p.cwiseAbs().maxCoeff());
-  for (const Vec3& p : b) mag_b = std::max(mag_b, p.cwiseAbs().maxCoeff());
   // Each projection n.p carries a few ulps of |p| (|n| = 1 up to an ulp), B's also of the
-  // mapping (within `slack`, the pair's margin, as for the containers).
-  const double room = slack + 16 * DBL_EPSILON * (mag_a + mag_b + t.cwiseAbs().maxCoeff());
+  // mapping (within `slack`, the pair's margin, as for the containers). The magnitudes are
+  // taken in the first pass over the vertices (a warm start is often the only one).
+  double mag_a = 0, mag_b = 0, room = 0;
   // v: a point of the difference set A - B (its norm bounds the hull distance from above).
   Vec3 v = a[0] - (r * b[0] + t);
   double best = -INFINITY;
+  Vec3 best_n = Vec3::Zero();
+  // The warm start: a direction, not a point of A - B, so its pass only bounds and then starts
+  // Gilbert's iteration at its support point (a point of A - B).
+  const double gn = guess ? guess->norm() : 0.0;
+  bool warm = gn > 0 && std::isfinite(gn);
   for (int it = 0; it < iterations; ++it) {
-    const double vn = v.norm();
+    const double vn = warm ? INFINITY : v.norm();
     if (!(vn > 0)) break;
-    const Vec3 n = v / vn;
+    const Vec3 n = warm ? Vec3(*guess / gn) : Vec3(v / vn);
     // The support point of A - B in direction -n: A's vertex least along n, B's farthest.
     const Vec3 nb = r.transpose() * n;  // n in B's frame
     std::size_t ia = 0, ib = 0;
     double min_a = INFINITY, max_b = -INFINITY;
-    for (std::size_t i = 0; i < a.size(); ++i)
-      if (const double p = n.dot(a[i]); p < min_a) min_a = p, ia = i;
-    for (std::size_t i = 0; i < b.size(); ++i)
-      if (const double p = nb.dot(b[i]); p > max_b) max_b = p, ib = i;
+    if (it == 0) {
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        mag_a = std::max(mag_a, a[i].cwiseAbs().maxCoeff());
+        if (const double p = n.dot(a[i]); p < min_a) min_a = p, ia = i;
+      }
+      for (std::size_t i = 0; i < b.size(); ++i) {
+        mag_b = std::max(mag_b, b[i].cwiseAbs().maxCoeff());
+        if (const double p = nb.dot(b[i]); p > max_b) max_b = p, ib = i;
+      }
+      room = slack + 16 * DBL_EPSILON * (mag_a + mag_b + t.cwiseAbs().maxCoeff());
+    } else {
+      for (std::size_t i = 0; i < a.size(); ++i)
+        if (const double p = n.dot(a[i]); p < min_a) min_a = p, ia = i;
+      for (std::size_t i = 0; i < b.size(); ++i)
+        if (const double p = nb.dot(b[i]); p > max_b) max_b = p, ib = i;
+    }
     const double bound = min_a - (max_b + n.dot(t)) - room;
-    best = std::max(best, bound);
+    if (bound > best) best = bound, best_n = n;
+    if (warm) {
+      warm = false;
+      // The warm direction was (nearly) the best one: past `stop` the caller's question is
+      // answered, and Gilbert's slow approach to the last 1e-3 would gain little.
+      // Far below `stop` it is a near pair the hulls will not prove apart (the caller measures
+      // it): the warm bound is returned without the iterations.
+      if (best >= enough || (stop > 0 && (best >= stop || best < 0.5 * stop))) break;
+      v = a[ia] - (r * b[ib] + t);
+      continue;
+    }
     // Done: the bound is enough, or near the hull distance (which is <= |v|), or cannot get
     // to `enough` any more.
     if (best >= enough || vn - bound <= 1e-3 * vn || vn < stop) break;
@@ -72,6 +97,7 @@ double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_
     if (s == 0) break;  // no progress: v is the nearest point the iteration finds
     v += s * d;
   }
+  if (guess && best_n.squaredNorm() > 0) *guess = best_n;
   return best;
 }
 

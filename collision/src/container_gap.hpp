@@ -55,7 +55,12 @@ namespace asimov::collision {
 // distance is known to be below `stop` (a point of A - B nearer than that). Rounding:
 // `slack` (the pair's mapping margin) and a few ulps of the coordinates are subtracted. Each
 // iteration is one pass over both vertex sets. Returns the best bound (<= 0: the hulls may meet).
+// `guess` (A's frame; zero or null: none) is tried first, as a warm start: in coherent motion
+// the last query's best direction is nearly the best one again, so one pass often reaches
+// `enough`; its bound at or above `stop`, or below half of it (a near pair, which the caller
+// measures anyway), ends the search. On return it holds the direction of the best bound (any direction gives a valid
+// bound, so a stale guess costs a pass, never a wrong answer).
 double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_from_b, double slack, double enough,
-                int iterations, double stop = 0);
+                int iterations, double stop = 0, Vec3* guess = nullptr);
 
 }  // namespace asimov::collision

@@ -531,9 +531,11 @@ struct Engine::Impl {
     }
   }
 
-  DistanceResult distance_pair(BodyId ia, BodyId ib, double upper) {
+  DistanceResult distance_pair(BodyId ia, BodyId ib, const DistanceRequest& req) {
+    const double upper = req.upper_mm;
     DistanceResult res;
     res.body_a = ia, res.body_b = ib;
+    res.guess = req.guess;  // kept for the next request unless the hull bound finds a better one
     Body& a = bodies[ia];
     Body& b = bodies[ib];
     const double margin = relative_margin(a.container, a.pose, b.container, b.pose);
@@ -559,7 +561,7 @@ struct Engine::Impl {
     if (lb < upper && std::isfinite(upper) && a.mesh().vertices.size() <= kHullGapVertices &&
         b.mesh().vertices.size() <= kHullGapVertices)
       lb = std::max(lb, hull_gap(a.mesh().vertices, b.mesh().vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
-                                 kHullGapIterations, upper));
+                                 kHullGapIterations, upper, &res.guess));
     if (lb >= upper) {
       res.distance = lb;
       return res;
@@ -724,7 +726,7 @@ QueryResult Engine::check_pairs(std::span<const BodyPair> pairs) {
 DistanceResult Engine::distance(BodyId a, BodyId b, const DistanceRequest& request) {
   if (a >= body_count() || b >= body_count() || a == b)
     throw std::invalid_argument("Engine::distance: two different bodies of the engine");
-  return impl_->distance_pair(a, b, request.upper_mm);
+  return impl_->distance_pair(a, b, request);
 }
 
 DistanceResult brute_force_distance(const Polyhedron& a, const Pose& pose_a, const Polyhedron& b, const Pose& pose_b) {

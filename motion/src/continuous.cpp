@@ -49,7 +49,11 @@ ContinuousChecker::ContinuousChecker(collision::Engine& engine, double clearance
 void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool probe) {
   const collision::BodyPair bp = pairs_[pair];
   const std::uint64_t k0 = cpu_ticks();
-  const collision::DistanceResult r = engine_.distance(bp.a, bp.b, {.upper_mm = upper});
+  if (guesses_.size() < pairs_.size()) guesses_.resize(pairs_.size());
+  Guess& g = guesses_[pair];
+  const collision::DistanceResult r =
+      engine_.distance(bp.a, bp.b, {.upper_mm = upper, .guess = g.pair == bp ? g.dir : collision::Vec3::Zero()});
+  g = {bp, r.guess};
   if (on_measure) on_measure(pair, r, p.t, probe, cpu_ticks() - k0);
   ++queries_;
   if (r.status != collision::DistanceStatus::beyond) least_[pair] = std::min(least_[pair], r.distance);

@@ -134,6 +134,11 @@ class ContinuousChecker {
     robots::JointVector q;
   };
   std::vector<Anchor> anchors_;  // per pair (ContinuousPath::jump)
+  struct Guess {  // the pair's last hull-bound direction (DistanceRequest::guess)
+    collision::BodyPair pair;  // {0, 0}: none (a pair has a < b)
+    collision::Vec3 dir = collision::Vec3::Zero();
+  };
+  std::vector<Guess> guesses_;  // per pair index; used only while it names the same pair
   // verify, per pair: its motion bound over the window; its distance (or lower bound) at b and
   // what it is (kHit, kExact) and whether the window is proven free (kFree).
   static constexpr char kHit = 1, kExact = 2, kFree = 4;

@@ -82,3 +82,38 @@ TEST_CASE("container_gap of long rods: the vertex spheres tighten the box bound,
   CHECK(apart > 100);
   CHECK(sphere_wins > 0);  // the sphere bound is the tighter one on some poses (4 of 300 here)
 }
+
+TEST_CASE("hull_gap warm start: the last direction proves a far pair in one pass, any guess gives a bound") {
+  // Two boxes 30 mm apart across a diagonal: one pass from the first vertex pair bounds little,
+  // one pass along the last best direction gives (nearly) the hull distance.
+  const Polyhedron box = make_box({40, 60, 100});
+  Pose b_pose(Eigen::AngleAxisd(0.7, Vec3(1, 1, 0).normalized()));
+  b_pose.translation() = Vec3(100, 90, 40);
+  const Pose a_from_b = b_pose;  // A at the origin
+  const double truth = mesh_distance(box, Pose::Identity(), b_pose);
+  REQUIRE(truth > 10);
+  Vec3 dir = Vec3::Zero();
+  const double full = hull_gap(box.vertices, box.vertices, a_from_b, 0, 1e300, 200, 0, &dir);
+  CHECK(full <= truth);
+  CHECK(full >= truth * (1 - 2e-3));
+  REQUIRE(dir.squaredNorm() > 0);
+  // One iteration: cold, from a[0] - b[0], it stays below 90 % of the distance; warm it is there.
+  const double cold = hull_gap(box.vertices, box.vertices, a_from_b, 0, 1e300, 1);
+  CHECK(cold < 0.9 * truth);
+  Vec3 warm_dir = dir;
+  const double warm = hull_gap(box.vertices, box.vertices, a_from_b, 0, 1e300, 1, 0, &warm_dir);
+  CHECK(warm >= full * (1 - 1e-12));
+  CHECK(warm <= truth);
+  // Any direction, however stale or odd, gives a valid bound and a unit direction back.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 100; ++i) {
+    Vec3 g(u(rng), u(rng), u(rng));
+    g *= i % 3 == 0 ? 1e-200 : i % 3 == 1 ? 1e200 : 1.0;
+    const double lb = hull_gap(box.vertices, box.vertices, a_from_b, 0, 1e300, 24, 0, &g);
+    CHECK(lb <= truth);
+    CHECK(std::abs(g.norm() - 1) < 1e-12);
+  }
+  Vec3 nan_guess(NAN, 0, 0);
+  CHECK(hull_gap(box.vertices, box.vertices, a_from_b, 0, 1e300, 24, 0, &nan_guess) <= truth);
+}

@@ -213,3 +213,44 @@ TEST_CASE("distance cut-off on random poses: 'beyond' is a lower bound, at least
   CHECK(exact > 100);
   REQUIRE(bad == 0);
 }
+
+TEST_CASE("distance warm start: a chained, stale or garbage guess changes no answer", "[distance]") {
+  // A body sliding past another in small steps, each query given the last answer's guess (the
+  // continuous checker's use), then a guess from far back, then NaN, huge and tiny ones: every
+  // answer is the one without a guess (status; exact distances to the last digit, as the descent
+  // is the same; "beyond" bounds valid against brute force).
+  const Polyhedron ma = test::make_l_prism(40, 10, 20), mb = make_cylinder(10, 40, 16);
+  Engine e;
+  const BodyId a = e.add_body({.name = "a", .mesh = ma});
+  const BodyId b = e.add_body({.name = "b", .mesh = mb});
+  e.set_pose(a, Pose::Identity());
+  Vec3 chained = Vec3::Zero(), first = Vec3::Zero();
+  int beyond = 0, exact = 0;
+  for (int k = 0; k <= 200; ++k) {
+    Pose pb(Eigen::AngleAxisd(0.01 * k, Vec3(0.3, 0.2, 1).normalized()));
+    pb.translation() = Vec3(-120 + 1.2 * k, 35, 8);
+    e.set_pose(b, pb);
+    const DistanceResult truth = brute_force_distance(ma, Pose::Identity(), mb, pb);
+    for (const double upper : {5.0, 15.0, 40.0}) {
+      const DistanceResult plain = e.distance(a, b, {.upper_mm = upper});
+      for (const Vec3& g : {chained, first, Vec3(NAN, 0, 0), Vec3(1e300, 1e300, 0), Vec3(1e-300, 0, 0), Vec3(0, 0, -1)}) {
+        const DistanceResult warm = e.distance(a, b, {.upper_mm = upper, .guess = g});
+        REQUIRE(warm.status == plain.status);
+        if (plain.status == DistanceStatus::exact) {
+          CHECK(warm.distance == plain.distance);
+          CHECK(agrees(warm.distance, truth.distance));
+        } else if (plain.status == DistanceStatus::beyond) {
+          CHECK(warm.distance >= upper);
+          CHECK(warm.distance <= truth.distance * (1 + 1e-9));
+        }
+      }
+      const DistanceResult next = e.distance(a, b, {.upper_mm = upper, .guess = chained});
+      if (upper == 15.0) chained = next.guess;
+      if (k == 0 && upper == 15.0) first = next.guess;
+      beyond += plain.status == DistanceStatus::beyond;
+      exact += plain.status == DistanceStatus::exact;
+    }
+  }
+  CHECK(beyond > 50);
+  CHECK(exact > 50);
+}

@@ -209,7 +209,6 @@ TEST_CASE("the broad phase leaves out only the pairs farther than keep plus room
   cell.workcell.parts.push_back({"on_flange", "", collision::make_box({40, 40, 40}), flange});
   BroadPair both(cell);
   World &world = both.world, &reference = both.reference;
-  CellRuntime &runtime = both.runtime, &runtime_off = both.runtime_off;
   REQUIRE(world.engine());
   REQUIRE(world.broad_phase());
   REQUIRE(!reference.broad_phase());

@@ -12,6 +12,10 @@ struct DistanceRequest {
   // Cut-off [mm]: a pair at least this far apart costs little, and the answer is only that it is
   // (status beyond). Infinity: always the exact distance.
   double upper_mm = std::numeric_limits<double>::infinity();
+  // Warm start (as Coal's cached GJK guess): an earlier answer's `guess` for the same pair, tried
+  // first by the convex-hull bound; in coherent motion it proves a far pair in one pass over the
+  // vertices. Only a speed-up: any direction gives a valid bound. Zero: none.
+  Vec3 guess = Vec3::Zero();
 };
 
 enum class DistanceStatus : std::uint8_t {
@@ -29,6 +33,7 @@ struct DistanceResult {
   Vec3 point_a = Vec3::Zero();           // world witness points: on body_a's face_a and body_b's
   Vec3 point_b = Vec3::Zero();           //   face_b, |point_a - point_b| = distance (contact: the
                                          //   contact point, or the inner body's vertex)
+  Vec3 guess = Vec3::Zero();             // the hull bound's best direction (body_a's frame), for the next request
   std::uint64_t face_pairs = 0;          // face pairs whose distance was computed (cost)
   std::uint64_t node_pairs = 0;          // box pairs of the two distance trees bounded (cost)
 };
