@@ -111,7 +111,7 @@ bool DeviceClock::running(int c) const {
 }
 
 void DeviceClock::place(std::size_t i, const Location& pose) {
-  ++revision_;
+  note_change();
   PartState& p = parts_[i];
   p.holder = Holder::world, p.conveyor = -1, p.anchor = pose, p.anchor_s = now_;
   p.velocity.setZero(), p.end_s = kInf, p.behind = -1;
@@ -136,7 +136,7 @@ void DeviceClock::queue(int c) {
   const auto halt = [&](PartState& p) {
     if (p.velocity.isZero()) return;
     p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
-    ++revision_;
+    note_change();
   };
   // One part on the belt: where its origin is along the belt, how far its faces reach ahead of
   // and behind the origin, and the band across the belt it covers.
@@ -187,7 +187,7 @@ void DeviceClock::queue(int c) {
       const double end = now_ + (o.stop - o.s) / conv.speed_mm_s;
       if (p.velocity.isZero() || std::abs(p.end_s - end) > 1e-9) {  // keep the anchor of an unchanged run
         p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity = conv.direction * conv.speed_mm_s, p.end_s = end;
-        ++revision_;
+        note_change();
       }
     } else {
       halt(p);
@@ -247,6 +247,7 @@ void DeviceClock::change(int k, bool on, int line) {
     const auto& rule = cell_->logic[r];
     if (rule.at_s < 0 && rule.when == k && rule.is_on == on)
       timers_.push_back({now_ + rule.after_s, seq_++, rule.set, rule.to_on, 0});
+      changed_s_ = now_;
   }
   for (std::size_t c = 0; c < cell_->conveyors.size(); ++c)
     if (cell_->conveyors[c].signal == k) queue(static_cast<int>(c));  // it started or stopped
@@ -279,6 +280,7 @@ void DeviceClock::settle() {
     for (std::size_t r = 0; r < cell_->logic.size(); ++r)
       if (cell_->logic[r].at_s >= 0 && !timed_done_[r] && cell_->logic[r].at_s <= now_) {
         timed_done_[r] = true;
+        changed_s_ = now_;
         timers_.push_back({now_ + cell_->logic[r].after_s, seq_++, cell_->logic[r].set, cell_->logic[r].to_on, 0});
         changed = true;
       }
@@ -288,7 +290,7 @@ void DeviceClock::settle() {
         const auto& conv = cell_->conveyors[static_cast<std::size_t>(p.conveyor)];
         const int behind = p.behind;
         p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;  // still
-        ++revision_;
+        note_change();
         if (behind >= 0)
           events_.push_back({now_, "conveyor_queue", p.def.name, parts_[static_cast<std::size_t>(behind)].def.name, 0});
         else
@@ -303,7 +305,7 @@ void DeviceClock::settle() {
           p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
           const int belt = p.holder == Holder::conveyor ? p.conveyor : -1;
           p.holder = Holder::removed;
-          ++revision_;
+          note_change();
           if (belt >= 0) queue(belt);  // the parts queued behind it move on
           events_.push_back({now_, "sink", p.def.name, s.name, 0});
           changed = true;
@@ -363,12 +365,22 @@ void DeviceClock::advance_to(double t) {
   }
 }
 
+bool DeviceClock::rewind(double t) {
+  if (!(t < now_)) return t == now_;
+  // The last change: a holder, motion or presence (changed_s_), a timer set, or any event
+  // (signals, feeders, grasps, releases all leave one).
+  const double last = std::max(changed_s_, events_.empty() ? -kInf : events_.back().time_s);
+  if (t < last) return false;
+  now_ = t;  // the parts move by their anchors and velocities, which held since `last`
+  return true;
+}
+
 void DeviceClock::carry(std::size_t i, int line) {
   PartState& p = parts_[i];
   p.anchor = p.pose_at(now_), p.anchor_s = now_, p.velocity.setZero(), p.end_s = kInf;
   const int belt = p.holder == Holder::conveyor ? p.conveyor : -1;
   p.holder = Holder::carried, p.conveyor = -1;
-  ++revision_;
+  note_change();
   if (belt >= 0) queue(belt);  // the parts queued behind it move on
   events_.push_back({now_, "grasp", p.def.name, "", line});
   settle();

@@ -316,6 +316,7 @@ struct Walker::Walk {
 
   MotionResult collision_result(CollisionReport report, double search_s) {
     report.step = tr.step;
+    w.world_.rewind_to(st.time_s);  // the devices at the contact instant, not the checked pose after
     tell([&](WalkObserver& o) { o.on_contact(report, st.joints, search_s); });
     MotionResult r;
     r.status = MotionStatus::collision;

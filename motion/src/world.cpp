@@ -432,9 +432,12 @@ void World::pose(const robots::JointVector& q, double t) {
   DeviceClock& clock = runtime_->clock();
   if (t >= clock.time_s()) {
     any_absent_ = false;
-    // Keep the state before a change, for the poses bisection may ask between the two.
-    if (clock.next_change() <= t) saved_ = clock;
-    else saved_.reset();
+    // Keep the state before a change, for the poses bisection may ask between the two (and
+    // for rewind_to). A pose at the clock's own time advances nothing: the copy stays.
+    if (t > clock.time_s()) {
+      if (clock.next_change() <= t) saved_ = clock;
+      else saved_.reset();
+    }
     clock.advance_to(t);
     const bool changed = clock.revision() != seen_revision_;
     if (changed) refresh(clock);
@@ -470,6 +473,24 @@ void World::pose(const robots::JointVector& q, double t) {
     if (slots_[s].clock >= 0 && slots_[s].holder != Holder::removed && !present[s]) any_absent_ = true;
   if (any_absent_)
     for (std::size_t s = 0; s < slots_.size(); ++s) absent_[s] = !present[s];
+}
+
+void World::rewind_to(double t) {
+  if (!has_parts_ || !runtime_ || !engine_) return;
+  DeviceClock& clock = runtime_->clock();
+  if (!(t < clock.time_s())) return;
+  if (!clock.rewind(t)) {
+    // Something changed after t: the copy from before the last advance, advanced to t. (Walks
+    // advance the clock only to checked poses, and a contact lies after the one before.)
+    if (!saved_ || saved_->time_s() > t) return;
+    clock = *saved_;
+    clock.advance_to(t);
+  }
+  saved_.reset();
+  scratch_.reset();
+  const bool changed = clock.revision() != seen_revision_;
+  if (changed) refresh(clock);
+  pose_parts(clock, t, true);
 }
 
 void World::pose_parts(const DeviceClock& clock, double t, bool all) {

@@ -152,7 +152,7 @@ TEST_CASE("a part the belt carries into a post while the program waits is a coll
     for (const auto stepping : {motion::Stepping::fixed, motion::Stepping::gap}) {
       CAPTURE(continuous, static_cast<int>(stepping));
       {
-        const CellRun run(post_cell(-3000, continuous, stepping), wait_event);
+        CellRun run(post_cell(-3000, continuous, stepping), wait_event);
         const auto& r = run.r;
         REQUIRE(r.status == interpreter::RunStatus::collision);
         CHECK(r.collision.body_a + " / " + r.collision.body_b == "post / part:riding");
@@ -162,6 +162,14 @@ TEST_CASE("a part the belt carries into a post while the program waits is a coll
         CHECK(r.error.line == 3);  // the WAIT.EVENT
         CHECK(run.out.str().empty());
         CHECK(run.sim.time_s() == Approx(r.collision.time_s).margin(1e-12));
+        // The cube is reported where it touched the post (its leading face at x = 280, 100 mm/s
+        // from x = -500 at 0 s), not at the checked pose after the contact.
+        REQUIRE(run.interp.cell_state());
+        const auto& clock = run.interp.cell_state()->clock();
+        CHECK(clock.time_s() == r.collision.time_s);
+        for (std::size_t i = 0; i < clock.parts().size(); ++i)
+          if (clock.parts()[i].def.name == "riding")
+            CHECK(clock.part_pose(i).translation().x() == Approx(-500 + 100 * r.collision.time_s).margin(1e-9));
       }
       {  // a polling WAIT (tick by tick) finds it the same way
         const CellRun run(post_cell(-3000, continuous, stepping), wait_sig, 30);
@@ -175,6 +183,34 @@ TEST_CASE("a part the belt carries into a post while the program waits is a coll
         CHECK(run.out.str() == "done\n");
         CHECK(run.sim.time_s() == Approx(20).margin(1e-9));
       }
+    }
+}
+
+// The contact comes between two checked poses and a sensor switches in between (after the
+// contact, before the pose that found it): the run halts at the contact instant, and the switch
+// never happened. Post x from 280.5: the cube's leading face touches at 7.705 s; sensor 1002's
+// box from x = 270.75: the origin enters at 7.7075 s (fixed stepping checks at 7.71 s).
+TEST_CASE("a sensor that would switch after the contact instant does not, the part stays where it touched") {
+  for (const bool continuous : {false, true})
+    for (const auto stepping : {motion::Stepping::fixed, motion::Stepping::gap}) {
+      CAPTURE(continuous, static_cast<int>(stepping));
+      motion::Cell cell = reacting_cell();
+      cell.collision.enabled = true;
+      cell.collision.continuous = continuous;
+      cell.collision.stepping = stepping;
+      cell.objects.erase(cell.objects.end() - 1);  // the table under the flange
+      cell.workcell.parts.pop_back();             // and the cube on it
+      cell.objects.push_back({"post", collision::make_box({40, 40, 40}), at(300.5, -3000, 30)});
+      cell.workcell.sensors.push_back({"late", 1002, {at(335.375, -3000, 10), {129.25, 200, 100}}, "", ""});
+      CellRun run(std::move(cell), ".PROGRAM main()\n  SIGNAL 1\n  WAIT.EVENT , 20\n.END\n");
+      REQUIRE(run.r.status == interpreter::RunStatus::collision);
+      CHECK(std::abs(run.r.collision.time_s - 7.705) <= 1e-6 + 1e-9);
+      REQUIRE(run.interp.cell_state());
+      const auto& clock = run.interp.cell_state()->clock();
+      CHECK_FALSE(clock.signal(1002));
+      for (const auto& e : clock.events()) CHECK_FALSE((e.kind == "signal" && e.subject == "1002"));
+      CHECK(clock.signal(1001) == false);  // eye: on from 4.75 s to 5.25 s, off again
+      CHECK(clock.part_pose(0).translation().x() == Approx(-500 + 100 * run.r.collision.time_s).margin(1e-9));
     }
 }
 

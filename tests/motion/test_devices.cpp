@@ -304,3 +304,33 @@ TEST_CASE("parts queue at the belt's end stop: each stops against the one ahead 
     CHECK(d.part_pose(2).translation().x() == Approx(960).margin(1e-9));
   }
 }
+
+TEST_CASE("rewind: back to an instant after the last change only") {
+  // A run that halts at a contact between two checked poses goes back to the contact instant
+  // (World::rewind_to). The belt runs from 0 s; the sensor switches on at 4.75 s.
+  Workcell w;
+  w.conveyors.push_back(belt(100, 0));
+  w.parts.push_back(cube("p", 0));
+  motion::Sensor s;
+  s.name = "eye";
+  s.signal = 1001;
+  s.region = {at(500, 0, 10), {50, 100, 100}};  // x in [475, 525]
+  w.sensors.push_back(s);
+  DeviceClock clock(w);
+  clock.advance_to(4.7);
+  CHECK(clock.rewind(4.7));  // no time back: nothing to do
+  CHECK(clock.rewind(4.65));
+  CHECK(clock.time_s() == 4.65);
+  CHECK(clock.part_pose(0).translation().x() == Approx(465).margin(1e-9));
+  CHECK_FALSE(clock.rewind(4.7));  // never forward
+  clock.advance_to(4.8);  // the sensor switched at 4.75
+  REQUIRE(clock.signal(1001));
+  const std::size_t events = clock.events().size();
+  CHECK_FALSE(clock.rewind(4.74));  // before the switch: refused, nothing changed
+  CHECK(clock.time_s() == 4.8);
+  CHECK(clock.signal(1001));
+  CHECK(clock.events().size() == events);
+  CHECK(clock.rewind(4.76));  // after it: allowed
+  CHECK(clock.part_pose(0).translation().x() == Approx(476).margin(1e-9));
+  CHECK(clock.signal(1001));
+}

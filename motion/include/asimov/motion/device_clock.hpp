@@ -54,6 +54,11 @@ class DeviceClock {
   double time_s() const { return now_; }
   // Every change in (time_s(), t] in time order; t <= time_s() does nothing.
   void advance_to(double t);
+  // Back to an earlier t when nothing changed after it (the state at t is this one with the
+  // clock at t: a run halted at a contact between two checked poses). False, and nothing done,
+  // when something changed after t (then an earlier copy of the clock, advanced to t, is the
+  // state at t).
+  bool rewind(double t);
   // The program sets a signal (SIGNAL, RESET) at time_s(); `line` goes into the event.
   void set_signal(int k, bool on, int line = 0);
   bool signal(int k) const { return signals_.count(k) > 0; }
@@ -86,6 +91,7 @@ class DeviceClock {
     int line;
   };
   void settle();                     // apply everything due at now_ until nothing changes
+  void note_change() { ++revision_, changed_s_ = now_; }
   void change(int k, bool on, int line);
   void place(std::size_t part, const Location& pose);  // holder, velocity, end time from now_
   void queue(int c);                 // motions and stops of conveyor c's parts from now_ (re-anchored)
@@ -105,6 +111,7 @@ class DeviceClock {
   std::vector<int> fed_;           // parts placed per feeder
   long seq_ = 0;
   std::uint64_t revision_ = 0;
+  double changed_s_ = 0;  // time of the last change of revision_ or of a timer set (rewind)
 };
 
 // The time interval [t_in, t_out) in which the point p0 + v (t - t0) lies in region r (closed box

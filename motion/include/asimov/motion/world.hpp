@@ -88,6 +88,11 @@ class World {
   // devices' clock is advanced to t; earlier times, as contact-time bisection asks, are posed
   // from the state before the last advance). Needs the engine.
   void pose(const robots::JointVector& q, double t = 0);
+  // A walk halted at a contact at t, before the last time the clock was advanced to (the
+  // checked pose after the contact): the devices go back to t, so parts on a belt are reported
+  // where they touched, and a change after t (a sensor, a timer) never happened. The parts are
+  // posed at t.
+  void rewind_to(double t);
   // The hand opened or closed (docs/robots.md "Grippers and side branches"): the fingers' bodies
   // are posed so from the next pose() on.
   void set_hand(bool closed);
