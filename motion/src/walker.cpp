@@ -373,6 +373,39 @@ struct Walker::Walk {
     tell([&](WalkObserver& o) { o.on_stretch(tr, s); });
   }
 
+  // The latest end in (t_prev, t] for a stretch of an arm motion while parts ride on running
+  // conveyors: never past the devices' next change (the part speeds are constant up to it, as
+  // the motion bounds of gap stepping and continuous checking assume), nor past the broad
+  // phase's room for the belt-borne parts (World::belt_time), and, with continuous checking
+  // off, the belt's share within the step rule: fixed stepping moves each belt-borne part at
+  // most step_mm, gap stepping keeps each of its pairs within its gap allowance (the arm's
+  // share over the stretch, segment_travel, plus the belt's), halving the stretch until it fits.
+  // Without parts on a running belt: t.
+  template <class Travel>
+  double part_cap(double t_prev, double t, bool gap, Travel&& travel) {
+    if (!engine || !w.world_.has_parts()) return t;
+    const double floor = std::nextafter(t_prev, INFINITY);  // progress, whatever the bounds
+    t = std::min(t, std::max(floor, w.world_.next_part_change()));
+    t = std::min(t, std::max(floor, t_prev + w.world_.belt_time()));
+    if (checker) return t;  // continuous checking proves the windows with the belts' motion
+    double speed = 0;
+    for (const GapPair& p : w.world_.gap_pairs()) speed = std::max(speed, p.speed_mm_s);
+    if (!(speed > 0)) return t;
+    if (!gap) return std::min(t, std::max(floor, t_prev + step_mm(w.settings_) / speed));
+    for (int halvings = 0; halvings < 60 && t > floor; ++halvings) {
+      const JointVector arm = travel(t_prev, t);
+      bool fits = true;
+      for (const GapPair& p : w.world_.gap_pairs())
+        if (p.speed_mm_s > 0 && pair_displacement(w.world_.reach(), p, arm) + p.speed_mm_s * (t - t_prev) > p.allow_mm) {
+          fits = false;
+          break;
+        }
+      if (fits) return t;
+      t = std::max(floor, t_prev + (t - t_prev) / 2);
+    }
+    return t;
+  }
+
   // The segment's own grid from the current time (tr.t0, or the end of the overlap with the
   // previous motion) to `stop` (tr.end_time(), or earlier when the next motion blends in at
   // `stop`): checked poses on the grid between, then the pose at `stop` itself.
@@ -412,9 +445,18 @@ struct Walker::Walk {
       }
       const LineSample &a = samples[i], &b = samples[j];
       const bool at_stop = j == last && !to_end;
-      const double t = at_stop ? stop : tr.t0 + tr.profile.time_at(b.s);
-      const JointVector q = at_stop ? segment_joints_at(tr, stop) : b.joints;
-      const double sigma = at_stop ? sigma_stop : b.s;
+      double t = at_stop ? stop : tr.t0 + tr.profile.time_at(b.s);
+      JointVector q = at_stop ? segment_joints_at(tr, stop) : b.joints;
+      double sigma = at_stop ? sigma_stop : b.s;
+      // Parts on a belt may end the stretch before sample j (part_cap): a pose on the line's
+      // joint path between the samples, and sample i stays the next stretch's start.
+      const double t_cap = part_cap(t_prev, t, gap, [this](double x, double y) { return segment_travel(tr, x, y); });
+      const bool capped = t_cap < t;
+      if (capped) {
+        t = t_cap;
+        q = segment_joints_at(tr, t);
+        sigma = tr.profile.sigma(t - tr.t0);
+      }
       stretch({t_prev, t, sigma_prev, sigma, i, j, bound});
       const bool was_free = st.last_free;
       const bool hit = visit(q, t, report);
@@ -441,7 +483,7 @@ struct Walker::Walk {
       if (engine) w.world_.free_pose_seen();  // after the stretch's continuous check: excused there
       t_prev = t;
       sigma_prev = sigma;
-      i = j;
+      if (!capped) i = j;
     }
     return {};
   }
@@ -496,11 +538,20 @@ struct Walker::Walk {
       } else if (checker) {
         gaps_here(t_prev);
       }
-      i += k;
-      const bool at_last = i == last;
-      const double sigma = at_last ? sigma_stop : static_cast<double>(i) / n;
+      const bool at_last = i + k == last;
+      double sigma = at_last ? sigma_stop : static_cast<double>(i + k) / n;
       q = at_last && to_end ? tr.to : interpolate_joints(tr.from, tr.to, sigma);
-      const double t = at_last ? stop : tr.t0 + tr.profile.time_at(sigma);
+      double t = at_last ? stop : tr.t0 + tr.profile.time_at(sigma);
+      // Parts on a belt may end the stretch before grid point i + k (part_cap): a pose between
+      // grid points, from which the next stretch's k intervals are counted from i again.
+      if (const double t_cap = part_cap(t_prev, t, gap, [this](double x, double y) { return segment_travel(tr, x, y); });
+          t_cap < t) {
+        t = t_cap;
+        sigma = tr.profile.sigma(t - tr.t0);
+        q = interpolate_joints(tr.from, tr.to, sigma);
+      } else {
+        i += k;
+      }
       stretch({t_prev, t, sigma_from, sigma, 0, 0, k * body_max});
       if (MotionResult r; stopped_at(q, t_prev, t, report, at, r)) return r;
       t_prev = t;
@@ -540,6 +591,7 @@ struct Walker::Walk {
         t = t_prev + dt;
       }
       if (!(t > t_prev)) t = std::min(stop, std::nextafter(t_prev, stop));
+      t = part_cap(t_prev, t, gap, [this](double x, double y) { return blended_travel(tr, x, y); });
       const JointVector q = at(t, st.joints);
       stretch({t_prev, t, tr.profile.sigma(t_prev - tr.t0), tr.profile.sigma(t - tr.t0), 0, 0, body, true});
       if (MotionResult r; stopped_at(q, t_prev, t, report, at, r)) return r;

@@ -214,6 +214,31 @@ TEST_CASE("a sensor that would switch after the contact instant does not, the pa
     }
 }
 
+// A fast belt (3 m/s) carries the cube into a 4 mm post while the arm makes a short, slow
+// joint move (two grid poses in all): the belt-borne part's motion limits the stretches too
+// (Walk::part_cap), so sampled checking (continuous off), fixed or gap, finds the contact as
+// continuous checking does. The eye sensor switches during the move (a device change). The
+// leading face reaches the post's face at (-2 + 490) / 3000 s.
+TEST_CASE("a part on a fast belt cannot pass a thin post between the checked poses of an arm motion") {
+  for (const bool continuous : {false, true})
+    for (const auto stepping : {motion::Stepping::fixed, motion::Stepping::gap}) {
+      CAPTURE(continuous, static_cast<int>(stepping));
+      motion::Cell cell = reacting_cell();
+      cell.collision.enabled = true;
+      cell.collision.continuous = continuous;
+      cell.collision.stepping = stepping;
+      cell.objects.erase(cell.objects.end() - 1);  // the table under the flange
+      cell.workcell.parts.pop_back();             // and the cube on it
+      cell.workcell.conveyors[0].speed_mm_s = 3000;
+      cell.objects.push_back({"post", collision::make_box({4, 40, 40}), at(0, -3000, 20)});
+      CellRun run(std::move(cell), ".PROGRAM main()\n  SIGNAL 1\n  SPEED 2 ALWAYS\n  DRIVE 1, 3, 100\n  BREAK\n.END\n");
+      REQUIRE(run.r.status == interpreter::RunStatus::collision);
+      CHECK(run.r.collision.body_a + " / " + run.r.collision.body_b == "post / part:riding");
+      CHECK(std::abs(run.r.collision.time_s - 488.0 / 3000) <= 2e-6);
+      CHECK(run.r.error.line == 4);
+    }
+}
+
 TEST_CASE("waiting with nothing moving queries nothing") {
   motion::Cell cell = reacting_cell();
   cell.collision.enabled = true;
