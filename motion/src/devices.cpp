@@ -247,7 +247,6 @@ void DeviceClock::change(int k, bool on, int line) {
     const auto& rule = cell_->logic[r];
     if (rule.at_s < 0 && rule.when == k && rule.is_on == on)
       timers_.push_back({now_ + rule.after_s, seq_++, rule.set, rule.to_on, 0});
-      changed_s_ = now_;
   }
   for (std::size_t c = 0; c < cell_->conveyors.size(); ++c)
     if (cell_->conveyors[c].signal == k) queue(static_cast<int>(c));  // it started or stopped
