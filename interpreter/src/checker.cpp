@@ -100,11 +100,12 @@ class Checker {
       if (l.label) define_label(*l.label);
       statement(*l.statement);
     }
+    // A file read only up to a limit has lost its .END lines: its limit's error says why.
     if (in_program_) {
-      error_at(prog_.line, 1, ".PROGRAM without .END");
+      if (!src_.truncated) error_at(prog_.line, 1, ".PROGRAM without .END");
       in_program_ = false;
     }
-    if (data_kind_ != Kw::none) error_at(data_start_, 1, "data section without .END");
+    if (data_kind_ != Kw::none && !src_.truncated) error_at(data_start_, 1, "data section without .END");
     return std::move(out_);
   }
 

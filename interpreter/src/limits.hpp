@@ -25,8 +25,10 @@ constexpr std::size_t kMaxDataBytes = std::size_t{256} << 20;
 // these limits is refused at load with *Expression too complex* (docs/limits.md). Nesting: far
 // above what a person writes, far below what the stack holds, also under AddressSanitizer.
 // Operators: only memory bounds them (about 320 bytes each while loading, docs/limits.md): one
-// statement stays within about 3 GB, where a 64 MiB line could take 10.
+// statement, and one file, stay within about 3 GB, where a 64 MiB file could take 10.
 constexpr int kMaxExpressionNesting = 64;            // parentheses, brackets, calls and signs inside one another
 constexpr int kMaxExpressionOperators = 10'000'000;  // operators in one statement
+// And in one file, all its statements together: a 64 MiB file of many lines took 9.4 GB.
+constexpr std::int64_t kMaxFileOperators = 10'000'000;
 
 }  // namespace asimov::interpreter

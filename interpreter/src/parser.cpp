@@ -407,7 +407,8 @@ struct TooComplex {
   std::size_t offset;
   std::string detail;
 };
-std::optional<TooComplex> too_complex(const std::string& text) {
+// `file_ops`: the operators of the file's lines before this one; this line's are added.
+std::optional<TooComplex> too_complex(const std::string& text, std::int64_t& file_ops, std::int64_t max_file_ops) {
   static const std::set<std::string> words = {"mod", "and", "band", "or", "xor", "bor", "bxor", "not"};
   int depth = 0, ops = 0, run = 0;
   for (std::size_t i = 0; i < text.size(); ++i) {
@@ -442,24 +443,26 @@ std::optional<TooComplex> too_complex(const std::string& text) {
     } else {
       run = 0;
     }
-    if (op) ++ops, ++run;
+    if (op) ++ops, ++run, ++file_ops;
     if (depth + run > kMaxExpressionNesting)
       return TooComplex{i, fmt::format("more than {} parentheses, brackets, calls and signs inside one another", kMaxExpressionNesting)};
     if (ops > kMaxExpressionOperators)
       return TooComplex{i, fmt::format("more than {} operators in one statement", kMaxExpressionOperators)};
+    if (file_ops > max_file_ops) return TooComplex{i, fmt::format("more than {} operators in one file", max_file_ops)};
   }
   return std::nullopt;
 }
 
 }  // namespace
 
-ParsedSource parse_source(const std::string& source, const std::string& file) {
+ParsedSource parse_source(const std::string& source, const std::string& file, std::int64_t max_file_operators) {
   ParsedSource out;
   out.file = file;
   out.text = split_lines(source);
   out.lines.resize(out.text.size());
 
   bool in_data = false;  // inside .LOCATIONS / .REALS / .STRINGS
+  std::int64_t file_ops = 0;  // operators so far (kMaxFileOperators)
   for (std::size_t i = 0; i < out.text.size(); ++i) {
     const std::string& text = out.text[i];
     auto first = text.begin();
@@ -495,9 +498,13 @@ ParsedSource parse_source(const std::string& source, const std::string& file) {
       continue;
     }
     if (!in_data) {
-      if (const auto deep = too_complex(text)) {
+      if (const auto deep = too_complex(text, file_ops, max_file_operators)) {
         fail(text.begin() + static_cast<std::ptrdiff_t>(deep->offset), deep->detail);
         out.errors.back().message = "*Expression too complex*";
+        if (file_ops > max_file_operators) {  // the rest of the file is not read: one message
+          out.truncated = true;
+          break;
+        }
         continue;
       }
     }

@@ -284,3 +284,27 @@ TEST_CASE("a long program of many lines and labels loads", "[hostile][expression
   CHECK(r.status == interpreter::RunStatus::completed);
   CHECK(f.out.str() == "60000\n");
 }
+
+TEST_CASE("the operators of a whole file are limited: reading stops at the line past it, with one message") {
+  // The limit is kMaxFileOperators (10^7: a 64 MiB file of 5,000-term lines took 9.4 GB, now it
+  // stops at 3.1 GB); here 1,000, so that the test is cheap. 30 lines of 49 operators: the
+  // limit is passed on line 22 (21 lines hold 1,029, 20 hold 980), and the rest of the file is
+  // not read, so its .END is missing but not reported as such.
+  std::string text = ".PROGRAM p()\n";
+  for (int i = 0; i < 30; ++i) text += "  x = " + repeat("1+", 49) + "1\n";
+  text += ".END\n";
+  const interpreter::ParsedSource p = interpreter::parse_source(text, "t.v2", 1000);
+  REQUIRE(p.truncated);
+  REQUIRE(p.errors.size() == 1);
+  CHECK(p.errors[0].message == "*Expression too complex*");
+  CHECK(p.errors[0].detail == "more than 1000 operators in one file");
+  CHECK(p.errors[0].line == 22);
+  interpreter::Symbols symbols;
+  const interpreter::CheckResult r = interpreter::check_source(p, symbols);
+  CHECK(r.errors.empty());  // no ".PROGRAM without .END" for the lines not read
+  // The same file under the real limit loads.
+  const interpreter::ParsedSource whole = interpreter::parse_source(text, "t.v2");
+  CHECK_FALSE(whole.truncated);
+  CHECK(whole.errors.empty());
+  CHECK(interpreter::kMaxFileOperators == 10'000'000);
+}
