@@ -19,7 +19,8 @@ struct CellObject {
 
 // How checked poses are spaced (docs/collision-method.md §6.3; docs/collision.md "Stepping"). fixed: no body
 // point moves more than step_mm between checked poses. gap: a pair whose step-2 containers are g
-// apart allows delta_A + delta_B <= max(c, step_mm, g - c); the poses are a subset of fixed's.
+// apart allows delta_A + delta_B <= max(c, step_mm, g - c); the poses are a subset of fixed's
+// (while parts ride a running belt, a stretch may also end between grid poses: Walk::part_cap).
 enum class Stepping { fixed, gap };
 
 // The finest step the simulator takes (a zero or negative step_mm is raised to it); cell files
