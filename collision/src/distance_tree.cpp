@@ -23,27 +23,44 @@ float round_up(double v) {
 }
 [[gnu::noinline]] Vec3 centre_of(const DistanceNode& node) { return Vec3(node.c[0], node.c[1], node.c[2]); }
 
+// Each vertex once per pass over a node's faces (a vertex is shared by about six faces): `stamp`
+// holds, per vertex, the last pass that visited it; `proj` the vertex's coordinate along the
+// node's first axis, for the split keys.
+struct Scratch {
+  std::vector<std::uint32_t> stamp;
+  std::vector<double> proj;
+  std::uint32_t pass = 0;
+  explicit Scratch(std::size_t vertices) : stamp(vertices, 0), proj(vertices, 0) {}
+  std::uint32_t next() { return ++pass; }
+};
+
 // Centre and half sides along the node's float axes: the ranges of its faces' vertices, padded
 // for the rounding; when `key` is given, each face's centroid (times 3) along the first axis,
 // the split's key.
-void measure(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, DistanceNode& node, double* key) {
+void measure(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, DistanceNode& node, double* key,
+             Scratch& scratch) {
   const Vec3 a[3] = {axis_of(node, 0), axis_of(node, 1), axis_of(node, 2)};
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   double mag = 0;  // largest |coordinate| in play, for the rounding pad
-  for (std::size_t i = 0; i < count; ++i) {
-    double k0 = 0;
+  const std::uint32_t pass = scratch.next();
+  for (std::size_t i = 0; i < count; ++i)
     for (const std::uint32_t v : mesh.triangles[faces[i]]) {
+      if (scratch.stamp[v] == pass) continue;
+      scratch.stamp[v] = pass;
       const Vec3& p = mesh.vertices[v];
       mag = std::max(mag, p.cwiseAbs().maxCoeff());
       for (int k = 0; k < 3; ++k) {
         const double s = a[k].dot(p);
         lo[k] = std::min(lo[k], s);
         hi[k] = std::max(hi[k], s);
-        if (k == 0) k0 += s;
+        if (k == 0) scratch.proj[v] = s;
       }
     }
-    if (key) key[i] = k0;
-  }
+  if (key)
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto& t = mesh.triangles[faces[i]];
+      key[i] = scratch.proj[t[0]] + scratch.proj[t[1]] + scratch.proj[t[2]];
+    }
   // Centre: the middle of each range along its axis (the axes nearly orthonormal), in float.
   const Vec3 c = 0.5 * ((lo[0] + hi[0]) * a[0] + (lo[1] + hi[1]) * a[1] + (lo[2] + hi[2]) * a[2]);
   for (int j = 0; j < 3; ++j) node.c[j] = static_cast<float>(c[j]);
@@ -56,21 +73,28 @@ void measure(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t cou
   }
 }
 
-// The node's box: PCA axes of its faces' vertices (largest spread first), rounded to float, then
-// the centre and half sides measured along those float axes, so the box holds every vertex.
-// Two passes over the vertices: the moments (relative to the first vertex, so the covariance
-// does not cancel far from the origin), then the ranges; when `key` is given, the second pass
-// also writes each face's centroid (times 3) along the first axis, the split's key.
-void fit(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, DistanceNode& node, double* key) {
+// The node's box: PCA axes of its faces' vertices (largest spread first, each vertex weighted by
+// the faces it is in), rounded to float, then the centre and half sides measured along those
+// float axes, so the box holds every vertex. Two passes: the moments over the faces' vertices
+// (relative to the first vertex, so the covariance does not cancel far from the origin), then
+// the ranges over each vertex once; when `key` is given, each face's centroid (times 3) along
+// the first axis follows, the split's key.
+void fit(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, DistanceNode& node, double* key,
+         Scratch& scratch) {
   const Vec3 ref = mesh.vertices[mesh.triangles[faces[0]][0]];
-  Vec3 sum = Vec3::Zero();
-  Mat3 sum2 = Mat3::Zero();
+  // The six distinct second moments only (the matrix is symmetric).
+  double s[3] = {0, 0, 0}, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   for (std::size_t i = 0; i < count; ++i)
     for (const std::uint32_t v : mesh.triangles[faces[i]]) {
-      const Vec3 d = mesh.vertices[v] - ref;
-      sum += d;
-      sum2 += d * d.transpose();
+      const Vec3& p = mesh.vertices[v];
+      const double dx = p[0] - ref[0], dy = p[1] - ref[1], dz = p[2] - ref[2];
+      s[0] += dx, s[1] += dy, s[2] += dz;
+      xx += dx * dx, xy += dx * dy, xz += dx * dz;
+      yy += dy * dy, yz += dy * dz, zz += dz * dz;
     }
+  const Vec3 sum(s[0], s[1], s[2]);
+  Mat3 sum2;
+  sum2 << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   const double nv = static_cast<double>(3 * count);
   const Vec3 mean = sum / nv;
   const Mat3 cov = sum2 / nv - mean * mean.transpose();
@@ -88,7 +112,7 @@ void fit(const Polyhedron& mesh, const std::uint32_t* faces, std::size_t count, 
   }
   for (int k = 0; k < 3; ++k)
     for (int j = 0; j < 3; ++j) node.axis[k][j] = static_cast<float>(axes(k, j));
-  measure(mesh, faces, count, node, key);
+  measure(mesh, faces, count, node, key, scratch);
 }
 
 }  // namespace
@@ -104,6 +128,7 @@ DistanceTree build_distance_tree(const Polyhedron& mesh, std::uint32_t leaf_face
   // vector is shrunk to its size at the end.
   tree.nodes.reserve(2 * ((n + leaf_faces - 1) / leaf_faces));
   std::vector<double> key(n);  // centroid along the split axis, per position in tree.faces
+  Scratch scratch(mesh.vertices.size());
   struct Work {
     std::uint32_t node, begin, end;
   };
@@ -116,7 +141,7 @@ DistanceTree build_distance_tree(const Polyhedron& mesh, std::uint32_t leaf_face
     std::uint32_t* f = tree.faces.data() + w.begin;
     {
       DistanceNode node{};
-      fit(mesh, f, count, node, count <= leaf_faces ? nullptr : key.data() + w.begin);
+      fit(mesh, f, count, node, count <= leaf_faces ? nullptr : key.data() + w.begin, scratch);
       tree.nodes[w.node] = node;
     }
     DistanceNode& node = tree.nodes[w.node];
