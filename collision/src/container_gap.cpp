@@ -2,7 +2,10 @@
 
 #include "asimov/collision/gap_bound.hpp"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 
@@ -32,6 +35,66 @@ double gap_bound(const Engine::PlacedBounds& a, const Vec3& lo, const Vec3& hi, 
 
 namespace asimov::collision {
 
+namespace {
+
+// The point of the hull of the simplex p[0..k) (points of A - B, k <= 4) nearest the origin,
+// and the simplex reduced to the points that span it (GJK's sub-step, here by trying every
+// subset: the nearest point lies inside one face, where its barycentric weights are all
+// positive, and each subset's candidate is a convex combination of its points, so rounding can
+// only give a point of the hull a little farther than the nearest, never one outside it).
+// False when the origin is inside the tetrahedron (the hulls meet).
+bool nearest_on_simplex(std::array<Vec3, 4>& p, int& k, Vec3& v) {
+  double best = INFINITY;
+  unsigned best_mask = 0;
+  Vec3 best_v = Vec3::Zero();
+  for (unsigned mask = 1; mask < (1u << k); ++mask) {
+    std::array<int, 4> idx{};
+    int m = 0;
+    for (int i = 0; i < k; ++i)
+      if (mask & (1u << i)) idx[static_cast<std::size_t>(m++)] = i;
+    std::array<double, 4> lambda{1, 0, 0, 0};
+    if (m > 1) {
+      // min |q0 + sum mu_i (q_i - q0)|: G mu = -E^T q0 with G = E^T E.
+      const Vec3& q0 = p[static_cast<std::size_t>(idx[0])];
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> g(m - 1, m - 1);
+      Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> rhs(m - 1);
+      std::array<Vec3, 3> e;
+      for (int i = 1; i < m; ++i) e[static_cast<std::size_t>(i - 1)] = p[static_cast<std::size_t>(idx[static_cast<std::size_t>(i)])] - q0;
+      for (int i = 0; i < m - 1; ++i) {
+        rhs(i) = -e[static_cast<std::size_t>(i)].dot(q0);
+        for (int j = 0; j < m - 1; ++j) g(i, j) = e[static_cast<std::size_t>(i)].dot(e[static_cast<std::size_t>(j)]);
+      }
+      const auto ldlt = g.ldlt();
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 1e-14 * g.trace()))
+        continue;  // degenerate (flat) subset: a smaller one covers it
+      const auto mu = ldlt.solve(rhs).eval();
+      double sum = 0;
+      bool inside = true;
+      for (int i = 0; i < m - 1; ++i) {
+        lambda[static_cast<std::size_t>(i + 1)] = mu(i);
+        sum += mu(i);
+        inside = inside && mu(i) > 0;
+      }
+      lambda[0] = 1 - sum;
+      if (!inside || !(lambda[0] > 0)) continue;
+    }
+    Vec3 x = Vec3::Zero();
+    for (int i = 0; i < m; ++i) x += lambda[static_cast<std::size_t>(i)] * p[static_cast<std::size_t>(idx[static_cast<std::size_t>(i)])];
+    const double xx = x.squaredNorm();
+    if (m == 4) return false;  // the origin is inside the tetrahedron
+    if (xx < best) best = xx, best_mask = mask, best_v = x;
+  }
+  if (best_mask == 0) return false;
+  int n = 0;
+  for (int i = 0; i < k; ++i)
+    if (best_mask & (1u << i)) p[static_cast<std::size_t>(n++)] = p[static_cast<std::size_t>(i)];
+  k = n;
+  v = best_v;
+  return true;
+}
+
+}  // namespace
+
 double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_from_b, double slack, double enough,
                 int iterations, double stop, Vec3* guess) {
   if (a.empty() || b.empty()) return 0;
@@ -41,12 +104,15 @@ double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_
   // mapping (within `slack`, the pair's margin, as for the containers). The magnitudes are
   // taken in the first pass over the vertices (a warm start is often the only one).
   double mag_a = 0, mag_b = 0, room = 0;
-  // v: a point of the difference set A - B (its norm bounds the hull distance from above).
+  // v: a point of the difference set A - B (its norm bounds the hull distance from above),
+  // the nearest to the origin of the simplex w[0..k) of support points (GJK).
   Vec3 v = a[0] - (r * b[0] + t);
+  std::array<Vec3, 4> w{v, Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  int k = 1;
   double best = -INFINITY;
   Vec3 best_n = Vec3::Zero();
   // The warm start: a direction, not a point of A - B, so its pass only bounds and then starts
-  // Gilbert's iteration at its support point (a point of A - B).
+  // the iteration at its support point (a point of A - B).
   const double gn = guess ? guess->norm() : 0.0;
   bool warm = gn > 0 && std::isfinite(gn);
   for (int it = 0; it < iterations; ++it) {
@@ -75,27 +141,29 @@ double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_
     }
     const double bound = min_a - (max_b + n.dot(t)) - room;
     if (bound > best) best = bound, best_n = n;
+    const Vec3 s = a[ia] - (r * b[ib] + t);
     if (warm) {
       warm = false;
       // The warm direction was (nearly) the best one: past `stop` the caller's question is
-      // answered, and Gilbert's slow approach to the last 1e-3 would gain little.
+      // answered, and the last 1e-3 would gain little.
       // Far below `stop` it is a near pair the hulls will not prove apart (the caller measures
       // it): the warm bound is returned without the iterations.
       if (best >= enough || (stop > 0 && (best >= stop || best < 0.5 * stop))) break;
-      v = a[ia] - (r * b[ib] + t);
+      v = s;
+      w[0] = s;
+      k = 1;
       continue;
     }
     // Done: the bound is enough, or near the hull distance (which is <= |v|), or cannot get
     // to `enough` any more.
     if (best >= enough || vn - bound <= 1e-3 * vn || vn < stop) break;
-    // Gilbert's step: the point of the segment [v, w] nearest the origin.
-    const Vec3 w = a[ia] - (r * b[ib] + t);
-    const Vec3 d = w - v;
-    const double dd = d.squaredNorm();
-    if (!(dd > 0)) break;
-    const double s = std::clamp(-v.dot(d) / dd, 0.0, 1.0);
-    if (s == 0) break;  // no progress: v is the nearest point the iteration finds
-    v += s * d;
+    // GJK's step: the support point joins the simplex, v becomes the point of the simplex's
+    // hull nearest the origin.
+    bool known = false;
+    for (int i = 0; i < k; ++i) known = known || w[static_cast<std::size_t>(i)] == s;
+    if (known || k == 4) break;  // no progress
+    w[static_cast<std::size_t>(k++)] = s;
+    if (!nearest_on_simplex(w, k, v)) break;  // the origin is inside: the hulls meet
   }
   if (guess && best_n.squaredNorm() > 0) *guess = best_n;
   return best;

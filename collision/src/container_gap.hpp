@@ -49,8 +49,10 @@ namespace asimov::collision {
 // [ours] Lower bound [mm] on the distance between the convex hulls of two vertex sets, hence
 // between the two bodies (each lies in its hull; a positive bound also rules out one inside the
 // other): A's vertices in A's frame, B's mapped by a_from_b (B's frame into A's). For any unit
-// direction n, min_a n.a - max_b n.b is such a bound (the separating-plane bound); Gilbert's
-// iteration on the difference set A - B chooses the directions, at most `iterations` of them,
+// direction n, min_a n.a - max_b n.b is such a bound (the separating-plane bound); GJK's
+// iteration on the difference set A - B (the direction to the point of the support points'
+// simplex nearest the origin; exact in a few steps for polytopes, where the older two-point
+// Gilbert step crawled) chooses the directions, at most `iterations` of them,
 // stopping once the bound reaches `enough`, is within 1e-3 of the hull distance, or the hull
 // distance is known to be below `stop` (a point of A - B nearer than that). Rounding:
 // `slack` (the pair's mapping margin) and a few ulps of the coordinates are subtracted. Each

@@ -81,7 +81,7 @@ std::vector<std::uint32_t> shell_vertices(const Polyhedron& mesh) {
   return roots;
 }
 
-std::vector<std::vector<std::uint32_t>> shell_samples(const Polyhedron& mesh, std::size_t per_shell) {
+std::vector<std::vector<std::uint32_t>> shell_members(const Polyhedron& mesh) {
   const std::vector<std::int64_t> root = shell_roots(mesh);
   std::vector<std::uint32_t> shell_of(root.size(), 0);
   std::vector<std::vector<std::uint32_t>> members;
@@ -93,6 +93,11 @@ std::vector<std::vector<std::uint32_t>> shell_samples(const Polyhedron& mesh, st
     }
     members[shell_of[static_cast<std::size_t>(root[v])]].push_back(v);  // the root comes first
   }
+  return members;
+}
+
+std::vector<std::vector<std::uint32_t>> shell_samples(const Polyhedron& mesh, std::size_t per_shell) {
+  const std::vector<std::vector<std::uint32_t>> members = shell_members(mesh);
   std::vector<std::vector<std::uint32_t>> out(members.size());
   for (std::size_t s = 0; s < members.size(); ++s) {
     const auto& m = members[s];

@@ -27,6 +27,10 @@ std::optional<EdgeFault> first_edge_fault(const std::vector<Triangle>& triangles
 // One vertex index per connected component (shell) of the triangles, in increasing order.
 std::vector<std::uint32_t> shell_vertices(const Polyhedron& mesh);
 
+// Per shell (in the order of shell_vertices), every vertex of its faces, the shell_vertices one
+// first.
+std::vector<std::vector<std::uint32_t>> shell_members(const Polyhedron& mesh);
+
 // Per shell (in the order of shell_vertices), up to `per_shell` of its vertices spread over its
 // vertex list, the shell_vertices one first. Any of them stands for the whole shell once no
 // face of the shell meets the other body's surface (a connected set that does not cross a

@@ -20,6 +20,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <stdexcept>
 
 namespace asimov::collision {
@@ -78,6 +79,21 @@ struct VertexPage {
   std::array<std::uint64_t, kVertexPage> version{};  // 0: never mapped (versions start at 1)
 };
 
+// A body's shells for the distance query's hull bound: each shell's vertices, contiguous, and
+// a sphere holding them (body frame). A body made of separate convex pieces (the built-in
+// links: boxes and cylinders side by side) is far better bounded piece by piece than by the
+// hull of the whole, which may hold the other body.
+struct HullParts {
+  std::vector<Vec3> vertices;
+  std::vector<std::uint32_t> begin{0};  // shell k: vertices[begin[k], begin[k + 1])
+  std::vector<Vec3> centre;
+  std::vector<double> radius;
+  std::size_t count() const { return centre.size(); }
+  std::span<const Vec3> shell(std::size_t k) const {
+    return std::span<const Vec3>(vertices).subspan(begin[k], begin[k + 1] - begin[k]);
+  }
+};
+
 struct Body {
   BodyDef def;
   // The body's mesh: the caller's when BodyDef::mesh_ref is set (not copied), else def.mesh.
@@ -89,6 +105,7 @@ struct Body {
   std::vector<std::vector<std::uint32_t>> shells;  // per shell, a few of its vertices (shell_samples)
   std::optional<VoxelGrid> grid;    // step 3, built on first use
   std::unique_ptr<DistanceTree> distance_tree;  // the distance query's face tree, built on first use
+  std::unique_ptr<HullParts> hull_parts;         // the distance query's per-shell hulls, built on first use
   std::vector<Vec3> world;          // world vertices, all valid when world_version == version
   std::uint64_t world_version = 0;  //   (allocated on the first full mapping: the exact containment test)
   // Else vertex i mapped alone (step 4), valid when its page's version[i % kVertexPage] ==
@@ -138,6 +155,68 @@ constexpr int kHullGapIterations = 24;
 // ... and it goes on up to this multiple of the cut-off: a caller keeping the answer "beyond" as
 // a lower bound for later poses (continuous checking's anchors) gets a better one for little.
 constexpr double kHullGapEnough = 2;
+// The hull bound goes shell by shell when the two bodies have at most this many shell pairs.
+constexpr std::size_t kHullPartPairs = 16;
+
+HullParts hull_parts_of(const Polyhedron& mesh) {
+  HullParts p;
+  for (const std::vector<std::uint32_t>& shell : shell_members(mesh)) {
+    Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+    for (const std::uint32_t v : shell) {
+      p.vertices.push_back(mesh.vertices[v]);
+      lo = lo.cwiseMin(mesh.vertices[v]);
+      hi = hi.cwiseMax(mesh.vertices[v]);
+    }
+    const Vec3 c = 0.5 * (lo + hi);
+    double r = 0;
+    for (std::uint32_t i = p.begin.back(); i < p.vertices.size(); ++i) r = std::max(r, (p.vertices[i] - c).norm());
+    p.centre.push_back(c);
+    p.radius.push_back(r + 1e-12 * (r + c.norm()));  // the norms' rounding, outward
+    p.begin.push_back(static_cast<std::uint32_t>(p.vertices.size()));
+  }
+  return p;
+}
+
+// [ours] Lower bound on the distance of two bodies from their shells (HullParts): the least over
+// shell pairs of the better of the two spheres' bound and the hulls' (hull_gap). Every face lies
+// in its shell's hull, and a body inside the other lies inside one of its shells' hulls (a
+// connected set crossing no face stays on one side of each shell), so the least is a bound on
+// the surfaces' distance and a positive one rules out containment. Shell pairs go nearest
+// spheres first; one that cannot reach `prove` (the bound the caller needs) ends the search with
+// -infinity (the least of the pairs so far would not bound the others). `enough`, `stop`,
+// `guess`: as hull_gap's, for every pair (a bound reaching `stop` ends a pair's iteration); on
+// return `guess` holds the direction of the pair that is least.
+double parts_gap(const HullParts& pa, const HullParts& pb, const Pose& a_from_b, double slack, double enough,
+                 double stop, double prove, Vec3* guess) {
+  struct Candidate {
+    double sphere;
+    std::uint32_t i, j;
+  };
+  std::array<Candidate, kHullPartPairs> order;
+  std::size_t n = 0;
+  for (std::uint32_t i = 0; i < pa.count(); ++i)
+    for (std::uint32_t j = 0; j < pb.count(); ++j) {
+      const Vec3 cb = a_from_b * pb.centre[j];
+      const double d = (pa.centre[i] - cb).norm();
+      order[n++] = {d - pa.radius[i] - pb.radius[j] - slack - 1e-12 * (d + pa.centre[i].norm() + cb.norm()), i, j};
+    }
+  std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n),
+            [](const Candidate& x, const Candidate& y) { return x.sphere < y.sphere; });
+  double least = INFINITY;
+  Vec3 best_dir = *guess;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Candidate& c = order[k];
+    if (c.sphere >= least) break;  // this pair and the rest are no nearer than the least
+    double bound = c.sphere;
+    Vec3 dir = Vec3::Zero();
+    if (bound < enough)
+      bound = std::max(bound, hull_gap(pa.shell(c.i), pb.shell(c.j), a_from_b, slack, enough, kHullGapIterations, prove, &dir));
+    if (bound < least) least = bound, best_dir = dir;
+    if (least < prove) return -INFINITY;
+  }
+  *guess = best_dir;
+  return least;
+}
 
 }  // namespace
 
@@ -558,11 +637,24 @@ struct Engine::Impl {
     // Then the convex hulls' separating-plane bound (small bodies: a pass over the vertices per
     // direction), still without grids: interlocked links whose containers overlap are usually
     // apart by their hulls.
+    // Shell by shell when the bodies have a few (the built-in links are boxes and cylinders side
+    // by side). A bound reaching `prove` answers: at the cut-off, or at exact_below_mm when the
+    // caller needs the distance only below it (the hulls still go on up to the cut-off: a caller
+    // keeping the bound, as the continuous checker's anchors, gets a better one for little).
+    const double prove = std::min(upper, req.exact_below_mm);
     if (lb < upper && std::isfinite(upper) && a.mesh().vertices.size() <= kHullGapVertices &&
-        b.mesh().vertices.size() <= kHullGapVertices)
-      lb = std::max(lb, hull_gap(a.mesh().vertices, b.mesh().vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
-                                 kHullGapIterations, upper, &res.guess));
-    if (lb >= upper) {
+        b.mesh().vertices.size() <= kHullGapVertices) {
+      for (Body* x : {&a, &b})
+        if (!x->hull_parts) x->hull_parts = std::make_unique<HullParts>(hull_parts_of(x->mesh()));
+      const std::size_t shell_pairs = a.hull_parts->count() * b.hull_parts->count();
+      if (shell_pairs > 1 && shell_pairs <= kHullPartPairs)
+        lb = std::max(lb, parts_gap(*a.hull_parts, *b.hull_parts, a_from_b, 2 * margin, kHullGapEnough * upper, upper,
+                                    prove, &res.guess));
+      else
+        lb = std::max(lb, hull_gap(a.mesh().vertices, b.mesh().vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
+                                   kHullGapIterations, upper, &res.guess));
+    }
+    if (lb >= prove) {
       res.distance = lb;
       return res;
     }

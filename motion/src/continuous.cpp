@@ -46,13 +46,14 @@ double line_motion(std::span<const robots::BodyReach> reach, const GapPair& pair
 ContinuousChecker::ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm)
     : engine_(engine), clearance_(clearance_mm), tol_(tol_s), report_mm_(report_mm) {}
 
-void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool probe) {
+void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool probe, double exact_below) {
   const collision::BodyPair bp = pairs_[pair];
   const std::uint64_t k0 = cpu_ticks();
   if (guesses_.size() < pairs_.size()) guesses_.resize(pairs_.size());
   Guess& g = guesses_[pair];
   const collision::DistanceResult r =
-      engine_.distance(bp.a, bp.b, {.upper_mm = upper, .guess = g.pair == bp ? g.dir : collision::Vec3::Zero()});
+      engine_.distance(bp.a, bp.b,
+                       {.upper_mm = upper, .guess = g.pair == bp ? g.dir : collision::Vec3::Zero(), .exact_below_mm = exact_below});
   g = {bp, r.guess};
   if (on_measure) on_measure(pair, r, p.t, probe, cpu_ticks() - k0);
   ++queries_;
@@ -147,7 +148,10 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     }
     Point e;
     e.t = t_b;
-    measure(i, e, std::max({(m + 2 * c - la) * (1 + 1e-9) + 1e-9, report * (1 + budget_), c}), false);
+    // Exact below what the window and the report need; up to the budget's cut-off a bound from
+    // the hulls is enough (the anchor's room).
+    const double need = std::max({(m + 2 * c - la) * (1 + 1e-9) + 1e-9, report, c});
+    measure(i, e, std::max(need, report * (1 + budget_)), false, need);
     if (!e.hit && !e.exact) e.d = std::max(e.d, lb);  // "beyond": the better of the two bounds
     end_d_[i] = e.d;
     end_flags_[i] = (e.hit ? kHit : 0) | (e.exact ? kExact : 0) |

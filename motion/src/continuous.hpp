@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -115,7 +116,9 @@ class ContinuousChecker {
     bool hit = false;  // the pair is in contact (distance 0, or <= c with a clearance)
     bool exact = false;  // d is the distance (not a lower bound from the cut-off)
   };
-  void measure(std::size_t pair, Point& p, double upper, bool probe);
+  // Exact below exact_below (default: below upper), else a lower bound (Point::exact false).
+  void measure(std::size_t pair, Point& p, double upper, bool probe,
+               double exact_below = std::numeric_limits<double>::infinity());
   bool solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path, ContinuousContact& out);
 
   collision::Engine& engine_;

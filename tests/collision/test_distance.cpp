@@ -254,3 +254,99 @@ TEST_CASE("distance warm start: a chained, stale or garbage guess changes no ans
   CHECK(beyond > 50);
   CHECK(exact > 50);
 }
+
+namespace {
+// A fork: a base and two prongs, three boxes side by side (three shells, as the built-in links).
+Polyhedron make_fork() {
+  return merged(merged(box_between(Vec3(0, -30, 0), Vec3(10, 30, 10)), box_between(Vec3(10, -30, 0), Vec3(60, -20, 10))),
+                box_between(Vec3(10, 20, 0), Vec3(60, 30, 10)));
+}
+}  // namespace
+
+TEST_CASE("distance exact_below: a body of separate pieces is bounded piece by piece", "[distance]") {
+  // A bar between the fork's prongs, 4 mm from the base and 6 mm from each prong: it lies in the
+  // hull of the whole fork, not in any piece's. Asked for the distance exactly only below 3 mm
+  // (cut-off 20), the pieces' hulls answer "beyond" with a bound of at least 3 and at most the
+  // distance, without the exact search; without exact_below the same query is exact.
+  const Polyhedron fork = make_fork(), bar = box_between(Vec3(14, -14, 2), Vec3(70, 14, 8));
+  Engine e;
+  const BodyId a = e.add_body({.name = "fork", .mesh = fork});
+  const BodyId b = e.add_body({.name = "bar", .mesh = bar});
+  e.set_pose(a, Pose::Identity());
+  e.set_pose(b, Pose::Identity());
+  const DistanceResult exact = e.distance(a, b, {.upper_mm = 20});
+  REQUIRE(exact.status == DistanceStatus::exact);
+  CHECK(exact.distance == 4);
+  CHECK(agrees(exact.distance, brute_force_distance(fork, Pose::Identity(), bar, Pose::Identity()).distance));
+  const DistanceResult bound = e.distance(a, b, {.upper_mm = 20, .exact_below_mm = 3});
+  CHECK(bound.status == DistanceStatus::beyond);
+  CHECK(bound.distance >= 3);
+  CHECK(bound.distance <= 4 * (1 + 1e-9));
+  CHECK(bound.distance > 3.9);  // the pieces' hulls: nearly the distance
+  CHECK(bound.face_pairs == 0);
+  CHECK(bound.node_pairs == 0);
+  // Below the bound the caller asked for, the exact answer again.
+  const DistanceResult near = e.distance(a, b, {.upper_mm = 20, .exact_below_mm = 4.5});
+  CHECK(near.status == DistanceStatus::exact);
+  CHECK(near.distance == 4);
+  // One piece holding the other body: contact (containment), whatever exact_below says.
+  Engine inside;
+  const BodyId f = inside.add_body({.name = "fork", .mesh = fork});
+  const BodyId s = inside.add_body({.name = "speck", .mesh = box_between(Vec3(30, 22, 2), Vec3(32, 24, 4))});
+  inside.set_pose(f, Pose::Identity());
+  inside.set_pose(s, Pose::Identity());
+  for (const double below : {0.0, 1.0, 1e9}) {
+    const DistanceResult r = inside.distance(f, s, {.upper_mm = 20, .exact_below_mm = below});
+    CHECK(r.status == DistanceStatus::contact);
+    CHECK(r.kind == ContactKind::containment);
+  }
+}
+
+TEST_CASE("distance exact_below on random poses: 'beyond' bounds the distance, below it the exact one", "[distance][cross_check]") {
+  // Bodies of one and of several pieces: for cut-offs and exact_below thresholds around the true
+  // distance, "beyond" is at least the smaller of the two and never above the distance; an exact
+  // answer is the brute-force one; contact is contact whatever is asked.
+  const std::vector<Polyhedron> meshes = {make_fork(), test::make_merged_part(), make_cylinder(10, 40, 16),
+                                          merged(make_cylinder(8, 20, 16), box_between(Vec3(-5, -5, 12), Vec3(5, 5, 30))),
+                                          test::make_l_prism(40, 10, 20), make_box(Vec3(4, 4, 4))};
+  std::mt19937_64 rng(2026);
+  std::uniform_int_distribution<std::size_t> pick(0, meshes.size() - 1);
+  int bounded = 0, exact = 0, contacts = 0, bad = 0;
+  for (int m = 0; m < 80; ++m) {
+    const Polyhedron& ma = meshes[pick(rng)];
+    const Polyhedron& mb = meshes[pick(rng)];
+    Engine e;
+    const BodyId a = e.add_body({.name = "a", .mesh = ma});
+    const BodyId b = e.add_body({.name = "b", .mesh = mb});
+    const Pose pa = test::random_pose(rng, 5);
+    e.set_pose(a, pa);
+    for (int k = 0; k < 20; ++k) {
+      const Pose pb = test::random_pose(rng, 50);
+      e.set_pose(b, pb);
+      const DistanceResult r = brute_force_distance(ma, pa, mb, pb);
+      Vec3 guess = Vec3::Zero();
+      for (const double fu : {1.2, 3.0})
+        for (const double fe : {0.3, 0.9, 0.999, 1.001, 1.5}) {
+          const double d0 = r.status == DistanceStatus::exact ? r.distance : 10.0;
+          const double upper = fu * d0, below = fe * d0;
+          const DistanceResult d = e.distance(a, b, {.upper_mm = upper, .guess = guess, .exact_below_mm = below});
+          guess = d.guess;
+          if (r.status == DistanceStatus::contact) {
+            ++contacts;
+            if (d.status != DistanceStatus::contact) ++bad;
+          } else if (d.status == DistanceStatus::beyond) {
+            bounded += below < r.distance && r.distance < upper;
+            if (!(d.distance >= std::min(upper, below) && d.distance <= r.distance * (1 + 1e-9))) ++bad;
+          } else {
+            ++exact;
+            if (!(d.status == DistanceStatus::exact && agrees(d.distance, r.distance))) ++bad;
+          }
+        }
+    }
+  }
+  WARN("exact_below: " << bounded << " bounded below the cut-off, " << exact << " exact, " << contacts << " contact");
+  CHECK(bounded > 100);
+  CHECK(exact > 100);
+  CHECK(contacts > 50);
+  REQUIRE(bad == 0);
+}

@@ -16,12 +16,18 @@ struct DistanceRequest {
   // first by the convex-hull bound; in coherent motion it proves a far pair in one pass over the
   // vertices. Only a speed-up: any direction gives a valid bound. Zero: none.
   Vec3 guess = Vec3::Zero();
+  // Exact only below this [mm] (when below upper_mm): a pair whose cheap bounds (containers,
+  // hulls) already prove it at least this far apart is answered `beyond` with that bound, still
+  // below the cut-off, without the exact search. For a caller that needs the distance only below
+  // one threshold but keeps a bound up to a larger cut-off (continuous checking: the clearance
+  // report's threshold, and the anchors' room above it). Infinity: exact below upper_mm.
+  double exact_below_mm = std::numeric_limits<double>::infinity();
 };
 
 enum class DistanceStatus : std::uint8_t {
   exact,    // distance is the minimum distance between the two surfaces (double, see below)
   contact,  // the bodies touch or overlap: faces meet (exact test) or one lies inside the other
-  beyond,   // the distance is at least upper_mm; `distance` is a lower bound >= upper_mm
+  beyond,   // the distance is at least min(upper_mm, exact_below_mm); `distance` is a lower bound >= that
 };
 
 struct DistanceResult {
