@@ -2,7 +2,7 @@
 
 #include "asimov/collision/gap_bound.hpp"
 
-#include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <array>
@@ -37,52 +37,66 @@ namespace asimov::collision {
 
 namespace {
 
-// The point of the hull of the simplex p[0..k) (points of A - B, k <= 4) nearest the origin,
-// and the simplex reduced to the points that span it (GJK's sub-step, here by trying every
-// subset: the nearest point lies inside one face, where its barycentric weights are all
-// positive, and each subset's candidate is a convex combination of its points, so rounding can
-// only give a point of the hull a little farther than the nearest, never one outside it).
-// False when the origin is inside the tetrahedron (the hulls meet).
+// The point of the hull of the simplex p[0..k) (points of A - B, k <= 4, p[k - 1] the support
+// point just added) nearest the origin, and the simplex reduced to the points that span it
+// (GJK's sub-step). The nearest point lies inside one face holding the newest point, where its
+// barycentric weights are all positive; those faces are tried (closed-form weights) and the
+// nearest valid candidate kept. Each candidate is a convex combination of its points, so
+// rounding can only give a point of the hull a little farther than the nearest, never one
+// outside it. False when the origin is inside the tetrahedron (the hulls meet).
 bool nearest_on_simplex(std::array<Vec3, 4>& p, int& k, Vec3& v) {
   double best = INFINITY;
   unsigned best_mask = 0;
   Vec3 best_v = Vec3::Zero();
-  for (unsigned mask = 1; mask < (1u << k); ++mask) {
+  const int last = k - 1;
+  const unsigned others = (1u << last) - 1;
+  for (unsigned sub = 0; sub <= others; ++sub) {
+    const unsigned mask = sub | (1u << last);
     std::array<int, 4> idx{};
     int m = 0;
     for (int i = 0; i < k; ++i)
       if (mask & (1u << i)) idx[static_cast<std::size_t>(m++)] = i;
-    std::array<double, 4> lambda{1, 0, 0, 0};
-    if (m > 1) {
-      // min |q0 + sum mu_i (q_i - q0)|: G mu = -E^T q0 with G = E^T E.
-      const Vec3& q0 = p[static_cast<std::size_t>(idx[0])];
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> g(m - 1, m - 1);
-      Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> rhs(m - 1);
-      std::array<Vec3, 3> e;
-      for (int i = 1; i < m; ++i) e[static_cast<std::size_t>(i - 1)] = p[static_cast<std::size_t>(idx[static_cast<std::size_t>(i)])] - q0;
-      for (int i = 0; i < m - 1; ++i) {
-        rhs(i) = -e[static_cast<std::size_t>(i)].dot(q0);
-        for (int j = 0; j < m - 1; ++j) g(i, j) = e[static_cast<std::size_t>(i)].dot(e[static_cast<std::size_t>(j)]);
+    // Weights: min |q0 + sum mu_i e_i| with e_i = q_i - q0, G mu = -E^T q0 (G = E^T E).
+    const Vec3& q0 = p[static_cast<std::size_t>(idx[0])];
+    std::array<Vec3, 3> e;
+    for (int i = 1; i < m; ++i)
+      e[static_cast<std::size_t>(i - 1)] = p[static_cast<std::size_t>(idx[static_cast<std::size_t>(i)])] - q0;
+    std::array<double, 4> w{1, 0, 0, 0};
+    if (m == 2) {
+      const double g = e[0].squaredNorm();
+      if (!(g > 0)) continue;
+      w[1] = -e[0].dot(q0) / g;
+    } else if (m == 3) {
+      const double g00 = e[0].squaredNorm(), g01 = e[0].dot(e[1]), g11 = e[1].squaredNorm();
+      const double r0 = -e[0].dot(q0), r1 = -e[1].dot(q0);
+      const double det = g00 * g11 - g01 * g01;
+      if (!(det > 1e-14 * g00 * g11)) continue;  // flat: a segment covers it
+      w[1] = (g11 * r0 - g01 * r1) / det;
+      w[2] = (g00 * r1 - g01 * r0) / det;
+    } else if (m == 4) {
+      Mat3 g;
+      Vec3 r;
+      for (int i = 0; i < 3; ++i) {
+        r[i] = -e[static_cast<std::size_t>(i)].dot(q0);
+        for (int j = 0; j < 3; ++j) g(i, j) = e[static_cast<std::size_t>(i)].dot(e[static_cast<std::size_t>(j)]);
       }
-      const auto ldlt = g.ldlt();
-      if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 1e-14 * g.trace()))
-        continue;  // degenerate (flat) subset: a smaller one covers it
-      const auto mu = ldlt.solve(rhs).eval();
-      double sum = 0;
-      bool inside = true;
-      for (int i = 0; i < m - 1; ++i) {
-        lambda[static_cast<std::size_t>(i + 1)] = mu(i);
-        sum += mu(i);
-        inside = inside && mu(i) > 0;
-      }
-      lambda[0] = 1 - sum;
-      if (!inside || !(lambda[0] > 0)) continue;
+      const double det = g.determinant();
+      if (!(det > 1e-14 * g(0, 0) * g(1, 1) * g(2, 2))) continue;  // flat: a triangle covers it
+      const Vec3 mu = g.inverse() * r;
+      for (int i = 0; i < 3; ++i) w[static_cast<std::size_t>(i + 1)] = mu[i];
     }
-    Vec3 x = Vec3::Zero();
-    for (int i = 0; i < m; ++i) x += lambda[static_cast<std::size_t>(i)] * p[static_cast<std::size_t>(idx[static_cast<std::size_t>(i)])];
-    const double xx = x.squaredNorm();
+    double sum = 0;
+    bool inside = true;
+    for (int i = 1; i < m; ++i) {
+      sum += w[static_cast<std::size_t>(i)];
+      inside = inside && w[static_cast<std::size_t>(i)] > 0;
+    }
+    w[0] = 1 - sum;
+    if (!inside || !(w[0] > 0)) continue;
     if (m == 4) return false;  // the origin is inside the tetrahedron
-    if (xx < best) best = xx, best_mask = mask, best_v = x;
+    Vec3 x = Vec3::Zero();
+    for (int i = 0; i < m; ++i) x += w[static_cast<std::size_t>(i)] * p[static_cast<std::size_t>(idx[static_cast<std::size_t>(i)])];
+    if (const double xx = x.squaredNorm(); xx < best) best = xx, best_mask = mask, best_v = x;
   }
   if (best_mask == 0) return false;
   int n = 0;

@@ -3,6 +3,7 @@
 #include "asimov/motion/walk_observer.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <limits>
 
@@ -64,6 +65,14 @@ void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool p
   p.exact = r.status != collision::DistanceStatus::beyond;
 }
 
+// A pose between checked poses. Lazy: bisection needs only a bound (a positive one from the
+// hulls proves the pose free), and the report keeps the pose if it may be nearer than the least.
+void ContinuousChecker::measure_probe(std::size_t pair, Point& p, double upper) {
+  if (!lazy_) return measure(pair, p, upper, true);
+  measure(pair, p, upper, true, std::max(clearance_ * (1 + 1e-9), DBL_MIN));
+  if (!p.hit && !p.exact && p.d < std::min(report_mm_, least_[pair])) kept_.push_back({pair, p.t, p.d, p.q});
+}
+
 // Earliest contact of the pair in (l.t, r.t]: l is free; r.hit says whether r collides. True
 // with `out` filled when one is found. Windows are visited in time order.
 bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path,
@@ -97,7 +106,7 @@ bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, 
   path.pose(m.q, m.t);
   posed_t_ = m_t;
   ++probes_;
-  measure(pair, m, mu + 2 * c, true);
+  measure_probe(pair, m, mu + 2 * c);
   if (solve(pair, l, m, path, out)) return true;
   return solve(pair, m, r, path, out);
 }
@@ -148,11 +157,13 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     }
     Point e;
     e.t = t_b;
-    // Exact below what the window and the report need; up to the budget's cut-off a bound from
-    // the hulls is enough (the anchor's room).
-    const double need = std::max({(m + 2 * c - la) * (1 + 1e-9) + 1e-9, report, c});
-    measure(i, e, std::max(need, report * (1 + budget_)), false, need);
+    // Exact below what the window and the report need (lazy: the window only); up to the
+    // budget's cut-off a bound from the hulls is enough (the anchor's room).
+    const double proof = std::max((m + 2 * c - la) * (1 + 1e-9) + 1e-9, c);
+    const double need = lazy_ ? proof : std::max(proof, report);
+    measure(i, e, std::max({proof, report, report * (1 + budget_)}), false, need);
     if (!e.hit && !e.exact) e.d = std::max(e.d, lb);  // "beyond": the better of the two bounds
+    if (lazy_ && !e.hit && !e.exact && e.d < report) kept_.push_back({i, t_b, e.d, q_b});
     end_d_[i] = e.d;
     end_flags_[i] = (e.hit ? kHit : 0) | (e.exact ? kExact : 0) |
                     (!e.hit && (la - c) + (e.d - c) > m ? kFree : 0);
@@ -176,7 +187,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
       path.pose(r.q, r.t);
       posed_t_ = r.t;
       m = path.motion(i, t_a, q_a, r.t, r.q);
-      measure(i, r, m + 2 * c, true);
+      measure_probe(i, r, m + 2 * c);
     }
     l.d = at_a(i);
     l.exact = cached && cache_exact_[i] != 0 && l.d == cache_d_[i];
@@ -213,11 +224,36 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     cache_d_[i] = hit ? 0.0 : end_d_[i];
     cache_exact_[i] = (end_flags_[i] & kExact) != 0;
   }
+  if (best.found && flush(path, best.t_hit)) posed_t_ = -1;  // the report's poses before the contact
   if (posed_t_ != t_b) {
     path.pose(q_b, t_b);
     posed_t_ = t_b;
   }
   return best;
+}
+
+bool ContinuousChecker::flush(const ContinuousPath& path, double until_s) {
+  if (kept_.empty() || !path.pose) {
+    kept_.clear();
+    return false;
+  }
+  // Nearest bound first: the first measured sets the pair's least, and every pose whose bound
+  // is not below it cannot be nearer (a pair that ended in contact has least 0: none is).
+  std::stable_sort(kept_.begin(), kept_.end(), [](const Kept& x, const Kept& y) { return x.bound < y.bound; });
+  bool posed = false;
+  for (Kept& k : kept_) {
+    if (k.t > until_s || k.pair >= pairs_.size()) continue;
+    const double report = std::min(report_mm_, least_[k.pair]);
+    if (!(k.bound < report)) continue;
+    path.pose(k.q, k.t);
+    posed = true;
+    Point p;
+    p.t = k.t;
+    p.q = k.q;
+    measure(k.pair, p, report, false);
+  }
+  kept_.clear();
+  return posed;
 }
 
 }  // namespace asimov::motion

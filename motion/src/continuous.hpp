@@ -81,6 +81,16 @@ class ContinuousChecker {
   ContinuousChecker(collision::Engine& engine, double clearance_mm, double tol_s, double report_mm);
 
   void set_clearance(double clearance_mm) { clearance_ = clearance_mm; }
+  // Lazy clearance report (docs/collision.md §12): at checked poses a pair is measured only as
+  // exactly as the proof needs; a pose where its bound leaves it possibly nearer than the report
+  // threshold and its least so far is kept, and flush() measures the kept poses nearest bound
+  // first, skipping those that can no longer be the least (all of them for a pair that ends in
+  // contact). Only where posing at an earlier time moves nothing but the arm (no parts).
+  void set_lazy_report(bool on) { lazy_ = on; }
+  // Measures the kept poses at or before until_s (drops the later ones: after a contact) and
+  // leaves the engine posed wherever path.pose put it last: the caller poses it again.
+  // Returns whether it posed anything.
+  bool flush(const ContinuousPath& path, double until_s = std::numeric_limits<double>::infinity());
   void set_report_mm(double report_mm) { report_mm_ = report_mm; }
   // Told of every distance measured: the pair (index into Engine::enabled_pairs()), the time,
   // whether at a probe (a pose between checked poses) and the cpu_ticks() it took.
@@ -90,6 +100,7 @@ class ContinuousChecker {
   void reset() {
     cache_t_ = -1;
     anchors_.clear();
+    kept_.clear();  // flushed at the end of every walk (Walker::walk) before this
   }
 
   // What the walker already knows of a window, per pair (each span empty, or one per pair).
@@ -119,6 +130,7 @@ class ContinuousChecker {
   // Exact below exact_below (default: below upper), else a lower bound (Point::exact false).
   void measure(std::size_t pair, Point& p, double upper, bool probe,
                double exact_below = std::numeric_limits<double>::infinity());
+  void measure_probe(std::size_t pair, Point& p, double upper);
   bool solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path, ContinuousContact& out);
 
   collision::Engine& engine_;
@@ -148,6 +160,13 @@ class ContinuousChecker {
   std::vector<double> mu_, end_d_;
   std::vector<char> end_flags_;
   std::optional<ContinuousContact> graze_;  // solve: the first unprovable window of the pair
+  struct Kept {  // a checked pose the clearance report may still need (lazy_)
+    std::size_t pair;
+    double t, bound;  // bound: a lower bound on the pair's distance there
+    robots::JointVector q;
+  };
+  std::vector<Kept> kept_;
+  bool lazy_ = false;
   std::uint64_t probes_ = 0, queries_ = 0;
 };
 

@@ -717,6 +717,8 @@ ContinuousChecker* Walker::checker(collision::Engine* engine) {
   if (!continuous_) continuous_ = std::make_unique<ContinuousChecker>(*engine, 0, toc_tolerance(settings_), 0);
   continuous_->set_clearance(halting_clearance(settings_));
   continuous_->set_report_mm(std::max(settings_.report_within_mm, settings_.clearance_mm));
+  // Posing at an earlier time moves only the arm when no part can move by itself.
+  continuous_->set_lazy_report(!world_.has_parts());
   continuous_->reset();  // between walks the hand, the parts or the settings may have changed
   return continuous_.get();
 }
@@ -746,6 +748,11 @@ MotionResult Walker::walk(const Trajectory& tr, WalkState& state, double until_s
   Walk walk{.w = *this, .tr = tr, .st = state, .engine = engine, .clearance = halting_clearance(settings_), .checker = checker(engine)};
   walk.tell([&](WalkObserver& o) { o.on_walk_begin(tr); });
   MotionResult r = walk.run(until_s);
+  if (walk.checker) {  // the clearance report's kept poses, before the recorders close the walk
+    const JointVector q = world_.posed_joints();
+    const double t = world_.posed_time();
+    if (walk.checker->flush(walk.path)) world_.pose(q, t);
+  }
   walk.tell([](WalkObserver& o) { o.on_walk_end(); });
   return r;
 }

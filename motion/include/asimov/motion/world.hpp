@@ -65,6 +65,9 @@ class World {
   void attach(CellRuntime& runtime) { runtime_ = &runtime; }
   // A cell with movable parts whose states come from a runtime (they can move without the arm).
   bool has_parts() const { return has_parts_ && runtime_ != nullptr; }
+  // The joints and time of the last pose() (empty joints before the first).
+  const robots::JointVector& posed_joints() const { return posed_q_; }
+  double posed_time() const { return posed_t_; }
   // The next instant after the devices' clock at which a part or signal changes by itself
   // (+inf without parts): the parts' speeds are constant until then.
   double next_part_change() const;
