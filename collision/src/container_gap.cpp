@@ -98,7 +98,7 @@ bool nearest_on_simplex(std::array<Vec3, 4>& p, int& k, Vec3& v) {
     for (int i = 0; i < m; ++i) x += w[static_cast<std::size_t>(i)] * p[static_cast<std::size_t>(idx[static_cast<std::size_t>(i)])];
     if (const double xx = x.squaredNorm(); xx < best) best = xx, best_mask = mask, best_v = x;
   }
-  if (best_mask == 0) return false;
+  if (best_mask == 0) return false;  // only with NaN coordinates (a single point is always valid)
   int n = 0;
   for (int i = 0; i < k; ++i)
     if (best_mask & (1u << i)) p[static_cast<std::size_t>(n++)] = p[static_cast<std::size_t>(i)];
@@ -175,7 +175,7 @@ double hull_gap(std::span<const Vec3> a, std::span<const Vec3> b, const Pose& a_
     // hull nearest the origin.
     bool known = false;
     for (int i = 0; i < k; ++i) known = known || w[static_cast<std::size_t>(i)] == s;
-    if (known || k == 4) break;  // no progress
+    if (known) break;  // no progress (nearest_on_simplex leaves at most 3 points)
     w[static_cast<std::size_t>(k++)] = s;
     if (!nearest_on_simplex(w, k, v)) break;  // the origin is inside: the hulls meet
   }

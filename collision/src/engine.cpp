@@ -183,11 +183,11 @@ HullParts hull_parts_of(const Polyhedron& mesh) {
 // connected set crossing no face stays on one side of each shell), so the least is a bound on
 // the surfaces' distance and a positive one rules out containment. Shell pairs go nearest
 // spheres first; one that cannot reach `prove` (the bound the caller needs) ends the search with
-// -infinity (the least of the pairs so far would not bound the others). `enough`, `stop`,
-// `guess`: as hull_gap's, for every pair (a bound reaching `stop` ends a pair's iteration); on
-// return `guess` holds the direction of the pair that is least.
+// -infinity (the least of the pairs so far would not bound the others). `enough`: as
+// hull_gap's, for every pair. Each pair starts cold (one warm direction for the whole body pair
+// misleads the other pieces); on return `guess` holds the direction of the pair that is least.
 double parts_gap(const HullParts& pa, const HullParts& pb, const Pose& a_from_b, double slack, double enough,
-                 double stop, double prove, Vec3* guess) {
+                 double prove, Vec3* guess) {
   struct Candidate {
     double sphere;
     std::uint32_t i, j;
@@ -648,8 +648,8 @@ struct Engine::Impl {
         if (!x->hull_parts) x->hull_parts = std::make_unique<HullParts>(hull_parts_of(x->mesh()));
       const std::size_t shell_pairs = a.hull_parts->count() * b.hull_parts->count();
       if (shell_pairs > 1 && shell_pairs <= kHullPartPairs)
-        lb = std::max(lb, parts_gap(*a.hull_parts, *b.hull_parts, a_from_b, 2 * margin, kHullGapEnough * upper, upper,
-                                    prove, &res.guess));
+        lb = std::max(lb, parts_gap(*a.hull_parts, *b.hull_parts, a_from_b, 2 * margin, kHullGapEnough * upper, prove,
+                                    &res.guess));
       else
         lb = std::max(lb, hull_gap(a.mesh().vertices, b.mesh().vertices, a_from_b, 2 * margin, kHullGapEnough * upper,
                                    kHullGapIterations, upper, &res.guess));

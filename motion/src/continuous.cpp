@@ -70,7 +70,13 @@ void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool p
 void ContinuousChecker::measure_probe(std::size_t pair, Point& p, double upper) {
   if (!lazy_) return measure(pair, p, upper, true);
   measure(pair, p, upper, true, std::max(clearance_ * (1 + 1e-9), DBL_MIN));
-  if (!p.hit && !p.exact && p.d < std::min(report_mm_, least_[pair])) kept_.push_back({pair, p.t, p.d, p.q});
+  keep(pair, p, p.q);
+}
+
+// Lazy: a pose measured only as a bound that may still be nearer than the pair's least and the
+// report threshold is kept for flush().
+void ContinuousChecker::keep(std::size_t pair, const Point& p, const robots::JointVector& q) {
+  if (lazy_ && !p.hit && !p.exact && p.d < std::min(report_mm_, least_[pair])) kept_.push_back({pair, p.t, p.d, q});
 }
 
 // Earliest contact of the pair in (l.t, r.t]: l is free; r.hit says whether r collides. True
@@ -161,9 +167,9 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     // budget's cut-off a bound from the hulls is enough (the anchor's room).
     const double proof = std::max((m + 2 * c - la) * (1 + 1e-9) + 1e-9, c);
     const double need = lazy_ ? proof : std::max(proof, report);
-    measure(i, e, std::max({proof, report, report * (1 + budget_)}), false, need);
+    measure(i, e, std::max(proof, report * (1 + budget_)), false, need);
     if (!e.hit && !e.exact) e.d = std::max(e.d, lb);  // "beyond": the better of the two bounds
-    if (lazy_ && !e.hit && !e.exact && e.d < report) kept_.push_back({i, t_b, e.d, q_b});
+    keep(i, e, q_b);  // (e.q unset: the checked pose's joints are q_b)
     end_d_[i] = e.d;
     end_flags_[i] = (e.hit ? kHit : 0) | (e.exact ? kExact : 0) |
                     (!e.hit && (la - c) + (e.d - c) > m ? kFree : 0);

@@ -131,6 +131,7 @@ class ContinuousChecker {
   void measure(std::size_t pair, Point& p, double upper, bool probe,
                double exact_below = std::numeric_limits<double>::infinity());
   void measure_probe(std::size_t pair, Point& p, double upper);
+  void keep(std::size_t pair, const Point& p, const robots::JointVector& q);
   bool solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path, ContinuousContact& out);
 
   collision::Engine& engine_;

@@ -41,6 +41,29 @@ bool same_distance(const DistanceResult& e, const DistanceResult& r, const Polyh
          agrees((e.point_a - e.point_b).norm(), e.distance);
 }
 
+// `bodies` random pairs of the meshes (a near the origin), each at `poses` random poses of b
+// within `reach`: visit(engine, a, b, mesh a, pose a, mesh b, pose b, brute-force answer).
+template <class Visit>
+void for_random_pairs(const std::vector<Polyhedron>& meshes, std::uint64_t seed, int bodies, int poses, double reach,
+                      Visit&& visit) {
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, meshes.size() - 1);
+  for (int m = 0; m < bodies; ++m) {
+    const Polyhedron& ma = meshes[pick(rng)];
+    const Polyhedron& mb = meshes[pick(rng)];
+    Engine e;
+    const BodyId a = e.add_body({.name = "a", .mesh = ma});
+    const BodyId b = e.add_body({.name = "b", .mesh = mb});
+    const Pose pa = test::random_pose(rng, 5);
+    e.set_pose(a, pa);
+    for (int k = 0; k < poses; ++k) {
+      const Pose pb = test::random_pose(rng, reach);
+      e.set_pose(b, pb);
+      visit(e, a, b, ma, pa, mb, pb, brute_force_distance(ma, pa, mb, pb));
+    }
+  }
+}
+
 }  // namespace
 
 TEST_CASE("distance equals brute force on random poses of mesh pairs", "[distance][cross_check]") {
@@ -180,35 +203,23 @@ TEST_CASE("distance cut-off on random poses: 'beyond' is a lower bound, at least
   // answer is the exact one.
   const std::vector<Polyhedron> meshes = {test::make_merged_part(), make_cylinder(10, 40, 16), make_box(Vec3(30, 12, 8)),
                                           test::make_l_prism(40, 10, 20), make_box(Vec3(4, 4, 4))};
-  std::mt19937_64 rng(1414);
-  std::uniform_int_distribution<std::size_t> pick(0, meshes.size() - 1);
   int beyond = 0, exact = 0, bad = 0;
-  for (int m = 0; m < 60; ++m) {
-    const Polyhedron& ma = meshes[pick(rng)];
-    const Polyhedron& mb = meshes[pick(rng)];
-    Engine e;
-    const BodyId a = e.add_body({.name = "a", .mesh = ma});
-    const BodyId b = e.add_body({.name = "b", .mesh = mb});
-    const Pose pa = test::random_pose(rng, 5);
-    e.set_pose(a, pa);
-    for (int k = 0; k < 20; ++k) {
-      const Pose pb = test::random_pose(rng, 60);
-      e.set_pose(b, pb);
-      const DistanceResult r = brute_force_distance(ma, pa, mb, pb);
-      if (r.status != DistanceStatus::exact) continue;
-      for (const double f : {0.3, 0.9, 0.999, 1.001, 1.5, 3.0}) {
-        const double upper = f * r.distance;
-        const DistanceResult d = e.distance(a, b, {.upper_mm = upper});
-        if (d.status == DistanceStatus::beyond) {
-          ++beyond;
-          if (!(d.distance >= upper && d.distance <= r.distance * (1 + 1e-9))) ++bad;
-        } else {
-          ++exact;
-          if (!(d.status == DistanceStatus::exact && agrees(d.distance, r.distance) && f > 1)) ++bad;
-        }
-      }
-    }
-  }
+  for_random_pairs(meshes, 1414, 60, 20, 60,
+                   [&](Engine& e, BodyId a, BodyId b, const Polyhedron&, const Pose&, const Polyhedron&, const Pose&,
+                       const DistanceResult& r) {
+                     if (r.status != DistanceStatus::exact) return;
+                     for (const double f : {0.3, 0.9, 0.999, 1.001, 1.5, 3.0}) {
+                       const double upper = f * r.distance;
+                       const DistanceResult d = e.distance(a, b, {.upper_mm = upper});
+                       if (d.status == DistanceStatus::beyond) {
+                         ++beyond;
+                         if (!(d.distance >= upper && d.distance <= r.distance * (1 + 1e-9))) ++bad;
+                       } else {
+                         ++exact;
+                         if (!(d.status == DistanceStatus::exact && agrees(d.distance, r.distance) && f > 1)) ++bad;
+                       }
+                     }
+                   });
   CHECK(beyond > 100);
   CHECK(exact > 100);
   REQUIRE(bad == 0);
@@ -309,41 +320,29 @@ TEST_CASE("distance exact_below on random poses: 'beyond' bounds the distance, b
   const std::vector<Polyhedron> meshes = {make_fork(), test::make_merged_part(), make_cylinder(10, 40, 16),
                                           merged(make_cylinder(8, 20, 16), box_between(Vec3(-5, -5, 12), Vec3(5, 5, 30))),
                                           test::make_l_prism(40, 10, 20), make_box(Vec3(4, 4, 4))};
-  std::mt19937_64 rng(2026);
-  std::uniform_int_distribution<std::size_t> pick(0, meshes.size() - 1);
   int bounded = 0, exact = 0, contacts = 0, bad = 0;
-  for (int m = 0; m < 80; ++m) {
-    const Polyhedron& ma = meshes[pick(rng)];
-    const Polyhedron& mb = meshes[pick(rng)];
-    Engine e;
-    const BodyId a = e.add_body({.name = "a", .mesh = ma});
-    const BodyId b = e.add_body({.name = "b", .mesh = mb});
-    const Pose pa = test::random_pose(rng, 5);
-    e.set_pose(a, pa);
-    for (int k = 0; k < 20; ++k) {
-      const Pose pb = test::random_pose(rng, 50);
-      e.set_pose(b, pb);
-      const DistanceResult r = brute_force_distance(ma, pa, mb, pb);
-      Vec3 guess = Vec3::Zero();
-      for (const double fu : {1.2, 3.0})
-        for (const double fe : {0.3, 0.9, 0.999, 1.001, 1.5}) {
-          const double d0 = r.status == DistanceStatus::exact ? r.distance : 10.0;
-          const double upper = fu * d0, below = fe * d0;
-          const DistanceResult d = e.distance(a, b, {.upper_mm = upper, .guess = guess, .exact_below_mm = below});
-          guess = d.guess;
-          if (r.status == DistanceStatus::contact) {
-            ++contacts;
-            if (d.status != DistanceStatus::contact) ++bad;
-          } else if (d.status == DistanceStatus::beyond) {
-            bounded += below < r.distance && r.distance < upper;
-            if (!(d.distance >= std::min(upper, below) && d.distance <= r.distance * (1 + 1e-9))) ++bad;
-          } else {
-            ++exact;
-            if (!(d.status == DistanceStatus::exact && agrees(d.distance, r.distance))) ++bad;
-          }
-        }
-    }
-  }
+  for_random_pairs(meshes, 2026, 80, 20, 50,
+                   [&](Engine& e, BodyId a, BodyId b, const Polyhedron&, const Pose&, const Polyhedron&, const Pose&,
+                       const DistanceResult& r) {
+                     Vec3 guess = Vec3::Zero();
+                     for (const double fu : {1.2, 3.0})
+                       for (const double fe : {0.3, 0.9, 0.999, 1.001, 1.5}) {
+                         const double d0 = r.status == DistanceStatus::exact ? r.distance : 10.0;
+                         const double upper = fu * d0, below = fe * d0;
+                         const DistanceResult d = e.distance(a, b, {.upper_mm = upper, .guess = guess, .exact_below_mm = below});
+                         guess = d.guess;
+                         if (r.status == DistanceStatus::contact) {
+                           ++contacts;
+                           if (d.status != DistanceStatus::contact) ++bad;
+                         } else if (d.status == DistanceStatus::beyond) {
+                           bounded += below < r.distance && r.distance < upper;
+                           if (!(d.distance >= std::min(upper, below) && d.distance <= r.distance * (1 + 1e-9))) ++bad;
+                         } else {
+                           ++exact;
+                           if (!(d.status == DistanceStatus::exact && agrees(d.distance, r.distance))) ++bad;
+                         }
+                       }
+                   });
   WARN("exact_below: " << bounded << " bounded below the cut-off, " << exact << " exact, " << contacts << " contact");
   CHECK(bounded > 100);
   CHECK(exact > 100);
