@@ -225,6 +225,48 @@ TEST_CASE("distance cut-off on random poses: 'beyond' is a lower bound, at least
   REQUIRE(bad == 0);
 }
 
+TEST_CASE("distance equals brute force for many-faced bodies a hair apart, also far from the origin", "[distance][cross_check]") {
+  // Leaves of several faces on both sides, each pair first bounded along the line of the
+  // leaves' boxes (engine.cpp, distance_leaf_pair): moved to within 1e-2 .. 1e-7 mm of each
+  // other at 0, 1e4 and 1e6 mm from the origin, where a bound rounded in world coordinates
+  // would drop the nearest faces, the answer is brute force's.
+  const std::vector<Polyhedron> meshes = {make_cylinder(15, 10, 48), test::make_merged_part(), make_cylinder(10, 40, 32)};
+  std::mt19937_64 rng(2026);
+  int hair = 0, bad = 0;
+  for (const double offset : {0.0, 1e4, 1e6}) {
+    for (int k = 0; k < 60; ++k) {
+      const Polyhedron& ma = meshes[static_cast<std::size_t>(k) % meshes.size()];
+      const Polyhedron& mb = meshes[static_cast<std::size_t>(k / 3) % meshes.size()];
+      Pose pa = test::random_pose(rng, 5);
+      pa.translation() += Vec3(offset, -offset, 0.5 * offset);
+      const Pose pb0 = pa * test::random_pose(rng, 60);
+      const DistanceResult r0 = brute_force_distance(ma, pa, mb, pb0);
+      if (r0.status != DistanceStatus::exact) continue;
+      const Vec3 u = (r0.point_b - r0.point_a) / r0.distance;
+      for (const double gap : {1e-2, 1e-5, 1e-7}) {
+        Pose pb = pb0;
+        pb.translation() -= (r0.distance - gap) * u;
+        Engine e;
+        const BodyId a = e.add_body({.name = "a", .mesh = ma});
+        const BodyId b = e.add_body({.name = "b", .mesh = mb});
+        e.set_pose(a, pa);
+        e.set_pose(b, pb);
+        const DistanceResult d = e.distance(a, b);
+        const DistanceResult r = brute_force_distance(ma, pa, mb, pb);
+        hair += r.status == DistanceStatus::exact && r.distance < 1e-3;
+        if (!same_distance(d, r, ma, pa, mb, pb)) {
+          ++bad;
+          UNSCOPED_INFO("offset " << offset << " case " << k << " gap " << gap << ": engine " << int(d.status) << " "
+                                  << d.distance << ", brute " << int(r.status) << " " << r.distance);
+        }
+      }
+    }
+  }
+  WARN("hair-gap cases: " << hair);
+  CHECK(hair > 200);
+  REQUIRE(bad == 0);
+}
+
 TEST_CASE("distance warm start: a chained, stale or garbage guess changes no answer", "[distance]") {
   // A body sliding past another in small steps, each query given the last answer's guess (the
   // continuous checker's use), then a guess from far back, then NaN, huge and tiny ones: every
