@@ -568,6 +568,21 @@ struct Engine::Impl {
     return g > 0 && uu > 0 ? g * g / uu : 0.0;
   }
 
+  // One leaf's world faces and the union of their boxes.
+  struct LeafFaces {
+    std::array<const WorldFace*, kDistanceLeafFaces> w;
+    Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  };
+  static LeafFaces leaf_faces(Body& body, const std::uint32_t* faces, std::uint32_t count) {
+    LeafFaces l;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      l.w[i] = &world_face(body, faces[i]);
+      l.lo = l.lo.cwiseMin(l.w[i]->lo);
+      l.hi = l.hi.cwiseMax(l.w[i]->hi);
+    }
+    return l;
+  }
+
   // A pair of leaves of the distance trees (the bodies are known apart: no face pair meets).
   // First the gap of both leaves' vertices along the line between their world boxes' centres:
   // the support of each face on that line is one pass over its three vertices, and the gaps of
@@ -581,20 +596,7 @@ struct Engine::Impl {
     const std::uint32_t* fas = a.distance_tree->faces.data() + x.first;
     const std::uint32_t* fbs = b.distance_tree->faces.data() + y.first;
     const std::uint32_t na = x.count(), nb = y.count();
-    // Both leaves' world faces once per leaf pair, and their union boxes.
-    std::array<const WorldFace*, kDistanceLeafFaces> was, wbs;
-    Vec3 alo = Vec3::Constant(INFINITY), ahi = Vec3::Constant(-INFINITY);
-    Vec3 ulo = Vec3::Constant(INFINITY), uhi = Vec3::Constant(-INFINITY);
-    for (std::uint32_t i = 0; i < na; ++i) {
-      was[i] = &world_face(a, fas[i]);
-      alo = alo.cwiseMin(was[i]->lo);
-      ahi = ahi.cwiseMax(was[i]->hi);
-    }
-    for (std::uint32_t j = 0; j < nb; ++j) {
-      wbs[j] = &world_face(b, fbs[j]);
-      ulo = ulo.cwiseMin(wbs[j]->lo);
-      uhi = uhi.cwiseMax(wbs[j]->hi);
-    }
+    const LeafFaces la = leaf_faces(a, fas, na), lb = leaf_faces(b, fbs, nb);
     // Supports on n, the line of the boxes' centres (any direction gives a lower bound: the
     // leaves' vertices project apart by at least their gap), over coordinates relative to o, the
     // centre of both boxes, so that the rounding scales with the leaves and their distance
@@ -602,45 +604,47 @@ struct Engine::Impl {
     // value (the subtraction and the dot product), so 1e-14 |n| r covers both sides with room;
     // a relative 1e-12 covers the products with best. A NaN anywhere compares false: nothing
     // is skipped.
-    const Vec3 lo = alo.cwiseMin(ulo), hi = ahi.cwiseMax(uhi);
+    const Vec3 lo = la.lo.cwiseMin(lb.lo), hi = la.hi.cwiseMax(lb.hi);
     const Vec3 o = 0.5 * (lo + hi);
-    const Vec3 n = (ulo + uhi) - (alo + ahi);
+    const Vec3 n = (lb.lo + lb.hi) - (la.lo + la.hi);
     const double nn = n.norm(), slack = 1e-14 * nn * 0.5 * (hi - lo).norm();
-    std::array<double, kDistanceLeafFaces> pa, qb;  // A faces' highest, B faces' lowest on n
+    const auto along = [&](const TriangleVerts& t) {
+      return std::array<double, 3>{n.dot(t[0] - o), n.dot(t[1] - o), n.dot(t[2] - o)};
+    };
+    std::array<double, kDistanceLeafFaces> top_a, low_b;  // A faces' highest, B faces' lowest on n
     double sa = -INFINITY, sb = INFINITY;
     for (std::uint32_t i = 0; i < na; ++i) {
-      const TriangleVerts& t = was[i]->t;
-      pa[i] = std::max({n.dot(t[0] - o), n.dot(t[1] - o), n.dot(t[2] - o)});
-      sa = std::max(sa, pa[i]);
+      const auto p = along(la.w[i]->t);
+      sa = std::max(sa, top_a[i] = std::max({p[0], p[1], p[2]}));
     }
     for (std::uint32_t j = 0; j < nb; ++j) {
-      const TriangleVerts& t = wbs[j]->t;
-      qb[j] = std::min({n.dot(t[0] - o), n.dot(t[1] - o), n.dot(t[2] - o)});
-      sb = std::min(sb, qb[j]);
+      const auto p = along(lb.w[j]->t);
+      sb = std::min(sb, low_b[j] = std::min({p[0], p[1], p[2]}));
     }
-    // A gap along n at or past this is at or past best.
-    auto reach = [&] { return best * nn * (1 + 1e-12) + slack; };
-    if (sb - sa >= reach()) return;
+    // A gap along n at or past `reach` is at or past best (kept with best).
+    double reach = best * nn * (1 + 1e-12) + slack;
+    if (sb - sa >= reach) return;
     for (std::uint32_t i = 0; i < na; ++i) {
-      const WorldFace& wa = *was[i];
-      if (sb - pa[i] >= reach() || !(box_distance2(wa.lo, wa.hi, ulo, uhi) < best * best)) continue;
+      const WorldFace& wa = *la.w[i];
+      if (sb - top_a[i] >= reach || !(box_distance2(wa.lo, wa.hi, lb.lo, lb.hi) < best * best)) continue;
       for (std::uint32_t j = 0; j < nb; ++j) {
-        const WorldFace& wb = *wbs[j];
-        if (qb[j] - pa[i] >= reach() || !(box_distance2(wa.lo, wa.hi, wb.lo, wb.hi) < best * best)) continue;
+        const WorldFace& wb = *lb.w[j];
+        if (low_b[j] - top_a[i] >= reach || !(box_distance2(wa.lo, wa.hi, wb.lo, wb.hi) < best * best)) continue;
         const TriangleVerts &ta = wa.t, &tb = wb.t;
         // The centroid line's and the planes' bounds (rounded: a relative 1e-12 of room, far
         // below the 1e-9 asked of the distance), then the closest points.
         const double b2 = best * best * (1 - 1e-12);
         if (centre_line_bound2(ta, tb) >= b2 || plane_bound2(ta, tb) >= b2 || plane_bound2(tb, ta) >= b2) continue;
         ++res.face_pairs;
-        Vec3 pa_, pb_;
-        const double d = std::sqrt(disjoint_triangle_distance2(ta, tb, pa_, pb_));
+        Vec3 pa, pb;
+        const double d = std::sqrt(disjoint_triangle_distance2(ta, tb, pa, pb));
         if (d < best) {
           best = d;
+          reach = best * nn * (1 + 1e-12) + slack;
           res.status = DistanceStatus::exact;
           res.distance = d;
           res.face_a = fas[i], res.face_b = fbs[j];
-          res.point_a = pa_, res.point_b = pb_;
+          res.point_a = pa, res.point_b = pb;
         }
       }
     }

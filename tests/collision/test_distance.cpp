@@ -228,8 +228,8 @@ TEST_CASE("distance cut-off on random poses: 'beyond' is a lower bound, at least
 TEST_CASE("distance equals brute force for many-faced bodies a hair apart, also far from the origin", "[distance][cross_check]") {
   // Leaves of several faces on both sides, each pair first bounded along the line of the
   // leaves' boxes (engine.cpp, distance_leaf_pair): moved to within 1e-2 .. 1e-7 mm of each
-  // other at 0, 1e4 and 1e6 mm from the origin, where a bound rounded in world coordinates
-  // would drop the nearest faces, the answer is brute force's.
+  // other at 0, 1e4 and 1e6 mm from the origin (gaps far below the coordinates' size), the
+  // answer is brute force's.
   const std::vector<Polyhedron> meshes = {make_cylinder(15, 10, 48), test::make_merged_part(), make_cylinder(10, 40, 32)};
   std::mt19937_64 rng(2026);
   int hair = 0, bad = 0;
