@@ -274,10 +274,20 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
     }
   }
   std::error_code ec;
+  // Ctrl-C: running cases are killed, no new one starts, the scratch folder is removed and the
+  // command exits 130 after the lines of the cases that finished. SIGTERM and SIGHUP stop it the
+  // same way, then end it by that signal. The handlers come before the folder, so no signal
+  // finds the folder there and nobody to remove it.
+  std::atomic<bool>& interrupted = sigint_flag();
+  interrupted.store(false);
+  install_sigint(false);
+  install_termination();
+
   const fs::path scratch = fs::temp_directory_path(ec) / fmt::format("asimov-test-{}", ::getpid());
   fs::create_directories(scratch, ec);
   if (ec) {
     err << fmt::format("*Cannot write file*  {}: {}\n", scratch.string(), ec.message());
+    reraise_termination();
     return kExitUsage;
   }
 
@@ -290,14 +300,6 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
       fs::remove_all(dir, ignored);
     }
   } remove_scratch{scratch};
-
-  // Ctrl-C: running cases are killed, no new one starts, the scratch folder is removed and the
-  // command exits 130 after the lines of the cases that finished. SIGTERM and SIGHUP stop it the
-  // same way, then end it by that signal.
-  std::atomic<bool>& interrupted = sigint_flag();
-  interrupted.store(false);
-  install_sigint(false);
-  install_termination();
 
   // Cases run on `jobs` threads, each waiting for its own `asimov run` process; lines are
   // printed in case order as soon as every earlier case is done.

@@ -1,6 +1,8 @@
 // Ctrl-C during `asimov run`: the program stops where it is (the arm at its last checked pose),
 // the report and trace are still written, exit 130. The signal is sent once the process has
 // installed its handler (read from /proc/PID/status), so the test does not depend on timing.
+// Catch2 catches SIGINT itself, and a forked child keeps that until it execs, so the handler only
+// counts once /proc/PID/exe is asimov (exec resets caught signals to their default).
 #include "../support/run_cli.hpp"
 
 #include <catch2/catch.hpp>
@@ -8,6 +10,7 @@
 
 #include <chrono>
 #include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -21,9 +24,14 @@ namespace {
 using asimov::test::scratch_dir;
 using json = nlohmann::json;
 
-// True once `pid` catches SIGINT (SigCgt mask of /proc/PID/status).
+// True once `pid` runs asimov and catches SIGINT (SigCgt mask of /proc/PID/status). The binary
+// is read first: any status read after it is the new program's.
 bool catches_sigint(pid_t pid) {
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  const std::string proc = "/proc/" + std::to_string(pid);
+  std::error_code ec;
+  if (!std::filesystem::equivalent(std::filesystem::read_symlink(proc + "/exe", ec), ASIMOV_BINARY, ec) || ec)
+    return false;
+  std::ifstream status(proc + "/status");
   for (std::string line; std::getline(status, line);)
     if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1;
   return false;
@@ -45,6 +53,7 @@ int run_and_interrupt(const std::vector<std::string>& args, const std::string& o
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   while (!catches_sigint(pid) && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  CHECK(catches_sigint(pid));  // if not, the SIGINT below still ends it
   std::this_thread::sleep_for(std::chrono::milliseconds(100));  // let it move a while
   ::kill(pid, SIGINT);
   int status = 0;
