@@ -1,3 +1,4 @@
+#include "support/scratch.hpp"
 #include "asimov/cell/cell_loader.hpp"
 #include "asimov/collision/engine.hpp"
 
@@ -152,8 +153,7 @@ std::filesystem::path write_stl(const std::string& name, bool open, const std::s
     text += "  endloop\n endfacet\n";
   }
   text += "endsolid t\n";
-  const auto dir = std::filesystem::temp_directory_path() / "asimov-cell-tests";
-  std::filesystem::create_directories(dir);
+  const auto dir = asimov::test::scratch_dir("cell-tests");
   std::ofstream(dir / name) << text;
   return dir / name;
 }
@@ -202,8 +202,7 @@ TEST_CASE("collision keys: contact-time tolerance, generated pairs with a cache 
   CHECK(cell.collision.pairs_cache.empty());  // text without a file: no cache
   CHECK_FALSE(load_cell_text("collision: {pairs: joined}\n", "c.yaml").collision.generated_pairs);
 
-  const auto dir = std::filesystem::temp_directory_path() / "asimov-cell-tests";
-  std::filesystem::create_directories(dir);
+  const auto dir = asimov::test::scratch_dir("cell-tests");
   std::ofstream(dir / "gen.yaml") << "collision: {pairs: generated}\n";
   cell = load_cell_file((dir / "gen.yaml").string());
   CHECK(cell.collision.pairs_cache == (dir / "gen.yaml").string() + ".pairs");

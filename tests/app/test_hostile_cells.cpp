@@ -1,5 +1,6 @@
 // Hostile cell files (issue 17): every one ends at once with an Error naming the place,
 // never a crash, a hang or a message a user cannot act on.
+#include "support/scratch.hpp"
 #include "asimov/cell/cell_loader.hpp"
 #include "asimov/collision/mesh_io.hpp"
 #include "support/cell.hpp"
@@ -145,13 +146,11 @@ TEST_CASE("cell files that are folders, devices or missing: bounded reads", "[ce
     const auto cell = cell::load_cell_file(path);
     return cell ? std::string("no error") : cell::format_cell_error(cell.error());
   };
-  const auto dir = std::filesystem::temp_directory_path() / "asimov-hostile-cell";
-  std::filesystem::create_directories(dir);
+  const auto dir = asimov::test::scratch_dir("hostile-cell");
   CHECK(file_error(dir.string()) == dir.string() + ": is a directory, not a file");
   const auto t0 = std::chrono::steady_clock::now();
   CHECK(file_error("/dev/zero") == "/dev/zero: is larger than 64 MiB, the limit for this kind of file");
   CHECK(seconds(t0) < 10);
   CHECK(file_error((dir / "none.yaml").string()) ==
         (dir / "none.yaml").string() + ": cannot open the file (No such file or directory)");
-  std::filesystem::remove_all(dir);
 }

@@ -1,5 +1,6 @@
 // Step 1 generated automatically: every reason on a synthetic scene of boxes whose poses a
 // callback draws, user overrides, the cache keyed by content, and the text for `asimov pairs`.
+#include "support/scratch.hpp"
 #include "asimov/collision/auto_pairs.hpp"
 
 #include <catch2/catch.hpp>
@@ -45,7 +46,7 @@ AutoPairsInput scene(int* random_calls = nullptr) {
 }
 
 std::string temp_file(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("asimov_pairs_" + std::to_string(::getpid()) + "_" + name)).string();
+  return (asimov::test::scratch_dir() / ("pairs_" + name)).string();
 }
 
 }  // namespace

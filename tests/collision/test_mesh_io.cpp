@@ -1,5 +1,6 @@
 // Mesh input: STL (ASCII, binary), OBJ (polygons, negative indices), scale, tessellated
 // primitives, and validation messages naming file and face. Files are written to a temp dir.
+#include "support/scratch.hpp"
 #include "collision/src/containment.hpp"
 #include "asimov/collision/engine.hpp"
 #include "asimov/collision/mesh_io.hpp"
@@ -20,11 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("asimov_mesh_io_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return asimov::test::scratch_dir("mesh_io"); }
 
 std::string write(const std::string& name, const std::string& text) {
   const fs::path p = temp_dir() / name;

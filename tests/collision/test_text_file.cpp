@@ -1,4 +1,5 @@
 // Bounded reads and printable text (issue 17): the helpers every loader and message uses.
+#include "support/scratch.hpp"
 #include "asimov/collision/text_file.hpp"
 #include "support/result.hpp"
 
@@ -24,8 +25,7 @@ TEST_CASE("printable: control characters and bad UTF-8 become '?', one per byte"
 }
 
 TEST_CASE("read_file_bounded: files, folders, devices, the limit", "[text][hostile]") {
-  const auto dir = std::filesystem::temp_directory_path() / "asimov-text-file";
-  std::filesystem::create_directories(dir);
+  const auto dir = asimov::test::scratch_dir("text-file");
   const auto file = dir / "f.txt";
   std::ofstream(file, std::ios::binary) << std::string(100, 'x');
   CHECK(asimov::test::must(read_file_bounded(file.string(), 100)) == std::string(100, 'x'));
@@ -38,5 +38,4 @@ TEST_CASE("read_file_bounded: files, folders, devices, the limit", "[text][hosti
   CHECK(message("/dev/zero", 1 << 20) == "is larger than 1 MiB, the limit for this kind of file");
   CHECK(read_file_bounded(dir.string(), 100).error().file == dir.string());
   CHECK(asimov::test::must(read_file_bounded("/dev/null", 10)).empty());
-  std::filesystem::remove_all(dir);
 }

@@ -1,5 +1,6 @@
 // The monitor's command table, the WHERE and LISTL formats of dialect §9, completion, and
 // the STORE writer (storage.hpp): shortest round-trip numbers, atomic replacement.
+#include "support/scratch.hpp"
 #include "interpreter/src/evaluator.hpp"
 #include "asimov/interpreter/monitor.hpp"
 #include "asimov/interpreter/storage.hpp"
@@ -197,8 +198,7 @@ TEST_CASE("STORE text loads back: reals bit-equal, transformations within 1e-12"
 
 TEST_CASE("write_file_atomic replaces whole files and leaves nothing on failure", "[monitor][storage]") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("asimov-storage-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = asimov::test::scratch_dir("storage");
   const std::string path = (dir / "f.v2").string();
   REQUIRE(interpreter::write_file_atomic(path, "old\n").ok());
   REQUIRE(interpreter::write_file_atomic(path, "new\n").ok());
@@ -215,7 +215,6 @@ TEST_CASE("write_file_atomic replaces whole files and leaves nothing on failure"
     CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
   }
   CHECK(files == 2);
-  fs::remove_all(dir);
 }
 
 TEST_CASE("STATUS names the CALLed program where the execution stopped", "[monitor]") {

@@ -1,5 +1,6 @@
 // The collision scene of a cell (motion/scene.hpp): body order, groups, joined pairs, poses,
 // the generated pair matrix, and the simulator running on that matrix.
+#include "support/scratch.hpp"
 #include "asimov/motion/scene.hpp"
 #include "asimov/motion/simulator.hpp"
 #include "asimov/robots/puma560.hpp"
@@ -80,7 +81,7 @@ TEST_CASE("scene: the generated matrix keeps joined pairs ADJACENT and robot-obj
 TEST_CASE("scene: the simulator on the generated matrix halts on the block as before, with fewer pairs", "[scene][simulator]") {
   Cell cell = puma_cell();
   cell.tool_shape.reset();
-  const auto cache = std::filesystem::temp_directory_path() / ("asimov_scene_pairs_" + std::to_string(::getpid()));
+  const auto cache = asimov::test::scratch_dir() / "scene_pairs";
   std::filesystem::remove(cache);
   MotionResult results[2];
   collision::StepCounts counts[2];
@@ -95,7 +96,6 @@ TEST_CASE("scene: the simulator on the generated matrix halts on the block as be
     counts[generated] = sim.recorders().counts.counts;
   }
   CHECK(std::filesystem::exists(cache));  // the generated matrix was cached
-  std::filesystem::remove(cache);
   REQUIRE(results[0].status == MotionStatus::collision);
   REQUIRE(results[1].status == MotionStatus::collision);
   CHECK(results[1].collision.body_a == results[0].collision.body_a);

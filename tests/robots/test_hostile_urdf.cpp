@@ -1,5 +1,6 @@
 // Hostile URDF (issue 17): folders, joint loops, chains deeper than the walks allow, entity
 // expansion and element nesting all end with an Error naming file and line.
+#include "support/scratch.hpp"
 #include "asimov/robots/urdf_loader.hpp"
 #include "support/result.hpp"
 
@@ -32,10 +33,8 @@ std::string fixed_joint(const std::string& name, const std::string& parent, cons
 }  // namespace
 
 TEST_CASE("URDF that is a folder or a device", "[urdf][hostile]") {
-  const auto dir = std::filesystem::temp_directory_path() / "asimov-hostile-urdf.urdf";
-  std::filesystem::create_directories(dir);
+  const auto dir = asimov::test::scratch_dir("hostile.urdf");
   CHECK_THAT(asimov::test::error_message(load_urdf(dir.string())), Catch::Equals(dir.string() + ":0: is a directory, not a file"));
-  std::filesystem::remove_all(dir);
   CHECK_THAT(asimov::test::error_message(load_urdf("/dev/zero")), Catch::Equals("/dev/zero:0: is larger than 64 MiB, the limit for this kind of file"));
 }
 

@@ -1,6 +1,7 @@
 // URDF arms: the PUMA written as URDF reproduces the DH FK, the generic 6-axis arm loads and
 // its numeric IK converges, the displacement bound holds for a chain, bad input is reported
 // with file and line, STL meshes (collision::read_mesh) and tessellated spheres.
+#include "support/scratch.hpp"
 #include "asimov/robots/displacement_bound.hpp"
 #include "asimov/robots/ik.hpp"
 #include "asimov/robots/puma560.hpp"
@@ -248,8 +249,7 @@ TEST_CASE("URDF: bad input is reported with file and line", "[urdf][errors]") {
 
 TEST_CASE("STL: ASCII and binary cubes, sphere tessellation", "[urdf][mesh]") {
   // Meshes go through collision::read_mesh; its Error becomes the URDF error at the <mesh> line.
-  const auto dir = std::filesystem::temp_directory_path() / ("asimov_test_urdf_stl_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const auto dir = asimov::test::scratch_dir("urdf_stl");
   const collision::Polyhedron box = collision::make_box(Vec3(1, 2, 3));
   const std::string ascii = (dir / "cube_ascii.stl").string();
   const std::string binary = (dir / "cube_binary.STL").string();

@@ -1,5 +1,7 @@
 // Runs the asimov executable as a user would and captures exit code, stdout and stderr.
 #pragma once
+#include "scratch.hpp"
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -21,31 +23,6 @@ inline std::string slurp(const std::filesystem::path& p) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-// This test process's scratch folder, TMPDIR/asimov-test-PID, created on first use and removed
-// with everything in it when the process exits (a failed test too: Catch2's main returns). Not by
-// a forked child (it ends with _exit, and the removal checks the pid). Only a crash or a kill
-// leaves it.
-inline std::filesystem::path scratch_dir() {
-  struct Folder {
-    pid_t owner = ::getpid();
-    std::filesystem::path dir = std::filesystem::temp_directory_path() / ("asimov-test-" + std::to_string(owner));
-    ~Folder() {
-      std::error_code ignored;
-      if (::getpid() == owner) std::filesystem::remove_all(dir, ignored);
-    }
-  };
-  static const Folder folder;
-  std::filesystem::create_directories(folder.dir);
-  return folder.dir;
-}
-
-// A named folder inside scratch_dir(), created on first use.
-inline std::filesystem::path scratch_dir(const std::string& name) {
-  auto dir = scratch_dir() / name;
-  std::filesystem::create_directories(dir);
-  return dir;
 }
 
 // `args` is appended to the executable path as is (quote paths with spaces yourself).
