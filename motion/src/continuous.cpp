@@ -135,8 +135,8 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     return have_a && known.lower_a[i] > d ? known.lower_a[i] : d;
   };
   mu_.resize(n);
-  end_d_.resize(n);
-  end_flags_.assign(n, 0);
+  end_d_.resize(n);  // every entry is written below (as end_flags_)
+  end_flags_.resize(n);
   // At b (the engine is posed there) a lower bound on each pair's distance comes for free: its
   // container gap there, what is known at a less the window's motion, and the distance at the
   // pair's anchor (the last checked pose it was measured at) less the net motion since (d is
@@ -196,7 +196,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
       measure_probe(i, r, m + 2 * c);
     }
     l.d = at_a(i);
-    l.exact = cached && cache_exact_[i] != 0 && l.d == cache_d_[i];
+    l.exact = cached && (cache_flags_[i] & kExact) && l.d == cache_d_[i];
     if (!r.hit && (l.d - c) + (r.d - c) > m) continue;  // free from both ends' bounds
     if (!l.exact) {  // the last checked pose's cut-off was too low: measure there
       path.pose(q_a, t_a);
@@ -221,15 +221,11 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
       best.q_free = found.q_free;
     }
   }
-  // The distances at b are the next window's start (unless a contact ends the motion here).
+  // The distances at b are the next window's start (unless a contact ends the motion here); a
+  // pair in contact has d 0 there (measure).
   cache_t_ = t_b;
-  cache_d_.resize(n);
-  cache_exact_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const bool hit = (end_flags_[i] & kHit) != 0;
-    cache_d_[i] = hit ? 0.0 : end_d_[i];
-    cache_exact_[i] = (end_flags_[i] & kExact) != 0;
-  }
+  cache_d_.swap(end_d_);
+  cache_flags_.swap(end_flags_);
   if (best.found && flush(path, best.t_hit)) posed_t_ = -1;  // the report's poses before the contact
   if (posed_t_ != t_b) {
     path.pose(q_b, t_b);

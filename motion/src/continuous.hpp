@@ -142,7 +142,7 @@ class ContinuousChecker {
   std::span<const collision::BodyPair> pairs_;  // of the current verify (ContinuousPath::pairs)
   double cache_t_ = -1;         // time of the cached distances (the last checked pose)
   std::vector<double> cache_d_; // per pair: lower bound at cache_t_
-  std::vector<char> cache_exact_;
+  std::vector<char> cache_flags_;  // per pair: its end_flags_ at cache_t_ (kExact: cache_d_ is the distance)
   std::vector<double> least_;   // per pair: least exact distance met (the report needs only nearer ones)
   struct Anchor {  // the last checked pose a pair was measured at
     bool set = false;
