@@ -28,7 +28,8 @@ measure() {  # measure() LABEL CELL FACES
   wall=$(sed -n 's/.*Elapsed (wall clock) time (h:mm:ss or m:ss): //p' "$scratch/time.txt")
   user=$(sed -n 's/.*User time (seconds): //p' "$scratch/time.txt")
   sys=$(sed -n 's/.*System time (seconds): //p' "$scratch/time.txt")
-  halt=$(grep -o '\*Collision\*.*' "$scratch/run.out" | head -1 || true)
+  # The first VAL-style message: the collision, or an error (then the figures are not the mesh's).
+  halt=$(grep -o '^\*[A-Za-z ]*\*.*' "$scratch/run.out" | head -1 || true)
   if [ "$3" -gt 0 ]; then per=$(awk -v r="$rss" -v f="$3" 'BEGIN { printf "%.1f", r * 1024 / f }'); else per=-; fi
   echo "$1: peak RSS $((rss / 1024)) MiB ($per B/face), wall $wall, user $user s, sys $sys s; ${halt:-no collision}"
 }

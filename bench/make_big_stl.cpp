@@ -1,4 +1,4 @@
-// Writes a closed bumpy torus as a binary STL of about FACES faces, streamed row by row (no mesh
+// Writes a closed bumpy torus as a binary STL of at most FACES faces (and near it; at least 18), streamed row by row (no mesh
 // in memory), for the big-mesh measurements of docs/collision.md §13 (bench/big_mesh.sh):
 //   make_big_stl FACES OUT.stl [MAJOR_MM]
 // The same surface as bench::make_torus_with_faces (minor radius MAJOR / 3, bump 0.15); every
@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
   const double faces = std::atof(argv[1]);
   const double major = argc > 3 ? std::atof(argv[3]) : 1000, minor = major / 3, bump = 0.15;
   const int nv = std::max(3, static_cast<int>(std::lround(std::sqrt(faces / 4.0))));
-  const int nu = std::max(3, static_cast<int>(std::lround(faces / (2.0 * nv))));
+  // Rounded down: FACES at the loader's face limit must stay loadable (10^7 gave 10,001,406).
+  const int nu = std::max(3, static_cast<int>(std::floor(faces / (2.0 * nv))));
   const std::uint32_t n = 2u * static_cast<std::uint32_t>(nu) * static_cast<std::uint32_t>(nv);
   std::FILE* f = std::fopen(argv[2], "wb");
   if (!f) {
