@@ -32,7 +32,8 @@ using namespace asimov;
 
 namespace {
 
-constexpr int kRuns = 101;  // runs of ~1 ms: medians of 15 moved by +-0.03 in the ratio between runs of the bench
+// Runs take ~1 ms: medians of 15 moved the ratio by +-0.03 between runs of the bench.
+constexpr int kRuns = 101;
 
 struct Outcome {
   std::string status;  // completed | collision | error

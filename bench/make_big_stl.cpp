@@ -1,5 +1,6 @@
-// Writes a closed bumpy torus as a binary STL of at most FACES faces (and near it; at least 18), streamed row by row (no mesh
-// in memory), for the big-mesh measurements of docs/collision.md §13 (bench/big_mesh.sh):
+// Writes a closed bumpy torus as a binary STL of at most FACES faces and near it (never fewer
+// than 18), streamed row by row (no mesh in memory), for the big-mesh measurements of
+// docs/collision.md §13 (bench/big_mesh.sh):
 //   make_big_stl FACES OUT.stl [MAJOR_MM]
 // The same surface as bench::make_torus_with_faces (minor radius MAJOR / 3, bump 0.15); every
 // vertex is computed once per row in float, so shared vertices are bit-identical and the loader
