@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 namespace asimov::motion {
 namespace {
@@ -20,13 +21,18 @@ Plan refused(const char* message, std::string detail = {}) {
   return p;
 }
 
+// "J3 = 60.500 > 60.000": three decimals as V+ shows joints, more when three would print the
+// value and the limit alike (a limit written 1.04719755 rad is 59.99999996 deg).
 std::string fmt_limit(const robots::Robot& robot, int j, double v) {
-  char buf[96];
-  const double lo = robot.lower[j], hi = robot.upper[j];
-  if (v > hi)
-    std::snprintf(buf, sizeof buf, "J%d = %.3f > %.3f", j + 1, v, hi);
-  else
-    std::snprintf(buf, sizeof buf, "J%d = %.3f < %.3f", j + 1, v, lo);
+  const bool above = v > robot.upper[j];
+  const double limit = above ? robot.upper[j] : robot.lower[j];
+  char a[64], b[64], buf[160];
+  for (int digits = 3; digits <= 12; ++digits) {
+    std::snprintf(a, sizeof a, "%.*f", digits, v);
+    std::snprintf(b, sizeof b, "%.*f", digits, limit);
+    if (std::strcmp(a, b) != 0) break;
+  }
+  std::snprintf(buf, sizeof buf, "J%d = %s %c %s", j + 1, a, above ? '>' : '<', b);
   return buf;
 }
 
@@ -117,7 +123,13 @@ Plan plan_line_move(const PlanStart& st, const Location& target, const SpeedSett
                          : line.singularity == SingularityKind::elbow      ? "elbow"
                          : line.singularity == SingularityKind::joint_jump ? "joint jump"
                                                                            : "unresolved step";
-      p = refused("*Singularity on straight-line path*", fmt_fraction(what, line.fail_fraction));
+      std::string detail = fmt_fraction(what, line.fail_fraction);
+      if (line.singularity == SingularityKind::joint_jump && line.joint >= 0) {  // which joint, by how much
+        char buf[96];
+        std::snprintf(buf, sizeof buf, ": J%d by %.1f deg", line.joint + 1, line.value);
+        detail += buf;
+      }
+      p = refused("*Singularity on straight-line path*", detail);
       break;
     }
   }

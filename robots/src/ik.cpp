@@ -58,11 +58,11 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
     for (int i = 0; i < 6 && bad < 0; ++i) {
       if (i == last) {  // SINGLE
         sol[i] = wrap_deg(raw[i]);
-        if (sol[i] < robot.lower[i] - 1e-9 || sol[i] > robot.upper[i] + 1e-9) bad = i, bad_value = sol[i];
+        if (sol[i] < limit_low(robot, i) - 1e-9 || sol[i] > limit_high(robot, i) + 1e-9) bad = i, bad_value = sol[i];
       } else if (sols.wrist_singular[static_cast<std::size_t>(k)] && i == 3) {
         sol[i] = current[3];  // kept exactly at the wrist singularity
-        if (sol[i] < robot.lower[i] - 1e-9 || sol[i] > robot.upper[i] + 1e-9) bad = i, bad_value = sol[i];
-      } else if (!nearest_in_range(raw[i], current[i], robot.lower[i], robot.upper[i], sol[i])) {
+        if (sol[i] < limit_low(robot, i) - 1e-9 || sol[i] > limit_high(robot, i) + 1e-9) bad = i, bad_value = sol[i];
+      } else if (!nearest_in_range(raw[i], current[i], limit_low(robot, i), limit_high(robot, i), sol[i])) {
         bad = i, bad_value = raw[i] + 360.0 * std::round((current[i] - raw[i]) / 360.0);
       }
     }
@@ -119,20 +119,20 @@ IkResult solve_ik(const Robot& robot, const Pose& flange, const JointVector& cur
     for (int i = 0; i < res.joints.size(); ++i) {
       if (i == last) {  // SINGLE: (-180, 180], as the PUMA's J6
         const double v = wrap_deg(res.joints[i]);
-        if (v < robot.lower[i] - 1e-9 || v > robot.upper[i] + 1e-9) {
+        if (v < limit_low(robot, i) - 1e-9 || v > limit_high(robot, i) + 1e-9) {
           res.status = IkStatus::joint_limit;
           res.joint = i;
           res.value = v;
           res.joints = JointVector();
           return res;
         }
-        res.joints[i] = std::clamp(v, robot.lower[i], robot.upper[i]);
+        res.joints[i] = std::clamp(v, limit_low(robot, i), limit_high(robot, i));
         continue;
       }
       // Otherwise the 2pi-equivalent nearest the current value.
       if (robot.prismatic(i) || current.size() != res.joints.size()) continue;
       const double v = res.joints[i] + 360.0 * std::round((current[i] - res.joints[i]) / 360.0);
-      if (v >= robot.lower[i] && v <= robot.upper[i]) res.joints[i] = v;
+      if (v >= limit_low(robot, i) && v <= limit_high(robot, i)) res.joints[i] = v;
     }
     return res;
   }
@@ -146,7 +146,7 @@ IkResult solve_ik(const Robot& robot, const Pose& flange, const JointVector& cur
   for (int i = 0; i < unlimited.joints.size(); ++i) {
     double v = unlimited.joints[i];
     if (!robot.prismatic(i)) v = wrap_deg(v);  // report the equivalent nearest the range
-    if (v < robot.lower[i] || v > robot.upper[i]) {
+    if (v < limit_low(robot, i) || v > limit_high(robot, i)) {
       res.status = IkStatus::joint_limit;
       res.joint = i;
       res.value = v;

@@ -114,7 +114,9 @@ NumericIkResult solve_numeric(const Robot& robot, const Pose& flange, const Join
                               const NumericIkOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   Chain c{robot, robot.joint_count(), {}, {}, 0};
-  const JointVector a = display_to_dh(robot, robot.lower), b = display_to_dh(robot, robot.upper);
+  JointVector lo = robot.lower, hi = robot.upper;  // widened by the description's precision
+  for (int k = 0; k < c.n; ++k) lo[k] = limit_low(robot, k), hi[k] = limit_high(robot, k);
+  const JointVector a = display_to_dh(robot, lo), b = display_to_dh(robot, hi);
   c.lo = a.cwiseMin(b), c.hi = a.cwiseMax(b);
   double reach = 0;
   for (int k = 0; k < c.n; ++k) reach += link_offset_bound(robot, k);

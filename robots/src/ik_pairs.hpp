@@ -181,12 +181,12 @@ inline bool wrist_and_joints(const Robot& robot, BranchSolution& b, const JointV
     bool ok;
     if (i == 5 && single) {
       if (!(v > -180 && v <= 180)) v = wrap_deg(v);
-      ok = v >= robot.lower[i] - 1e-9 && v <= robot.upper[i] + 1e-9;
+      ok = v >= limit_low(robot, i) - 1e-9 && v <= limit_high(robot, i) + 1e-9;
     } else if (b.singular && i == 3) {
       v = current[3];  // kept exactly at the wrist singularity
-      ok = v >= robot.lower[i] - 1e-9 && v <= robot.upper[i] + 1e-9;
+      ok = v >= limit_low(robot, i) - 1e-9 && v <= limit_high(robot, i) + 1e-9;
     } else {
-      ok = nearest_equivalent(raw, current[i], robot.lower[i], robot.upper[i], v);
+      ok = nearest_equivalent(raw, current[i], limit_low(robot, i), limit_high(robot, i), v);
       if (!ok) v = raw + 360.0 * std::round((current[i] - raw) / 360.0);
     }
     if (!ok) {

@@ -112,13 +112,13 @@ IkResult solve_scara(const Robot& robot, const ScaraModel& m, const Pose& flange
     double v = raw[i];
     bool ok;
     if (i == 2) {
-      ok = v >= robot.lower[i] - 1e-9 && v <= robot.upper[i] + 1e-9;
-      v = std::clamp(v, robot.lower[i], robot.upper[i]);
+      ok = v >= limit_low(robot, i) - 1e-9 && v <= limit_high(robot, i) + 1e-9;
+      v = std::clamp(v, limit_low(robot, i), limit_high(robot, i));
     } else if (i == 3 && single) {
       v = wrap_deg(v);
-      ok = v >= robot.lower[i] - 1e-9 && v <= robot.upper[i] + 1e-9;
+      ok = v >= limit_low(robot, i) - 1e-9 && v <= limit_high(robot, i) + 1e-9;
     } else {
-      ok = pairs::nearest_equivalent(raw[i], current[i], robot.lower[i], robot.upper[i], v);
+      ok = pairs::nearest_equivalent(raw[i], current[i], limit_low(robot, i), limit_high(robot, i), v);
       if (!ok) v = raw[i] + 360.0 * std::round((current[i] - raw[i]) / 360.0);
     }
     if (!ok) {

@@ -150,10 +150,18 @@ Pose flange_pose(const Robot& robot, const JointVector& display) {
   return flange_pose_dh(robot, display_to_dh(robot, display));
 }
 
+double limit_low(const Robot& robot, int j) {
+  return robot.lower[j] - (j < robot.limit_tolerance.size() ? robot.limit_tolerance[j] : 0.0);
+}
+double limit_high(const Robot& robot, int j) {
+  return robot.upper[j] + (j < robot.limit_tolerance.size() ? robot.limit_tolerance[j] : 0.0);
+}
+
 int first_limit_violation(const Robot& robot, const JointVector& display) {
-  for (Eigen::Index i = 0; i < display.size(); ++i)  // written so that NaN fails
-    if (!(display[i] >= robot.lower[i] - kLimitSlack && display[i] <= robot.upper[i] + kLimitSlack))
-      return static_cast<int>(i);
+  for (Eigen::Index i = 0; i < display.size(); ++i) {  // written so that NaN fails
+    const int j = static_cast<int>(i);
+    if (!(display[i] >= limit_low(robot, j) - kLimitSlack && display[i] <= limit_high(robot, j) + kLimitSlack)) return j;
+  }
   return -1;
 }
 

@@ -13,9 +13,11 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -30,6 +32,9 @@ namespace {
 using tinyxml2::XMLElement;
 constexpr double kMm = 1000;  // metres -> mm
 constexpr double kDeg = 180 / std::numbers::pi;
+// A limit is compared with the precision it was written with, at most 0.001 (deg or mm, the
+// precision V+ displays joints with): "3.14" still means 179.909 deg, not pi.
+constexpr double kMaxLimitTolerance = 1e-3;
 constexpr int kCylinderSegments = 24;
 constexpr double kSphereToleranceMm = 0.5;  // chordal tolerance, at least 1e-3 of the radius
 // Joints from the root to the deepest link: the walks over the tree recurse once per joint, so
@@ -55,6 +60,7 @@ struct Joint {
   Pose origin = Pose::Identity();  // [mm]
   Vec3 axis = Vec3::UnitX();
   double lower = 0, upper = 0, velocity = 0;  // display units: deg, mm
+  double limit_tolerance = 0;                  // the precision lower / upper were written with (display)
   bool has_velocity = false;
   std::string mimic;  // <mimic joint>: this joint follows that one
   double mimic_multiplier = 1, mimic_offset = 0;  // URDF units (m or rad)
@@ -87,6 +93,50 @@ class Parser {
   }
 
   double number(const XMLElement* e, const char* attr) const { return number(e, attr, required(e, attr)); }
+
+  // A mesh's "FILE: face N: zero area, dropped" lines (and the "K more faces ..." line after the
+  // first hundred) folded into one line with the count and the first few face numbers: a
+  // shipped description has hundreds of such slivers, which say nothing one by one.
+  static std::vector<std::string> fold_zero_area(const std::vector<std::string>& warnings) {
+    constexpr const char* kZero = ": zero area, dropped";
+    constexpr std::size_t kListed = 5;
+    std::vector<std::string> out;
+    std::string source, faces;
+    std::size_t count = 0;
+    for (const std::string& w : warnings) {
+      const std::size_t face = w.rfind(": face ");
+      if (face != std::string::npos && w.size() > std::strlen(kZero) && w.compare(w.size() - std::strlen(kZero), std::string::npos, kZero) == 0) {
+        source = w.substr(0, face);
+        if (count++ < kListed) faces += (faces.empty() ? "" : ", ") + w.substr(face + 7, w.size() - std::strlen(kZero) - face - 7);
+        continue;
+      }
+      if (const std::size_t more = w.find(" more faces of zero area dropped"); more != std::string::npos && w.rfind(": ", more) != std::string::npos) {
+        const std::size_t colon = w.rfind(": ", more);
+        count += std::strtoull(w.c_str() + colon + 2, nullptr, 10);
+        continue;
+      }
+      out.push_back(w);
+    }
+    if (count > 0)
+      out.insert(out.begin(), source + ": " + std::to_string(count) + (count == 1 ? " face" : " faces") + " of zero area dropped (face" +
+                                  (count == 1 ? " " : "s ") + faces + (count > kListed ? ", ..." : "") + ")");
+    return out;
+  }
+
+  // Half a unit of the last digit a number was written with ("1.04719755": 5e-9, "2.5e-3":
+  // 5e-5, "3": 0.5): how far the value the author meant may be from the one written.
+  static double written_precision(const std::string& text) {
+    const std::size_t b = text.find_first_of("0123456789.");
+    if (b == std::string::npos) return 0;
+    const std::size_t e = text.find_first_of("eE", b);
+    const std::string mantissa = text.substr(b, e == std::string::npos ? std::string::npos : e - b);
+    const std::size_t dot = mantissa.find('.');
+    std::size_t digits = 0;  // after the point
+    if (dot != std::string::npos)
+      while (dot + 1 + digits < mantissa.size() && std::isdigit(static_cast<unsigned char>(mantissa[dot + 1 + digits]))) ++digits;
+    const int exponent = e == std::string::npos ? 0 : std::clamp(std::atoi(text.c_str() + e + 1), -300, 300);
+    return 0.5 * std::pow(10.0, exponent - static_cast<int>(digits));
+  }
 
   Vec3 triple(const XMLElement* e, const char* attr, const Vec3& fallback) const {
     const char* v = e->Attribute(attr);
@@ -144,7 +194,7 @@ class Parser {
       // By extension (STL, OBJ, assimp formats); the Error names the file and face.
       Result<collision::LoadedMesh> loaded = read_mesh_file(p.string(), scale);
       if (!loaded) fail(m, loaded.error().message);
-      for (auto& w : loaded->warnings) warnings_.push_back(source_ + ":" + std::to_string(m->GetLineNum()) + ": " + w);
+      for (auto& w : fold_zero_area(loaded->warnings)) warnings_.push_back(source_ + ":" + std::to_string(m->GetLineNum()) + ": " + w);
       return std::move(loaded->mesh);
     }
     fail(geometry, "<geometry> needs a box, cylinder, sphere or mesh");
@@ -193,6 +243,8 @@ class Parser {
       if (!lim) fail(e, "joint '" + j.name + "' (" + type + ") needs <limit lower upper velocity>");
       j.lower = number(lim, "lower") * unit;
       j.upper = number(lim, "upper") * unit;
+      j.limit_tolerance = std::max(written_precision(required(lim, "lower")), written_precision(required(lim, "upper"))) * unit;
+      j.limit_tolerance = std::min(j.limit_tolerance, kMaxLimitTolerance);
       if (!(j.lower <= j.upper)) fail(lim, "joint '" + j.name + "': lower limit above the upper one");
     }
     if (const XMLElement* m = e->FirstChildElement("mimic")) {
@@ -454,12 +506,13 @@ class Parser {
                         "joint '" + h.name + "' rides on '" + r.hand[static_cast<std::size_t>(h.parent)].name +
                             "', a follower of an arm joint: not modelled");
     update_hand_followers(r);
-    r.lower.resize(n), r.upper.resize(n), r.max_velocity.resize(n), r.max_acceleration.resize(n), r.ready.resize(n);
+    r.lower.resize(n), r.upper.resize(n), r.limit_tolerance.resize(n), r.max_velocity.resize(n), r.max_acceleration.resize(n), r.ready.resize(n);
     for (int i = 0; i < n; ++i) {
       const Joint& j = chain[static_cast<std::size_t>(i)];
       r.chain.push_back({j.name, j.origin, j.axis, j.kind == Kind::prismatic ? JointType::prismatic : JointType::revolute});
       r.mapping.push_back({1.0, 0.0});
       r.lower[i] = j.lower, r.upper[i] = j.upper;
+      r.limit_tolerance[i] = j.limit_tolerance;
       const double v = j.has_velocity ? j.velocity : (j.kind == Kind::prismatic ? 250.0 : 180.0);
       r.max_velocity[i] = v;
       r.max_acceleration[i] = 4 * v;

@@ -15,9 +15,12 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -39,18 +42,60 @@ struct Value;
 using List = std::vector<Value>;
 using Dict = std::vector<std::pair<std::string, Value>>;  // insertion order, as Python's dict
 
+// A namespace of an include with ns= (its properties as name.property).
+using Lookup = std::function<std::optional<Value>(const std::string&)>;
+
 struct Value {
-  enum Kind { none, number, text, boolean, list, dict } kind = number;
+  enum Kind { none, number, text, boolean, list, dict, ns } kind = number;
   double num = 0;
   bool integer = false;
   std::string str;
-  std::shared_ptr<const List> items;
-  std::shared_ptr<const Dict> entries;
+  std::shared_ptr<const List> items;    // list (a tuple when `tuple`)
+  std::shared_ptr<const Dict> entries;  // dict
+  bool tuple = false;
+  std::shared_ptr<const Lookup> lookup;  // ns
 };
 
-Value number_value(double d, bool integer = false) { return {Value::number, d, integer, {}, {}, {}}; }
-Value text_value(std::string s) { return {Value::text, 0, false, std::move(s), {}, {}}; }
-Value bool_value(bool b) { return {Value::boolean, b ? 1.0 : 0.0, false, {}, {}, {}}; }
+Value number_value(double d, bool integer = false) {
+  Value v;
+  v.num = d;
+  v.integer = integer;
+  return v;
+}
+Value text_value(std::string s) {
+  Value v;
+  v.kind = Value::text;
+  v.str = std::move(s);
+  return v;
+}
+Value bool_value(bool b) {
+  Value v;
+  v.kind = Value::boolean;
+  v.num = b ? 1.0 : 0.0;
+  return v;
+}
+Value none_value() {
+  Value v;
+  v.kind = Value::none;
+  return v;
+}
+Value list_value(List items, bool tuple = false) {
+  Value v;
+  v.kind = Value::list;
+  v.items = std::make_shared<const List>(std::move(items));
+  v.tuple = tuple;
+  return v;
+}
+Value dict_value(Dict entries) {
+  Value v;
+  v.kind = Value::dict;
+  v.entries = std::make_shared<const Dict>(std::move(entries));
+  return v;
+}
+
+// Items a comprehension, a generator or a list builtin may produce: far above real
+// descriptions, and a bound on what ${[0 for i in range(10**9)]} would allocate.
+constexpr std::size_t kMaxItems = 1u << 20;
 
 std::string format(const Value& v);
 
@@ -68,10 +113,12 @@ std::string format(const Value& v) {
     case Value::none: return "None";
     case Value::boolean: return v.num != 0 ? "True" : "False";
     case Value::list: {
-      std::string out = "[";
+      std::string out = v.tuple ? "(" : "[";
       for (std::size_t i = 0; i < v.items->size(); ++i) out += (i ? ", " : "") + repr((*v.items)[i]);
-      return out + "]";
+      if (v.tuple && v.items->size() == 1) out += ",";
+      return out + (v.tuple ? ")" : "]");
     }
+    case Value::ns: return "<namespace>";
     case Value::dict: {
       std::string out = "{";
       for (std::size_t i = 0; i < v.entries->size(); ++i)
@@ -106,11 +153,19 @@ Value from_text(const std::string& s) {
 
 // A YAML document as xacro.load_yaml gives it: maps are dicts, sequences lists, scalars numbers,
 // booleans (true/false, True/False), null or text.
-Value from_yaml(const YAML::Node& n, int depth, const std::function<void(const std::string&)>& fail) {
+// Angles tagged `!radians EXPR` / `!degrees EXPR` (ros/xacro since 1.14.5; ur_description's
+// joint_limits.yaml) are Python expressions evaluated by `angle`, a number in radians.
+using YamlAngle = std::function<double(const std::string& expr, bool degrees)>;
+
+Value from_yaml(const YAML::Node& n, int depth, const std::function<void(const std::string&)>& fail, const YamlAngle& angle) {
   if (depth > kMaxNesting) fail("load_yaml: nested more than " + std::to_string(kMaxNesting) + " levels");
+  if (n.Tag() == "!radians" || n.Tag() == "!degrees") {
+    if (!n.IsScalar()) fail("load_yaml: " + n.Tag() + " tags a number or an expression, not a " + (n.IsMap() ? "map" : "list"));
+    return number_value(angle(n.Scalar(), n.Tag() == "!degrees"));
+  }
   if (n.IsMap()) {
     auto d = std::make_shared<Dict>();
-    for (const auto& kv : n) d->emplace_back(kv.first.Scalar(), from_yaml(kv.second, depth + 1, fail));
+    for (const auto& kv : n) d->emplace_back(kv.first.Scalar(), from_yaml(kv.second, depth + 1, fail, angle));
     Value v;
     v.kind = Value::dict;
     v.entries = std::move(d);
@@ -118,13 +173,13 @@ Value from_yaml(const YAML::Node& n, int depth, const std::function<void(const s
   }
   if (n.IsSequence()) {
     auto l = std::make_shared<List>();
-    for (const auto& item : n) l->push_back(from_yaml(item, depth + 1, fail));
+    for (const auto& item : n) l->push_back(from_yaml(item, depth + 1, fail, angle));
     Value v;
     v.kind = Value::list;
     v.items = std::move(l);
     return v;
   }
-  if (n.IsNull()) return Value{Value::none, 0, false, {}, {}, {}};
+  if (n.IsNull()) return none_value();
   const std::string& s = n.Scalar();
   if (n.Tag() == "!") return text_value(s);  // quoted in the file
   if (s == "true" || s == "True" || s == "TRUE") return bool_value(true);
@@ -448,27 +503,75 @@ class Expr {
     }
     return v;
   }
-  // Indexing and attributes: x[0], x['key'], x.key (dicts from load_yaml allow both).
+  // Indexing, slices and attributes: x[0], x[1:-1:2], x['key'], x.key (dicts from load_yaml
+  // allow both), and methods of strings, lists and dicts: 'a'.upper(), d.items(), ...
   Value postfix() {
     Value v = primary();
     for (;;) {
       skip();
       if (i_ < s_.size() && s_[i_] == '[') {
         ++i_;
-        Value k = conditional();
+        skip();
+        std::optional<Value> bound[3];
+        if (i_ < s_.size() && s_[i_] != ':') bound[0] = conditional();
+        if (op(":")) {  // a slice: [start:stop:step], each part optional
+          skip();
+          if (i_ < s_.size() && s_[i_] != ':' && s_[i_] != ']') bound[1] = conditional();
+          if (op(":")) {
+            skip();
+            if (i_ < s_.size() && s_[i_] != ']') bound[2] = conditional();
+          }
+          if (!op("]")) die("missing ']' in ${" + s_ + "}");
+          v = slice(v, bound);
+          continue;
+        }
+        if (!bound[0]) die("empty index in ${" + s_ + "}");
         if (!op("]")) die("missing ']' in ${" + s_ + "}");
-        v = index(v, k);
+        v = index(v, *bound[0]);
       } else if (i_ + 1 < s_.size() && s_[i_] == '.' && (std::isalpha(static_cast<unsigned char>(s_[i_ + 1])) || s_[i_ + 1] == '_')) {
         ++i_;
         std::size_t j = i_;
         while (j < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[j])) || s_[j] == '_')) ++j;
         const std::string name = s_.substr(i_, j - i_);
         i_ = j;
-        v = attribute(v, name);
+        skip();
+        if (i_ < s_.size() && s_[i_] == '(' && v.kind != Value::ns && is_method(v, name)) {
+          std::vector<Value> args;
+          Dict keywords;
+          arguments(name, args, keywords);
+          v = method(v, name, args, keywords);
+        } else {
+          v = attribute(v, name);
+        }
       } else {
         return v;
       }
     }
+  }
+  // Python's slice of a list, tuple or string (negative and omitted bounds, any step but 0).
+  Value slice(const Value& v, const std::optional<Value> (&b)[3]) {
+    if (v.kind != Value::list && v.kind != Value::text) die("'" + format(v) + "' cannot be sliced in ${" + s_ + "}");
+    const long long n = v.kind == Value::list ? static_cast<long long>(v.items->size()) : static_cast<long long>(v.str.size());
+    auto whole = [&](const std::optional<Value>& x, const char* what) -> std::optional<long long> {
+      if (!x || x->kind == Value::none) return std::nullopt;
+      if (x->kind != Value::number || !x->integer) die(std::string("a slice ") + what + " must be an integer in ${" + s_ + "}");
+      return static_cast<long long>(std::clamp(x->num, -9e15, 9e15));
+    };
+    const long long step = whole(b[2], "step").value_or(1);
+    if (step == 0) die("slice step cannot be zero in ${" + s_ + "}");
+    auto at = [&](std::optional<long long> x, long long dflt) {
+      if (!x) return dflt;
+      long long k = *x < 0 ? *x + n : *x;
+      return step > 0 ? std::clamp(k, 0LL, n) : std::clamp(k, -1LL, n - 1);
+    };
+    const long long start = at(whole(b[0], "start"), step > 0 ? 0 : n - 1), stop = at(whole(b[1], "stop"), step > 0 ? n : -1);
+    List items;
+    std::string text;
+    for (long long k = start; step > 0 ? k < stop : k > stop; k += step) {
+      if (v.kind == Value::list) items.push_back((*v.items)[static_cast<std::size_t>(k)]);
+      else text += v.str[static_cast<std::size_t>(k)];
+    }
+    return v.kind == Value::list ? list_value(std::move(items), v.tuple) : text_value(std::move(text));
   }
   Value index(const Value& v, const Value& k) {
     if (v.kind == Value::dict) {
@@ -488,6 +591,10 @@ class Expr {
     die("'" + format(v) + "' cannot be indexed in ${" + s_ + "}");
   }
   Value attribute(const Value& v, const std::string& name) {
+    if (v.kind == Value::ns) {
+      if (auto x = (*v.lookup)(name)) return *x;
+      die("no property '" + name + "' in the namespace in ${" + s_ + "}");
+    }
     if (v.kind != Value::dict) die("'" + format(v) + "' has no attribute '" + name + "' in ${" + s_ + "}");
     for (const auto& [key, x] : *v.entries)
       if (key == name) return x;
@@ -500,7 +607,16 @@ class Expr {
     if (c == '(') {
       const std::size_t close = matching(s_, i_, '(', ')');
       if (close == std::string::npos) die("missing ')' in ${" + s_ + "}");
-      Value v = sub(i_ + 1, close);
+      ++i_;
+      Value v;
+      if (const std::size_t kfor = find_keyword(i_, "for"); kfor < close) {
+        v = comprehension(i_, kfor, close, false);  // a generator: its items
+      } else if (scan_top(i_, [&](std::size_t k) { return s_[k] == ','; }).at < close) {
+        v = sequence(close, true);  // a tuple
+      } else {
+        skip();
+        v = i_ == close ? list_value({}, true) : sub(i_, close);
+      }
       i_ = close + 1;
       return v;
     }
@@ -528,7 +644,7 @@ class Expr {
     std::string name = s_.substr(i_, j - i_);
     i_ = j;
     // math.x and xacro.x are namespaces of functions and constants, not properties.
-    for (const char* ns : {"math", "xacro"})
+    for (const char* ns : {"math", "xacro", "python"})
       if (name == ns && i_ < s_.size() && s_[i_] == '.') {
         std::size_t k = ++i_;
         while (k < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[k])) || s_[k] == '_')) ++k;
@@ -542,7 +658,7 @@ class Expr {
     if (name == "inf") return number_value(std::numeric_limits<double>::infinity());
     if (name == "True" || name == "true") return bool_value(true);
     if (name == "False" || name == "false") return bool_value(false);
-    if (name == "None") return Value{Value::none, 0, false, {}, {}, {}};
+    if (name == "None") return none_value();
     if (auto v = cx_.name(name)) return *v;
     die("unknown property '" + name + "' in ${" + s_ + "}");
   }
@@ -550,24 +666,109 @@ class Expr {
     const std::size_t close = matching(s_, i_, '[', ']');
     if (close == std::string::npos) die("missing ']' in ${" + s_ + "}");
     ++i_;
-    auto l = std::make_shared<List>();
+    Value v;
+    if (const std::size_t kfor = find_keyword(i_, "for"); kfor < close) v = comprehension(i_, kfor, close, false);
+    else v = sequence(close, false);
+    i_ = close + 1;
+    return v;
+  }
+  // Comma-separated items up to `close` (a list or a tuple's).
+  Value sequence(std::size_t close, bool tuple) {
+    List l;
     skip();
     while (i_ < close) {
-      l->push_back(conditional());
+      l.push_back(conditional());
       skip();
-      if (i_ < close && !op(",")) die("expected ',' in the list in ${" + s_ + "}");
+      if (i_ < close && !op(",")) die(std::string("expected ',' in the ") + (tuple ? "tuple" : "list") + " in ${" + s_ + "}");
       skip();
     }
-    i_ = close + 1;
-    Value v;
-    v.kind = Value::list;
-    v.items = std::move(l);
-    return v;
+    return list_value(std::move(l), tuple);
+  }
+  // The items a `for` runs over: a list or tuple's items, a string's characters, a dict's keys.
+  List iterate(const Value& v) {
+    if (v.kind == Value::list) return *v.items;
+    List out;
+    if (v.kind == Value::text)
+      for (char ch : v.str) out.push_back(text_value(std::string(1, ch)));
+    else if (v.kind == Value::dict)
+      for (const auto& kv : *v.entries) out.push_back(from_text_key(kv.first));
+    else
+      die("'" + format(v) + "' is not iterable in ${" + s_ + "}");
+    return out;
+  }
+  static Value from_text_key(const std::string& k) { return text_value(k); }
+  // [element for a, b in iterable if condition ...] over s_[b, e) (the element is s_[b, kfor)),
+  // a dict {k: v for ...} when `dict`: each element and condition evaluated with the loop names
+  // bound over the surrounding names, as Python does. One `for` clause (a nested one is refused).
+  Value comprehension(std::size_t b, std::size_t kfor, std::size_t e, bool dict) {
+    const std::size_t kin = find_keyword(kfor + 3, "in");
+    if (kin >= e) die("'for' without 'in' in ${" + s_ + "}");
+    if (find_keyword(kin + 2, "for") < e) die("nested 'for' clauses are not supported in ${" + s_ + "}");
+    std::vector<std::string> names;
+    {
+      std::string t = s_.substr(kfor + 3, kin - kfor - 3);
+      std::erase_if(t, [](char ch) { return ch == '(' || ch == ')'; });
+      std::stringstream parts(t);
+      for (std::string n; std::getline(parts, n, ',');) {
+        n.erase(0, n.find_first_not_of(" \t"));
+        n.erase(n.find_last_not_of(" \t") + 1);
+        if (n.empty() || !(std::isalpha(static_cast<unsigned char>(n[0])) || n[0] == '_') ||
+            !std::all_of(n.begin(), n.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; }))
+          die("bad loop variable '" + n + "' in ${" + s_ + "}");
+        names.push_back(n);
+      }
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> conditions;  // s_ ranges of the `if` clauses
+    std::size_t iter_end = e;
+    for (std::size_t from = kin + 2;;) {
+      const std::size_t kif = find_keyword(from, "if");
+      if (kif >= e) break;
+      if (conditions.empty()) iter_end = kif;
+      else conditions.back().second = kif;
+      conditions.emplace_back(kif + 2, e);
+      from = kif + 2;
+    }
+    const List items = iterate(sub(kin + 2, iter_end));
+    if (items.size() > kMaxItems) die("more than " + std::to_string(kMaxItems) + " items in ${" + s_ + "}");
+    std::map<std::string, Value> bound;
+    ExprContext inner;
+    inner.fail = cx_.fail;
+    inner.call = cx_.call;
+    inner.name = [&](const std::string& n) -> std::optional<Value> {
+      if (auto it = bound.find(n); it != bound.end()) return it->second;
+      return cx_.name(n);
+    };
+    auto eval = [&](std::size_t from, std::size_t to) { return Expr(s_.substr(from, to - from), inner, depth_ + 1).run(); };
+    std::size_t colon = 0;
+    if (dict) {
+      colon = scan_top(b, [&](std::size_t k) { return s_[k] == ':'; }).at;
+      if (colon >= kfor) die("a dict comprehension needs 'key: value' in ${" + s_ + "}");
+    }
+    List out;
+    Dict entries;
+    for (const Value& item : items) {
+      if (names.size() == 1) {
+        bound[names[0]] = item;
+      } else {
+        if (item.kind != Value::list || item.items->size() != names.size())
+          die("cannot unpack '" + format(item) + "' into " + std::to_string(names.size()) + " names in ${" + s_ + "}");
+        for (std::size_t k = 0; k < names.size(); ++k) bound[names[k]] = (*item.items)[k];
+      }
+      if (!std::all_of(conditions.begin(), conditions.end(), [&](const auto& c) { return truth(eval(c.first, c.second)); })) continue;
+      if (dict) entries.emplace_back(format(eval(b, colon)), eval(colon + 1, kfor));
+      else out.push_back(eval(b, kfor));
+    }
+    return dict ? dict_value(std::move(entries)) : list_value(std::move(out));
   }
   Value dict_literal() {
     const std::size_t close = matching(s_, i_, '{', '}');
     if (close == std::string::npos) die("missing '}' in ${" + s_ + "}");
     ++i_;
+    if (const std::size_t kfor = find_keyword(i_, "for"); kfor < close) {
+      Value v = comprehension(i_, kfor, close, true);
+      i_ = close + 1;
+      return v;
+    }
     auto d = std::make_shared<Dict>();
     skip();
     while (i_ < close) {
@@ -585,11 +786,24 @@ class Expr {
     return v;
   }
   Value call(const std::string& name) {
+    std::vector<Value> args;
+    Dict keywords;  // dict(a=1, b=2)
+    arguments(name, args, keywords);
+    if (!keywords.empty() && name != "dict") die(name + "() takes no keyword arguments in ${" + s_ + "}");
+    return apply(name, args, std::make_shared<Dict>(std::move(keywords)));
+  }
+  // The arguments of a call at s_[i_] == '(': positional ones, keyword ones, or one generator
+  // (f(x for x in l)) as a list.
+  void arguments(const std::string& name, std::vector<Value>& args, Dict& kw) {
     const std::size_t close = matching(s_, i_, '(', ')');
     if (close == std::string::npos) die("missing ')' after the arguments of " + name + "() in ${" + s_ + "}");
     ++i_;
-    std::vector<Value> args;
-    auto keywords = std::make_shared<Dict>();  // dict(a=1, b=2)
+    Dict* keywords = &kw;
+    if (const std::size_t kfor = find_keyword(i_, "for"); kfor < close) {
+      args.push_back(comprehension(i_, kfor, close, false));
+      i_ = close + 1;
+      return;
+    }
     skip();
     while (i_ < close) {
       std::size_t j = i_;
@@ -608,8 +822,6 @@ class Expr {
       skip();
     }
     i_ = close + 1;
-    if (!keywords->empty() && name != "dict") die(name + "() takes no keyword arguments in ${" + s_ + "}");
-    return apply(name, args, keywords);
   }
   Value apply(const std::string& name, const std::vector<Value>& args, const std::shared_ptr<Dict>& keywords) {
     auto one = [&](const char* what) {
@@ -675,6 +887,7 @@ class Expr {
       if (a.kind == Value::dict) return number_value(static_cast<double>(a.entries->size()), true);
       die("len() of a number in ${" + s_ + "}");
     }
+    if (auto v = sequence_builtin(name, args)) return *v;
     if (name == "atan2" || name == "pow" || name == "min" || name == "max" || name == "copysign" || name == "fmod") {
       if (args.size() != 2) die(name + "() takes two arguments in ${" + s_ + "}");
       const double a = num(args[0], name.c_str()), b = num(args[1], name.c_str());
@@ -687,6 +900,296 @@ class Expr {
     }
     if (auto v = cx_.call(name, args)) return *v;
     die("unsupported function " + name + "() in ${" + s_ + "}");
+  }
+
+  static bool is_number(const Value& v) { return v.kind == Value::number || v.kind == Value::boolean; }
+  bool less(const Value& a, const Value& b) {
+    if (is_number(a) && is_number(b)) return a.num < b.num;
+    if (a.kind == Value::text && b.kind == Value::text) return a.str < b.str;
+    die("cannot order '" + format(a) + "' and '" + format(b) + "' in ${" + s_ + "}");
+  }
+  List checked_items(const Value& v) {
+    List items = iterate(v);
+    if (items.size() > kMaxItems) die("more than " + std::to_string(kMaxItems) + " items in ${" + s_ + "}");
+    return items;
+  }
+  // Python builtins over sequences (xacro exposes them, some under python.): list, tuple,
+  // sorted, reversed, sum, any, all, range, enumerate, zip, and min / max of one iterable.
+  std::optional<Value> sequence_builtin(const std::string& name, const std::vector<Value>& args) {
+    auto one = [&]() -> const Value& {
+      if (args.size() != 1) die(name + "() takes one argument in ${" + s_ + "}");
+      return args[0];
+    };
+    if (name == "list" || name == "tuple") {
+      if (args.empty()) return list_value({}, name == "tuple");
+      return list_value(checked_items(one()), name == "tuple");
+    }
+    if (name == "sorted") {
+      List items = checked_items(one());
+      std::stable_sort(items.begin(), items.end(), [&](const Value& a, const Value& b) { return less(a, b); });
+      return list_value(std::move(items));
+    }
+    if (name == "reversed") {
+      List items = checked_items(one());
+      std::reverse(items.begin(), items.end());
+      return list_value(std::move(items));
+    }
+    if (name == "sum") {
+      double total = 0;
+      bool integer = true;
+      for (const Value& x : checked_items(one())) total += num(x, "sum"), integer = integer && x.integer;
+      return number_value(total, integer);
+    }
+    if (name == "any" || name == "all") {
+      const List items = checked_items(one());
+      const bool any = std::any_of(items.begin(), items.end(), [](const Value& x) { return truth(x); });
+      const bool all = std::all_of(items.begin(), items.end(), [](const Value& x) { return truth(x); });
+      return bool_value(name == "any" ? any : all);
+    }
+    if ((name == "min" || name == "max") && args.size() == 1) {
+      const List items = checked_items(args[0]);
+      if (items.empty()) die(name + "() of an empty sequence in ${" + s_ + "}");
+      Value best = items[0];
+      for (const Value& x : items)
+        if (name == "min" ? less(x, best) : less(best, x)) best = x;
+      return best;
+    }
+    if (name == "range") {
+      if (args.empty() || args.size() > 3) die("range() takes 1 to 3 arguments in ${" + s_ + "}");
+      long long r[3] = {0, 0, 1};
+      for (std::size_t k = 0; k < args.size(); ++k) {
+        if (args[k].kind != Value::number || !args[k].integer) die("range() takes integers in ${" + s_ + "}");
+        r[args.size() == 1 ? 1 : k] = static_cast<long long>(std::clamp(args[k].num, -9e15, 9e15));
+      }
+      if (r[2] == 0) die("range() step cannot be zero in ${" + s_ + "}");
+      const long double count = std::max<long double>(0, std::ceil(static_cast<long double>(r[1] - r[0]) / r[2]));
+      if (count > kMaxItems) die("range() of more than " + std::to_string(kMaxItems) + " items in ${" + s_ + "}");
+      List items;
+      for (long long k = r[0]; r[2] > 0 ? k < r[1] : k > r[1]; k += r[2]) items.push_back(number_value(static_cast<double>(k), true));
+      return list_value(std::move(items));
+    }
+    if (name == "enumerate") {
+      List items;
+      const List from = checked_items(one());
+      for (std::size_t k = 0; k < from.size(); ++k) items.push_back(list_value({number_value(static_cast<double>(k), true), from[k]}, true));
+      return list_value(std::move(items));
+    }
+    if (name == "zip") {
+      std::vector<List> lists;
+      std::size_t n = args.empty() ? 0 : kMaxItems;
+      for (const Value& a : args) lists.push_back(checked_items(a)), n = std::min(n, lists.back().size());
+      List items;
+      for (std::size_t k = 0; k < n; ++k) {
+        List row;
+        for (const List& l : lists) row.push_back(l[k]);
+        items.push_back(list_value(std::move(row), true));
+      }
+      return list_value(std::move(items));
+    }
+    return std::nullopt;
+  }
+
+  static bool is_method(const Value& v, const std::string& name) {
+    static const char* const kText[] = {"upper", "lower", "capitalize", "title", "strip", "lstrip", "rstrip", "split",
+                                        "join", "replace", "startswith", "endswith", "find", "count", "format", "zfill"};
+    static const char* const kList[] = {"index", "count"};
+    static const char* const kDict[] = {"keys", "values", "items", "get"};
+    auto in = [&](const auto& names) { return std::any_of(std::begin(names), std::end(names), [&](const char* m) { return name == m; }); };
+    if (v.kind == Value::text) return in(kText);
+    if (v.kind == Value::list) return in(kList);
+    if (v.kind == Value::dict) return in(kDict);
+    return false;
+  }
+  std::string text_arg(const std::string& name, const std::vector<Value>& args, std::size_t k) {
+    if (k >= args.size() || args[k].kind != Value::text) die(name + "() takes a string argument in ${" + s_ + "}");
+    return args[k].str;
+  }
+  // Methods of strings (Python's str), lists and dicts, for what descriptions write.
+  Value method(const Value& v, const std::string& name, const std::vector<Value>& args, const Dict& keywords) {
+    if (!keywords.empty() && name != "format") die(name + "() takes no keyword arguments in ${" + s_ + "}");
+    auto count_args = [&](std::size_t lo, std::size_t hi) {
+      if (args.size() < lo || args.size() > hi) die(name + "() takes " + std::to_string(lo) + (hi > lo ? " to " + std::to_string(hi) : "") + " arguments in ${" + s_ + "}");
+    };
+    if (v.kind == Value::dict) {
+      if (name == "get") {
+        count_args(1, 2);
+        const std::string key = format(args[0]);
+        for (const auto& [k, x] : *v.entries)
+          if (k == key) return x;
+        return args.size() == 2 ? args[1] : none_value();
+      }
+      count_args(0, 0);
+      List out;
+      for (const auto& [k, x] : *v.entries)
+        out.push_back(name == "keys" ? text_value(k) : name == "values" ? x : list_value({text_value(k), x}, true));
+      return list_value(std::move(out));
+    }
+    if (v.kind == Value::list) {
+      count_args(1, 1);
+      const List& l = *v.items;
+      if (name == "count") return number_value(static_cast<double>(std::count_if(l.begin(), l.end(), [&](const Value& x) { return equal(x, args[0]); })), true);
+      for (std::size_t k = 0; k < l.size(); ++k)
+        if (equal(l[k], args[0])) return number_value(static_cast<double>(k), true);
+      die("'" + format(args[0]) + "' is not in the list in ${" + s_ + "}");
+    }
+    const std::string& t = v.str;
+    if (name == "upper" || name == "lower" || name == "capitalize" || name == "title") {
+      count_args(0, 0);
+      std::string out = t;
+      bool start = true;
+      for (char& ch : out) {
+        const auto u = static_cast<unsigned char>(ch);
+        const bool up = name == "upper" || ((name == "title" || (name == "capitalize" && &ch == &out[0])) && start);
+        ch = static_cast<char>(up ? std::toupper(u) : std::tolower(u));
+        start = !std::isalpha(u);
+      }
+      return text_value(out);
+    }
+    if (name == "strip" || name == "lstrip" || name == "rstrip") {
+      count_args(0, 1);
+      const std::string set = args.empty() || args[0].kind == Value::none ? std::string(" \t\n\r\f\v") : text_arg(name, args, 0);
+      std::size_t b = 0, e = t.size();
+      if (name != "rstrip") while (b < e && set.find(t[b]) != std::string::npos) ++b;
+      if (name != "lstrip") while (e > b && set.find(t[e - 1]) != std::string::npos) --e;
+      return text_value(t.substr(b, e - b));
+    }
+    if (name == "split") {
+      count_args(0, 2);
+      const bool blank = args.empty() || args[0].kind == Value::none;
+      const long long maxsplit = args.size() == 2 ? static_cast<long long>(num(args[1], "split")) : -1;
+      List out;
+      if (blank) {  // runs of whitespace, none empty
+        std::size_t k = 0;
+        while (k < t.size()) {
+          while (k < t.size() && std::isspace(static_cast<unsigned char>(t[k]))) ++k;
+          if (k >= t.size()) break;
+          if (maxsplit >= 0 && static_cast<long long>(out.size()) == maxsplit) {
+            std::string rest = t.substr(k);
+            rest.erase(rest.find_last_not_of(" \t\n\r\f\v") + 1);
+            out.push_back(text_value(rest));
+            break;
+          }
+          std::size_t j = k;
+          while (j < t.size() && !std::isspace(static_cast<unsigned char>(t[j]))) ++j;
+          out.push_back(text_value(t.substr(k, j - k)));
+          k = j;
+        }
+      } else {
+        const std::string sep = text_arg(name, args, 0);
+        if (sep.empty()) die("split() with an empty separator in ${" + s_ + "}");
+        std::size_t k = 0;
+        for (;;) {
+          const std::size_t j = t.find(sep, k);
+          if (j == std::string::npos || (maxsplit >= 0 && static_cast<long long>(out.size()) == maxsplit)) break;
+          out.push_back(text_value(t.substr(k, j - k)));
+          k = j + sep.size();
+        }
+        out.push_back(text_value(t.substr(k)));
+      }
+      return list_value(std::move(out));
+    }
+    if (name == "join") {
+      count_args(1, 1);
+      std::string out;
+      const List items = checked_items(args[0]);
+      for (std::size_t k = 0; k < items.size(); ++k) {
+        if (items[k].kind != Value::text) die("join() takes strings, not '" + format(items[k]) + "' in ${" + s_ + "}");
+        out += (k ? t : std::string()) + items[k].str;
+      }
+      return text_value(out);
+    }
+    if (name == "replace") {
+      count_args(2, 3);
+      const std::string from = text_arg(name, args, 0), to = text_arg(name, args, 1);
+      long long left = args.size() == 3 ? static_cast<long long>(num(args[2], "replace")) : -1;
+      if (from.empty()) die("replace() of an empty string in ${" + s_ + "}");
+      std::string out;
+      std::size_t k = 0;
+      for (std::size_t j; left != 0 && (j = t.find(from, k)) != std::string::npos; --left) out += t.substr(k, j - k) + to, k = j + from.size();
+      return text_value(out + t.substr(k));
+    }
+    if (name == "startswith" || name == "endswith") {
+      count_args(1, 1);
+      const std::string x = text_arg(name, args, 0);
+      const bool hit = x.size() <= t.size() && (name == "startswith" ? t.compare(0, x.size(), x) == 0 : t.compare(t.size() - x.size(), x.size(), x) == 0);
+      return bool_value(hit);
+    }
+    if (name == "find" || name == "count") {
+      count_args(1, 1);
+      const std::string x = text_arg(name, args, 0);
+      if (name == "find") {
+        const std::size_t j = t.find(x);
+        return number_value(j == std::string::npos ? -1.0 : static_cast<double>(j), true);
+      }
+      if (x.empty()) return number_value(static_cast<double>(t.size() + 1), true);
+      std::size_t n = 0;
+      for (std::size_t j = t.find(x); j != std::string::npos; j = t.find(x, j + x.size())) ++n;
+      return number_value(static_cast<double>(n), true);
+    }
+    if (name == "zfill") {
+      count_args(1, 1);
+      const auto width = static_cast<std::size_t>(std::clamp(num(args[0], "zfill"), 0.0, 4096.0));
+      std::string out = t;
+      const std::size_t sign = !out.empty() && (out[0] == '-' || out[0] == '+') ? 1 : 0;
+      if (out.size() < width) out.insert(sign, width - out.size(), '0');
+      return text_value(out);
+    }
+    return text_value(format_method(t, args, keywords));
+  }
+  // str.format: {} / {0} / {name}, with an optional spec [width][.precision][d|f|e|g|s].
+  std::string format_method(const std::string& t, const std::vector<Value>& args, const Dict& keywords) {
+    std::string out;
+    std::size_t auto_index = 0;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      if ((t[k] == '{' || t[k] == '}') && k + 1 < t.size() && t[k + 1] == t[k]) {
+        out += t[k++];
+        continue;
+      }
+      if (t[k] != '{') {
+        out += t[k];
+        continue;
+      }
+      const std::size_t close = t.find('}', k);
+      if (close == std::string::npos) die("format(): '{' without '}' in ${" + s_ + "}");
+      const std::string field = t.substr(k + 1, close - k - 1);
+      const std::size_t colon = field.find(':');
+      const std::string key = field.substr(0, colon), spec = colon == std::string::npos ? "" : field.substr(colon + 1);
+      const Value* x = nullptr;
+      if (key.empty() || std::all_of(key.begin(), key.end(), [](char ch) { return std::isdigit(static_cast<unsigned char>(ch)); })) {
+        const std::size_t idx = key.empty() ? auto_index++ : std::stoul(key.substr(0, 6));
+        if (idx >= args.size()) die("format(): no argument " + std::to_string(idx) + " in ${" + s_ + "}");
+        x = &args[idx];
+      } else {
+        for (const auto& [name, val] : keywords)
+          if (name == key) x = &val;
+        if (!x) die("format(): no argument '" + key + "' in ${" + s_ + "}");
+      }
+      if (spec.empty()) {
+        out += format(*x);
+      } else {
+        std::size_t p = 0;
+        int width = 0, precision = -1;
+        while (p < spec.size() && std::isdigit(static_cast<unsigned char>(spec[p])) && width < 1000) width = width * 10 + (spec[p++] - '0');
+        if (p < spec.size() && spec[p] == '.') {
+          precision = 0;
+          while (++p < spec.size() && std::isdigit(static_cast<unsigned char>(spec[p])) && precision < 100) precision = precision * 10 + (spec[p] - '0');
+        }
+        const char type = p < spec.size() ? spec[p++] : (x->kind == Value::text ? 's' : 'g');
+        if (p != spec.size() || std::string("dfeEgGs").find(type) == std::string::npos) die("format(): unsupported spec '" + spec + "' in ${" + s_ + "}");
+        char buf[256];
+        if (type == 's') {
+          std::snprintf(buf, sizeof buf, "%*s", width, format(*x).substr(0, precision < 0 ? std::string::npos : static_cast<std::size_t>(precision)).c_str());
+        } else if (type == 'd') {
+          std::snprintf(buf, sizeof buf, "%*lld", width, static_cast<long long>(std::clamp(num(*x, "format"), -9e18, 9e18)));
+        } else {
+          const char f[] = {'%', '*', '.', '*', type, 0};
+          std::snprintf(buf, sizeof buf, f, width, precision < 0 ? 6 : precision, num(*x, "format"));
+        }
+        out += buf;
+      }
+      k = close;
+    }
+    return out;
   }
 
   std::string s_;
@@ -844,7 +1347,20 @@ class Expander {
     } catch (const YAML::Exception& x) {
       fail(e, "xacro: load_yaml('" + name + "'): " + p.string() + ":" + std::to_string(x.mark.line + 1) + ": " + x.msg);
     }
-    return from_yaml(doc, 0, [&](const std::string& m) { fail(e, "xacro: " + m + " in " + p.string()); });
+    const auto yaml_fail = [&](const std::string& m) { fail(e, "xacro: " + m + " in " + p.string()); };
+    // As xacro: the tagged text is a Python expression over the math names (no properties).
+    const YamlAngle angle = [&](const std::string& expr, bool degrees) {
+      ExprContext cx;
+      cx.fail = [&](const std::string& m) { yaml_fail("load_yaml: '" + expr + "': " + m); };
+      cx.name = [](const std::string&) -> std::optional<Value> { return std::nullopt; };
+      cx.call = [](const std::string&, const std::vector<Value>&) -> std::optional<Value> { return std::nullopt; };
+      const Value v = Expr(expr, cx).run();
+      if (v.kind != Value::number) yaml_fail("load_yaml: " + std::string(degrees ? "!degrees" : "!radians") + " '" + expr + "' is not a number");
+      const double r = degrees ? v.num * std::numbers::pi / 180 : v.num;
+      if (!std::isfinite(r)) yaml_fail("load_yaml: '" + expr + "' is not a finite angle");
+      return r;
+    };
+    return from_yaml(doc, 0, yaml_fail, angle);
   }
 
   // The value of a text: one ${expr} spanning all of it keeps the expression's value (a dict, a
@@ -857,7 +1373,9 @@ class Expander {
       if (close != std::string::npos && t.find_first_not_of(" \t\n\r", close + 1) == std::string::npos) {
         ExprContext cx = context(e, scope);
         if (line) cx.fail = [this, line](const std::string& m) { throw UrdfError(files_.back(), line, "xacro: " + m); };
-        return Expr(t.substr(b + 2, close - b - 2), cx).run();
+        std::string inner = t.substr(b + 2, close - b - 2);
+        if (inner.find("$(") != std::string::npos) inner = eval(inner, e, scope, line);  // $(...) first, as xacro
+        return Expr(inner, cx).run();
       }
     }
     return from_text(eval(text, e, scope, line));
@@ -887,7 +1405,9 @@ class Expander {
       }
       const std::size_t end = matching(text, i + 1, open, open == '{' ? '}' : ')');
       if (end == std::string::npos) cx.fail(std::string("unterminated ") + (open == '{' ? "${" : "$(") + " in \"" + text + "\"");
-      const std::string inner = text.substr(i + 2, end - i - 2);
+      std::string inner = text.substr(i + 2, end - i - 2);
+      // As xacro: $(...) inside ${...} is substituted first (${'a' if $(arg flag) else 'b'}).
+      if (open == '{' && inner.find("$(") != std::string::npos) inner = eval(inner, e, scope, line);
       if (open == '{') out += format(Expr(inner, cx).run());
       else out += substitution(inner, e, scope, cx);
       i = end + 1;
@@ -928,9 +1448,24 @@ class Expander {
       if (const char* v = std::getenv(var.c_str())) return v;
       return sp == std::string::npos ? std::string() : arg.substr(arg.find_first_not_of(" \t", sp));
     }
+    if (kind == "anon") {
+      // roslaunch's anonymous name: the same NAME gives the same value within one expansion, two
+      // names two values. Made from NAME and the top file (not host, pid and a random number as
+      // roslaunch does) so that a cell loads the same way every run.
+      if (arg.empty() || arg.find_first_of(" \t") != std::string::npos) cx.fail("$(anon NAME) takes one name");
+      auto [it, fresh] = anon_.try_emplace(arg);
+      if (fresh) {
+        std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+        for (const char ch : files_.front() + '\n' + arg) h = (h ^ static_cast<unsigned char>(ch)) * 1099511628211ull;
+        char buf[24];
+        std::snprintf(buf, sizeof buf, "_%016llx", static_cast<unsigned long long>(h));
+        it->second = arg + buf;
+      }
+      return it->second;
+    }
     if (kind == "dirname") return fs::absolute(fs::path(files_.back()).parent_path()).lexically_normal().string();
     if (kind == "cwd") return fs::current_path().string();
-    cx.fail("unsupported substitution $(" + raw + ") (find, arg, env, optenv, eval, dirname, cwd)");
+    cx.fail("unsupported substitution $(" + raw + ") (find, arg, env, optenv, eval, anon, dirname, cwd)");
     throw std::logic_error("unreachable");  // fail throws
   }
 
@@ -1125,11 +1660,32 @@ class Expander {
     const XMLDocument& doc = load(file, e, files_.back());
     const XMLElement* root = doc.RootElement();
     if (!root) throw UrdfError(file, 0, "xacro: no root element");
-    // ns="name": the file's macros are called as name.macro (its properties stay shared).
+    // ns="name": the file's macros are called as name.macro and its properties are read as
+    // ${name.property} (ros/xacro's PropertyNameSpace: a scope of its own over the includer's).
     const std::string saved_ns = ns_;
-    if (const char* ns = e->Attribute("ns")) ns_ += eval(ns, e, scope) + ".";
+    Scope* into = &scope;
+    if (const char* ns = e->Attribute("ns")) {
+      const std::string name = eval(ns, e, scope);
+      if (name.empty() || name.find_first_of(" .${}()") != std::string::npos) fail(e, "<xacro:include ns=\"" + name + "\">: not a name");
+      ns_ += name + ".";
+      namespaces_.push_back(std::make_unique<Scope>());
+      into = namespaces_.back().get();
+      into->parent = &scope;
+      Prop p;
+      p.file = files_.back();
+      p.line = e->GetLineNum();
+      Value v;
+      v.kind = Value::ns;
+      v.lookup = std::make_shared<const Lookup>([this, into](const std::string& n) -> std::optional<Value> {
+        auto it = into->props.find(n);  // the namespace's own properties only
+        if (it == into->props.end()) return std::nullopt;
+        return property_value(it->second, *into);
+      });
+      p.value = v;
+      scope.props[name] = std::move(p);
+    }
     files_.push_back(file);
-    children(root, out, scope);
+    children(root, out, *into);
     files_.pop_back();
     ns_ = saved_ns;
   }
@@ -1202,6 +1758,8 @@ class Expander {
   std::map<std::string, Macro> macros_;
   std::string ns_;  // the namespace prefix of an include with ns= ("" or "name.")
   Scope global_;
+  std::vector<std::unique_ptr<Scope>> namespaces_;  // the scopes of ns= includes, alive to the end
+  std::map<std::string, std::string> anon_;         // $(anon NAME): one value per NAME
   XMLDocument out_;
   std::size_t out_bytes_ = 0;
   int macro_depth_ = 0;

@@ -70,6 +70,14 @@ TEST_CASE("simulator: errors come before any pose is checked", "[simulator]") {
   CHECK(r.status == MotionStatus::error);
   CHECK(r.error.message == "*Joint limit exceeded*");
   CHECK(r.error.detail == "J3 = 231.000 > 225.000");
+  {  // A limit a hair below the value: enough digits to show the difference.
+    Cell c = basic_cell();
+    c.robot.upper[2] = 225 - 4e-8;
+    Simulator near(c);
+    const MotionResult n = near.start_joint_move(jv({0, -90, 225, 0, 0, 0}), {}, 2);
+    CHECK(n.error.message == "*Joint limit exceeded*");
+    CHECK(n.error.detail == "J3 = 225.00000000 > 224.99999996");
+  }
   // A transformation whose solution in the current configuration needs J1 beyond 160.
   const Location behind = robots::flange_pose(sim.robot(), jv({175, -60, 150, 0, 30, 0}));
   r = sim.start_move(behind, false, {}, 3);

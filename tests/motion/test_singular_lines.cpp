@@ -67,6 +67,9 @@ TEST_CASE("straight lines: wrist singularity (J5 through 0)", "[simulator][singu
   const MotionResult r = refused_line(sim, trans(0, 0, -300, 0, 0, 0) * sim.here());
   CHECK(r.error.message == "*Singularity on straight-line path*");
   CHECK_THAT(r.error.detail, Catch::StartsWith("joint jump at"));
+  // The planner knows which joint jumped and by how much, and says so (J4 or J6 turning
+  // through the wrist singularity).
+  CHECK_THAT(r.error.detail, Catch::Matches(".*% of the path: J[46] by [0-9]+\\.[0-9] deg"));
 }
 
 TEST_CASE("joint moves: every joint past each limit is refused naming it", "[simulator][limits]") {

@@ -73,6 +73,9 @@ struct Robot {
   JointVector ready;             // READY pose (display); empty: (0, -90, 90, 0, 0, 0)
   std::vector<JointMapping> mapping;
   JointVector lower, upper;      // display limits [deg]
+  // Per joint: the precision its limits were written with (display units; empty or 0: exact).
+  // A URDF limit of 1.04719755 rad is 60 deg to 2.9e-7 deg: J3 = 60 is within it (limit_low/high).
+  JointVector limit_tolerance;
   JointVector max_velocity;      // [deg/s] at SPEED 100
   JointVector max_acceleration;  // [deg/s^2]
   double max_tool_speed = 500;   // straight-line translation [mm/s]
@@ -104,8 +107,11 @@ JointVector dh_to_display(const Robot& robot, const JointVector& dh);
 void link_frames(const Robot& robot, const JointVector& display, std::vector<Pose>& frames);
 Pose flange_pose(const Robot& robot, const JointVector& display);
 
-// Index of the first joint outside its limits, or -1.
+// Index of the first joint outside its limits (widened by limit_tolerance), or -1.
 int first_limit_violation(const Robot& robot, const JointVector& display);
+// Joint j's limits widened by its limit_tolerance: the bounds every limit comparison uses.
+double limit_low(const Robot& robot, int j);
+double limit_high(const Robot& robot, int j);
 
 // Bound [mm] of the distance between the origins of frames k and k+1 (0-based k) over all
 // joint values: sqrt(a^2 + d^2) for DH; |origin| (+ prismatic travel, + flange offset on the
