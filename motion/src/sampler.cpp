@@ -1,6 +1,6 @@
 #include "asimov/motion/sampler.hpp"
 
-#include "asimov/robots/ik.hpp"
+#include "asimov/robots/ik_redundant.hpp"
 
 #include <algorithm>
 #include <array>
@@ -57,7 +57,8 @@ LineStatus check_margins(const LineContext& c, const Location& flange, double s,
 // Solves and checks one sample; `prev` is the joint reference (nearest equivalents, kept J4).
 LineStatus solve_sample(const LineContext& c, double s, const JointVector& prev, JointVector& out, LinePlan& plan) {
   const Location flange = c.base_inv * line_pose(c.req.path, s) * c.tool_inv;
-  const robots::IkResult ik = robots::solve_ik(c.robot, flange, prev, c.req.config, false);
+  // Redundant arms: the solution nearest the line's start, whatever the step (ik_redundant.hpp).
+  const robots::IkResult ik = robots::solve_line_ik(c.robot, flange, prev, c.req.start, c.req.config);
   if (ik.status == robots::IkStatus::ok) {
     plan.ik_residual.merge(pose_error(robots::flange_pose(c.robot, ik.joints), flange));
     ++plan.ik_solves;

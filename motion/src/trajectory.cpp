@@ -1,7 +1,7 @@
 // The exact path of a planned motion at time t (docs/kinematics.md §7-§8).
 #include "asimov/motion/trajectory.hpp"
 
-#include "asimov/robots/ik.hpp"
+#include "asimov/robots/ik_redundant.hpp"
 
 #include <algorithm>
 
@@ -16,7 +16,7 @@ LinePoint line_path_at(const robots::Robot& robot, const Trajectory& tr, const L
   const double sigma = std::clamp(tr.profile.sigma(t - tr.t0), a.s, b.s);
   const robots::JointVector lin = interpolate_joints(a.joints, b.joints, b.s > a.s ? (sigma - a.s) / (b.s - a.s) : 1.0);
   const Location flange = tr.base_inv * line_pose(tr.path, sigma) * tr.tool_inv;
-  const robots::IkResult ik = robots::solve_ik(robot, flange, seed, tr.config, false);
+  const robots::IkResult ik = robots::solve_line_ik(robot, flange, seed, tr.line.samples.front().joints, tr.config);
   const bool ik_used = ik.status == robots::IkStatus::ok && (ik.joints - lin).cwiseAbs().maxCoeff() <= kMaxJointJumpDeg;
   return {ik_used ? ik.joints : lin, flange, ik_used};
 }
