@@ -11,6 +11,8 @@ packages=(
   # The Python module (python/, docs/python.md) and its tests; jsonschema validates every JSON
   # document asimov writes against docs/schema/.
   pybind11-dev python3-dev python3-numpy python3-pytest python3-jsonschema
+  # mypy --strict checks a script against the module's type stubs (tests/python/test_typing.py).
+  mypy
 )
 # Peers for bench/ only (FCL, Bullet, KDL, Lua 5.4); the peer benchmarks are skipped without them.
 if [ "${ASIMOV_WITH_PEERS:-1}" = 1 ]; then

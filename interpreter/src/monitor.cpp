@@ -320,6 +320,26 @@ CommandStatus Monitor::end_of_input() { return entering_program() ? finish_entry
 
 // Prints a run's outcome. Errors located in the monitor's own temporary programs are
 // reported as command errors (no location line; the typed text instead).
+void Monitor::remember(const RunResult& r) {
+  state_ = r.status == RunStatus::completed     ? ExecState::completed
+         : r.status == RunStatus::collision     ? ExecState::collision
+         : r.status == RunStatus::paused        ? ExecState::paused
+         : r.status == RunStatus::halted        ? ExecState::halted
+         : r.status == RunStatus::interrupted   ? ExecState::interrupted
+                                                : ExecState::error;
+  state_step_ = r.step;
+  state_program_ = r.program;
+  tasks_ = r.tasks;
+  halted_ = r.interrupt;
+  last_run_ = r;
+  ++run_count_;
+}
+
+void Monitor::record_run(const RunResult& r, const std::string& main) {
+  remember(r);
+  last_program_ = main;
+}
+
 CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name, bool execution) {
   for (const Diagnostic& w : r.warnings) out_ << "Warning: " << format_diagnostic(w);
   Diagnostic d = r.error;
@@ -329,18 +349,7 @@ CommandStatus Monitor::report(const RunResult& r, const std::string& shown_name,
     d.line = d.step = 0;
     d.source_line = typed_;
   }
-  if (execution) {
-    state_ = r.status == RunStatus::completed     ? ExecState::completed
-           : r.status == RunStatus::collision     ? ExecState::collision
-           : r.status == RunStatus::paused        ? ExecState::paused
-           : r.status == RunStatus::halted        ? ExecState::halted
-           : r.status == RunStatus::interrupted   ? ExecState::interrupted
-                                                  : ExecState::error;
-    state_step_ = r.step;
-    state_program_ = r.program;
-    tasks_ = r.tasks;
-    halted_ = r.interrupt;
-  }
+  if (execution) remember(r);
   switch (r.status) {
     case RunStatus::completed:
       if (execution) out_ << "Program completed: " << shown_name << '\n';

@@ -33,7 +33,10 @@ class ProgramError(Error):
 
 
 class CommandError(Error):
-    """A monitor command failed; `output` is what the monitor printed for it."""
+    """A monitor command failed; `output` is what the monitor printed for it, `kind` is "command"
+    (the command itself failed) or how a program it ran stopped ("collision", "error",
+    "interrupted"; then `message`, `detail`, `program`, `step`, `file`, `line` say where, as
+    ProgramError does, and `report` is the run's report)."""
 
 
 class KinematicsError(Error):
@@ -42,3 +45,8 @@ class KinematicsError(Error):
 
 class RobotError(Error):
     """A robot (URDF file) or a mesh could not be loaded."""
+
+
+class BusyError(Error):
+    """A Session or Engine was used from a second thread while another was inside it: use one
+    per thread, or a lock around it."""

@@ -9,6 +9,9 @@
 #include "asimov/interpreter/interpreter.hpp"
 #include "asimov/interpreter/monitor.hpp"
 #include "asimov/motion/location.hpp"
+#include "app/atomic_file.hpp"
+#include "app/replay.hpp"
+#include "asimov/robots/builtin.hpp"
 #include "asimov/robots/ik.hpp"
 #include "asimov/robots/puma560.hpp"
 #include "asimov/robots/urdf_loader.hpp"
@@ -18,11 +21,14 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <map>
 #include <sstream>
 
 namespace py = pybind11;
@@ -74,6 +80,27 @@ py::dict diagnostic_dict(const interpreter::Diagnostic& d) {
   raise(cls, f);
 }
 
+// One Session or Engine is used by one thread at a time (their C++ objects are not shared
+// safely, and the GIL is released while they work): a second thread entering while the first is
+// inside gets asimov.BusyError instead of a crash.
+class InUse {
+ public:
+  InUse(std::atomic<bool>& flag, const char* what) : flag_(flag) {
+    if (flag_.exchange(true)) {
+      py::dict f;
+      f["message"] = "*Busy*";
+      f["detail"] = std::string(what) + " is in use by another thread (use one per thread, or a lock)";
+      raise("BusyError", f);
+    }
+  }
+  ~InUse() { flag_.store(false); }
+  InUse(const InUse&) = delete;
+  InUse& operator=(const InUse&) = delete;
+
+ private:
+  std::atomic<bool>& flag_;
+};
+
 // ---- conversions -----------------------------------------------------------------------
 
 py::object to_python(const nlohmann::json& j) {
@@ -99,6 +126,12 @@ py::object to_python(const nlohmann::json& j) {
 }
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+std::string fmt_number(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
 
 py::array_t<double> pose_array(const Pose& p) {
   py::array_t<double> out({4, 4});
@@ -154,13 +187,39 @@ motion::Cell load_cell_any(const py::object& source, const std::string& base_dir
   return checked(cell::load_cell_file(path));
 }
 
+// config={...}: V+'s words as keys (righty / lefty, above / below, noflip / flip), each True or
+// False; the words not given keep those of `q`. Unknown keys, non-bool values and a word given
+// both ways inconsistently are refused.
 robots::Configuration to_configuration(const py::object& o, const robots::Robot& robot, const robots::JointVector& q) {
-  if (o.is_none()) return robots::configuration_of(robot, q);
-  robots::Configuration c;
-  const py::dict d = o.cast<py::dict>();
-  if (d.contains("righty")) c.righty = d["righty"].cast<bool>();
-  if (d.contains("above")) c.above = d["above"].cast<bool>();
-  if (d.contains("noflip")) c.noflip = d["noflip"].cast<bool>();
+  robots::Configuration c = robots::configuration_of(robot, q);
+  if (o.is_none()) return c;
+  if (!py::isinstance<py::dict>(o)) throw py::type_error("config: a dict of V+ configuration words, e.g. {'lefty': True}");
+  struct Word {
+    const char* name;
+    bool robots::Configuration::*field;
+    bool positive;
+  };
+  static const Word kWords[] = {{"righty", &robots::Configuration::righty, true}, {"lefty", &robots::Configuration::righty, false},
+                                {"above", &robots::Configuration::above, true},   {"below", &robots::Configuration::above, false},
+                                {"noflip", &robots::Configuration::noflip, true}, {"flip", &robots::Configuration::noflip, false}};
+  std::vector<std::pair<bool robots::Configuration::*, std::pair<std::string, bool>>> set;
+  for (const auto& [key, value] : o.cast<py::dict>()) {
+    const std::string k = py::str(key);
+    std::string lower = k;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    const Word* w = nullptr;
+    for (const Word& x : kWords)
+      if (lower == x.name) w = &x;
+    if (!w) throw py::value_error("config: unknown word '" + k + "' (righty, lefty, above, below, noflip, flip)");
+    if (!py::isinstance<py::bool_>(value))
+      throw py::type_error("config['" + k + "']: True or False, not " + std::string(py::str(py::type::of(value).attr("__name__"))));
+    const bool v = value.cast<bool>() == w->positive;
+    for (const auto& [field, given] : set)
+      if (field == w->field && given.second != v)
+        throw py::value_error("config: '" + given.first + "' and '" + k + "' contradict each other");
+    set.push_back({w->field, {k, v}});
+    c.*(w->field) = v;
+  }
   return c;
 }
 
@@ -195,27 +254,90 @@ py::array_t<double> robot_ik(const robots::Robot& robot, const Array& flange, co
   return joints_array(r.joints);
 }
 
+// Every IK solution of the pose (display joints, each with its configuration), in the nearest
+// 2pi-equivalent to `current` within limits: the 8 closed-form candidates of PUMA-, Viper- and
+// spherical-wrist arms, one per configuration that solve_ik reaches otherwise.
+py::list robot_ik_all(const robots::Robot& robot, const Array& flange, const std::optional<Array>& current) {
+  const Pose target = to_pose(flange);
+  const robots::JointVector from = current ? to_joints(robot, *current) : robots::ready_joints(robot);
+  std::vector<robots::JointVector> found;
+  {
+    py::gil_scoped_release release;
+    for (int k = 0; k < 8; ++k) {
+      robots::Configuration want;
+      want.righty = (k & 4) == 0, want.above = (k & 2) == 0, want.noflip = (k & 1) == 0;
+      const robots::IkResult r = robots::solve_ik(robot, target, from, want, false);
+      if (r.status != robots::IkStatus::ok) continue;
+      const bool seen = std::any_of(found.begin(), found.end(), [&](const robots::JointVector& q) {
+        return (q - r.joints).cwiseAbs().maxCoeff() < 1e-6;
+      });
+      if (!seen) found.push_back(r.joints);
+    }
+  }
+  py::list out;
+  for (const auto& q : found) out.append(joints_array(q));
+  return out;
+}
+
+// The geometric Jacobian at display joints: (6, n), rows vx, vy, vz [mm per unit of the joint],
+// wx, wy, wz [rad per unit], in the robot base frame; a revolute joint's unit is one degree, a
+// prismatic joint's one millimetre (the display units), so J @ dq is the flange's twist for a
+// display step dq.
+py::array_t<double> robot_jacobian(const robots::Robot& robot, const Array& joints) {
+  const robots::JointVector q = to_joints(robot, joints);
+  std::vector<Pose> frames;
+  robots::link_frames(robot, q, frames);
+  const int n = robot.joint_count();
+  const Pose flange = frames.back();
+  py::array_t<double> out({py::ssize_t{6}, py::ssize_t{n}});
+  auto m = out.mutable_unchecked<2>();
+  for (int k = 0; k < n; ++k) {
+    // Joint k moves frame k+1 about (or along) its axis through the origin of the frame it
+    // turns in: frames[k] . origin for a chain, frames[k] (z axis) for DH.
+    Pose pre = frames[static_cast<std::size_t>(k)];
+    collision::Vec3 axis = pre.linear().col(2);
+    if (robot.is_chain()) {
+      pre = pre * robot.chain[static_cast<std::size_t>(k)].origin;
+      axis = pre.linear() * robot.chain[static_cast<std::size_t>(k)].axis;
+    }
+    // Display to internal: d(internal)/d(display) = sign * pi/180 (revolute) or 1 (prismatic).
+    const double scale = robot.prismatic(k) ? 1.0 : (robot.mapping.empty() ? 1.0 : robot.mapping[static_cast<std::size_t>(k)].sign) * M_PI / 180;
+    collision::Vec3 v, w;
+    if (robot.prismatic(k)) {
+      v = axis * scale, w = collision::Vec3::Zero();
+    } else {
+      v = axis.cross(flange.translation() - pre.translation()) * scale, w = axis * scale;
+    }
+    for (int r = 0; r < 3; ++r) m(r, k) = v[r], m(r + 3, k) = w[r];
+  }
+  return out;
+}
+
 // ---- sessions: programs, reports, monitor ----------------------------------------------
 
 // One simulated cell with its interpreter and monitor; everything printed goes to `out`.
 class Session {
  public:
-  Session(motion::Cell cell, bool trace)
+  Session(motion::Cell cell, bool trace, bool replay)
       : sim_(std::move(cell)), interp_(sim_, out_), monitor_(interp_, sim_, out_) {
     sim_.recorders().trace.on = trace;
+    if (replay) sim_.recorders().replay.grid_s = app::kReplayGridS;
     interp_.set_input(no_input_, false);  // PROMPT has nobody to ask: *Illegal value*
   }
 
   std::vector<std::string> load(const std::string& path) {
+    const InUse busy(busy_, "this Session");
     if (!std::filesystem::is_regular_file(path)) raise_message("LoadError", "*File not found*", path, path);
     return check_loaded(timed_load([&] { return interp_.load_file(path); }), path);
   }
   std::vector<std::string> load_source(const std::string& text, const std::string& name) {
+    const InUse busy(busy_, "this Session");
     return check_loaded(timed_load([&] { return interp_.load_source(text, name); }), name);
   }
   std::vector<std::string> programs() const { return interp_.program_names(); }
 
   py::object run(const std::optional<std::string>& name) {
+    const InUse busy(busy_, "this Session");
     std::string main = name.value_or("");
     if (main.empty()) {
       const auto names = interp_.program_names();
@@ -231,11 +353,10 @@ class Session {
       result = interp_.run(main);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    monitor_.record_run(result, main);  // STATUS tells this run, as after an EXECUTE
     const bool failed = result.status == interpreter::RunStatus::error;
     const interpreter::Diagnostic error = result.error;
-    app::RunSummary summary = app::summarize_run(file_, std::move(result), sim_, wall);
-    if (const auto* cell = interp_.cell_state()) summary.workcell = app::workcell_json(*cell);
-    py::object report = to_python(app::run_report(summary));
+    py::object report = report_of(result, wall);
     if (failed) {
       py::dict f = diagnostic_dict(error);
       f["report"] = report;
@@ -246,18 +367,33 @@ class Session {
 
   // One monitor line (DO, HERE, WHERE, POINT, EXECUTE, ...): what it printed.
   std::string execute(const std::string& line, bool check) {
+    const InUse busy(busy_, "this Session");
     const auto mark = out_.tellp();
+    const std::uint64_t runs = monitor_.run_count();
     interpreter::CommandStatus status;
+    const auto start = std::chrono::steady_clock::now();
     {
       py::gil_scoped_release release;
       status = monitor_.execute(line);
     }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const std::string all = out_.str();
     std::string printed = all.substr(static_cast<std::size_t>(mark) <= all.size() ? static_cast<std::size_t>(mark) : 0);
     if (check && status == interpreter::CommandStatus::failed) {
       const auto first = printed.substr(0, printed.find('\n'));
       py::dict f;
       f["message"] = first;
+      const auto& run = monitor_.last_run();
+      if (monitor_.run_count() != runs && run && run->status != interpreter::RunStatus::completed) {
+        // A program the command ran stopped (a collision, an error, Ctrl-C): its kind, where,
+        // and the run's report, as Session.run gives them.
+        f = diagnostic_dict(run->error);
+        f["kind"] = run->status == interpreter::RunStatus::collision ? "collision"
+                    : run->status == interpreter::RunStatus::interrupted ? "interrupted" : "error";
+        f["report"] = report_of(*run, wall);
+      } else {
+        f["kind"] = "command";
+      }
       f["text"] = printed;
       f["output"] = printed;
       raise("CommandError", f);
@@ -274,6 +410,12 @@ class Session {
   }
 
   py::dict trace() const {
+    if (!sim_.recorders().trace.on) {
+      py::dict f;
+      f["message"] = "*No trace*";
+      f["detail"] = "this Session records no trace: create it with Session(..., trace=True) (asimov.run(..., trace=True))";
+      raise("ProgramError", f);
+    }
     const auto& samples = sim_.recorders().trace.samples;
     const auto n = static_cast<py::ssize_t>(samples.size());
     const py::ssize_t j = sim_.robot().joint_count();
@@ -299,10 +441,48 @@ class Session {
     return d;
   }
 
+  // The replay page of the last run (Session(replay=True)), as `asimov run --replay` writes it.
+  void write_replay(const std::string& path) {
+    const InUse busy(busy_, "this Session");
+    if (!(sim_.recorders().replay.grid_s > 0)) {
+      py::dict f;
+      f["message"] = "*No replay*";
+      f["detail"] = "this Session records no replay: create it with Session(..., replay=True)";
+      raise("ProgramError", f);
+    }
+    const auto& run = monitor_.last_run();
+    if (!run) raise_message("ProgramError", "*No replay*", "nothing has run yet in this Session");
+    Result<app::ReplayAssets> assets = app::load_replay_assets();
+    if (!assets) raise_message("ProgramError", "*Cannot write file*", assets.error().message, path);
+    const std::string html = app::replay_html(*assets, app::replay_data(file_, sim_, *run));
+    if (const auto written = app::write_file_atomically(path, html); !written)
+      raise_message("ProgramError", "*Cannot write file*", written.error().message, path);
+  }
+
   motion::Simulator& sim() { return sim_; }
   bool quit() const { return quit_; }
+  std::atomic<bool>& busy() { return busy_; }
+  const std::string& file() const { return file_; }
+  std::string status_word() const {
+    const auto& run = monitor_.last_run();
+    if (!run) return "idle";
+    switch (run->status) {
+      case interpreter::RunStatus::completed: return "completed";
+      case interpreter::RunStatus::collision: return "collision";
+      case interpreter::RunStatus::paused: return "paused";
+      case interpreter::RunStatus::halted: return "halted";
+      case interpreter::RunStatus::interrupted: return "interrupted";
+      case interpreter::RunStatus::error: return "error";
+    }
+    return "idle";
+  }
 
  private:
+  py::object report_of(const interpreter::RunResult& result, double wall) {
+    app::RunSummary summary = app::summarize_run(file_, result, sim_, wall);
+    if (const auto* cell = interp_.cell_state()) summary.workcell = app::workcell_json(*cell);
+    return to_python(app::run_report(summary));
+  }
   template <class F>
   std::vector<interpreter::Diagnostic> timed_load(F load) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -334,16 +514,40 @@ class Session {
   std::string file_;
   std::size_t taken_ = 0;
   bool quit_ = false;
+  std::atomic<bool> busy_{false};
 };
 
 // ---- the collision engine ----------------------------------------------------------------
 
 class PyEngine {
  public:
+  // A failed add leaves the engine as it was: the name is taken only once the body is in.
   collision::BodyId add(const std::string& name, collision::Polyhedron mesh, int group, bool is_static, int halvings) {
+    const InUse busy(busy_, "this Engine");
+    if (std::find(names_.begin(), names_.end(), name) != names_.end())
+      throw py::value_error("a body named '" + name + "' is already in the engine (names must be unique)");
+    const collision::BodyId id =
+        engine_.add_body({.name = name, .mesh = std::move(mesh), .group = group, .is_static = is_static, .halvings = halvings});
     names_.push_back(name);
-    return engine_.add_body({.name = name, .mesh = std::move(mesh), .group = group, .is_static = is_static, .halvings = halvings});
+    return id;
   }
+  // Sizes as the cell files take them (docs/limits.md): finite and > 0, at most 4096 segments.
+  static double size_value(const char* what, double v) {
+    if (!(std::isfinite(v) && v > 0)) throw py::value_error(std::string(what) + " must be a finite number > 0 [mm], not " + std::to_string(v));
+    return v;
+  }
+  collision::BodyId add_box(const std::string& name, const std::array<double, 3>& size, int group, bool st, int h) {
+    for (double v : size) size_value("box size", v);
+    return add(name, collision::make_box(collision::Vec3(size[0], size[1], size[2])), group, st, h);
+  }
+  collision::BodyId add_cylinder(const std::string& name, double radius, double height, long long segments, int group, bool st, int h) {
+    size_value("radius", radius);
+    size_value("height", height);
+    if (segments < 3 || segments > kMaxSegments)
+      throw py::value_error("segments: 3 to " + std::to_string(kMaxSegments) + " (as cell files), not " + std::to_string(segments));
+    return add(name, collision::make_cylinder(radius, height, static_cast<int>(segments)), group, st, h);
+  }
+  static constexpr long long kMaxSegments = 4096;
   collision::BodyId add_arrays(const std::string& name, const Array& vertices,
                                const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& triangles,
                                int group, bool is_static, int halvings) {
@@ -376,11 +580,13 @@ class PyEngine {
   }
 
   void set_pose(collision::BodyId id, const Array& pose) {
+    const InUse busy(busy_, "this Engine");
     check_id(id);
     engine_.set_pose(id, to_pose(pose));
   }
 
   py::object check() {
+    const InUse busy(busy_, "this Engine");
     collision::QueryResult r;
     {
       py::gil_scoped_release release;
@@ -401,6 +607,7 @@ class PyEngine {
   // poses: (N, 4, 4) for one body, (N, k, 4, 4) for k bodies; every other body stays where it
   // is. Result: collided per pose (bool, N). The loop runs in C++ without the GIL.
   py::array_t<bool> check_poses(const py::object& bodies, const Array& poses) {
+    const InUse busy(busy_, "this Engine");
     const std::vector<collision::BodyId> ids = py::isinstance<py::int_>(bodies)
                                                    ? std::vector<collision::BodyId>{bodies.cast<collision::BodyId>()}
                                                    : bodies.cast<std::vector<collision::BodyId>>();
@@ -426,6 +633,7 @@ class PyEngine {
 
   // Minimum distance between two bodies at the current poses (Engine::distance).
   py::dict distance(collision::BodyId a, collision::BodyId b, double upper_mm) {
+    const InUse busy(busy_, "this Engine");
     check_id(a);
     check_id(b);
     if (a == b) throw py::value_error("distance: two different bodies");
@@ -447,6 +655,7 @@ class PyEngine {
   }
 
   collision::Engine& engine() { return engine_; }
+  std::atomic<bool>& busy() { return busy_; }
   std::size_t size() const { return names_.size(); }
   const std::string& name(collision::BodyId id) const {
     check_id(id);
@@ -462,6 +671,7 @@ class PyEngine {
   }
   collision::Engine engine_;
   std::vector<std::string> names_;
+  std::atomic<bool> busy_{false};
 };
 
 }  // namespace
@@ -497,12 +707,24 @@ PYBIND11_MODULE(_asimov, m) {
       .def("ik", &robot_ik, py::arg("flange"), py::arg("current") = py::none(), py::arg("config") = py::none(),
            py::arg("single") = true,
            "Joints reaching the flange pose (4x4, mm) nearest `current` (default READY), in `config` "
-           "({'righty','above','noflip'}; default: that of `current`). Raises KinematicsError.")
+           "(V+'s words as keys, each True or False: righty / lefty, above / below, noflip / flip; the words "
+           "not given: those of `current`). Raises KinematicsError; ValueError / TypeError for a bad config.")
+      .def("ik_all", &robot_ik_all, py::arg("flange"), py::arg("current") = py::none(),
+           "Every IK solution of the flange pose (one per configuration reached; closed-form arms up to 8), "
+           "each the equivalent nearest `current` within limits: a list of joint arrays.")
+      .def("jacobian", &robot_jacobian, py::arg("joints"),
+           "Geometric Jacobian (6, n) at display joints, base frame: rows vx, vy, vz [mm], wx, wy, wz [rad] "
+           "per degree of a revolute joint (per mm of a prismatic one).")
       .def("configuration", [](const robots::Robot& r, const Array& q) { return configuration_dict(robots::configuration_of(r, to_joints(r, q))); },
            py::arg("joints"))
       .def("first_limit_violation", [](const robots::Robot& r, const Array& q) { return robots::first_limit_violation(r, to_joints(r, q)); },
            py::arg("joints"), "Index of the first joint outside its limits, -1 when all are inside.")
-      .def("__repr__", [](const robots::Robot& r) { return "<asimov.Robot " + r.name + ", " + std::to_string(r.joint_count()) + " joints>"; });
+      .def("__repr__", [](const robots::Robot& r) {
+        std::string kinds;
+        for (int j = 0; j < r.joint_count(); ++j) kinds += r.prismatic(j) ? 'P' : 'R';
+        return "<asimov.Robot '" + r.name + "': " + std::to_string(r.joint_count()) + " joints (" + kinds + "), " +
+               std::to_string(r.bodies.size()) + " bodies>";
+      });
 
   py::class_<motion::Cell>(m, "Cell", "A work cell: robot, BASE, TOOL, tool body, objects, collision settings.")
       .def_property_readonly("robot", [](const motion::Cell& c) { return c.robot; })
@@ -514,7 +736,11 @@ PYBIND11_MODULE(_asimov, m) {
       .def_property_readonly("base", [](const motion::Cell& c) { return pose_array(c.base); })
       .def_property_readonly("tool", [](const motion::Cell& c) { return pose_array(c.tool); })
       .def_property_readonly("start_joints", [](const motion::Cell& c) { return joints_array(c.start_joints); })
-      .def_property_readonly("warnings", [](const motion::Cell& c) { return c.warnings; });
+      .def_property_readonly("warnings", [](const motion::Cell& c) { return c.warnings; })
+      .def("__repr__", [](const motion::Cell& c) {
+        return "<asimov.Cell robot '" + c.robot.name + "', " + std::to_string(c.objects.size()) + " objects, step_mm " +
+               fmt_number(c.collision.step_mm) + ">";
+      });
 
   m.def("load_cell", [](const py::object& source, const std::string& base_dir) { return load_cell_any(source, base_dir); },
         py::arg("source"), py::arg("base_dir") = "",
@@ -522,6 +748,16 @@ PYBIND11_MODULE(_asimov, m) {
         "`base_dir` resolves the dict's relative file names. Raises CellError.");
   m.def("default_cell", [] { return cell::default_cell(); }, "The built-in cell (PUMA 560, table, box).");
   m.def("puma560", &robots::puma560, "The built-in PUMA 560.");
+  m.def("robot", [](const std::string& name) {
+    auto r = robots::builtin_robot(name);
+    if (!r) {
+      py::dict f;
+      f["message"] = "*Unknown robot*";
+      f["detail"] = "'" + name + "': the built-in arms are " + robots::builtin_robot_names();
+      raise("RobotError", f);
+    }
+    return std::move(*r);
+  }, py::arg("name"), "A built-in arm by name: puma560, viper_s650, cobra_s600. Raises RobotError.");
   m.def("load_urdf", [](const std::string& path) {
     auto robot = robots::load_urdf(path);
     if (!robot) raise_message("RobotError", "*URDF error*", robot.error().message, robot.error().file, robot.error().line);
@@ -536,10 +772,10 @@ PYBIND11_MODULE(_asimov, m) {
   }, py::arg("pose"), "VAL DECOMPOSE: (x, y, z, o, a, t) of a 4x4 pose.");
 
   py::class_<Session>(m, "Session", "One simulated cell: load programs, run them, type monitor commands.")
-      .def(py::init([](const py::object& cell, bool trace, const std::string& base_dir) {
-             return std::make_unique<Session>(load_cell_any(cell, base_dir), trace);
+      .def(py::init([](const py::object& cell, bool trace, const std::string& base_dir, bool replay) {
+             return std::make_unique<Session>(load_cell_any(cell, base_dir), trace, replay);
            }),
-           py::arg("cell") = py::none(), py::arg("trace") = false, py::arg("base_dir") = "")
+           py::arg("cell") = py::none(), py::arg("trace") = false, py::arg("base_dir") = "", py::arg("replay") = false)
       .def("load", &Session::load, py::arg("path"), "Loads a .v2 file; its program names. Raises LoadError.")
       .def("load_source", &Session::load_source, py::arg("text"), py::arg("name") = "<string>")
       .def_property_readonly("programs", &Session::programs)
@@ -556,7 +792,15 @@ PYBIND11_MODULE(_asimov, m) {
       .def_property_readonly("poses_checked", [](Session& s) { return s.sim().recorders().counts.poses; })
       .def_property_readonly("robot", [](Session& s) { return s.sim().robot(); })
       .def_property_readonly("cell", [](Session& s) { return s.sim().cell(); })
-      .def_property_readonly("quit", &Session::quit);
+      .def_property_readonly("quit", &Session::quit)
+      .def_property_readonly("status", &Session::status_word,
+                             "How the last run ended: 'idle' (nothing ran), 'completed', 'collision', 'error', 'paused', 'halted', 'interrupted'.")
+      .def("write_replay", &Session::write_replay, py::arg("path"),
+           "Writes the 3D replay page of the last run (Session(replay=True)), as `asimov run --replay`.")
+      .def("__repr__", [](Session& s) {
+        return "<asimov.Session robot '" + s.sim().robot().name + "', " + (s.file().empty() ? std::string("no file") : "file '" + s.file() + "'") +
+               ", " + s.status_word() + ", t = " + fmt_number(s.sim().time_s()) + " s>";
+      });
 
   py::class_<PyEngine>(m, "Engine", "The four-step collision engine: add bodies, pose them, query contact.")
       .def(py::init([](double clearance) {
@@ -570,22 +814,21 @@ PYBIND11_MODULE(_asimov, m) {
            "A body from arrays: vertices (n, 3) [mm], triangles (m, 3) outward. Its id.")
       .def("add_mesh", &PyEngine::add_mesh, py::arg("path"), py::arg("name") = py::none(), py::arg("scale") = 1.0,
            py::arg("group") = -1, py::arg("static") = false, py::arg("halvings") = 9, "A body from an STL or OBJ file.")
-      .def("add_box", [](PyEngine& e, const std::string& name, const std::array<double, 3>& size, int group, bool st, int h) {
-             return e.add(name, collision::make_box(collision::Vec3(size[0], size[1], size[2])), group, st, h);
-           }, py::arg("name"), py::arg("size"), py::arg("group") = -1, py::arg("static") = false, py::arg("halvings") = 9)
-      .def("add_cylinder", [](PyEngine& e, const std::string& name, double radius, double height, int segments, int group,
-                              bool st, int h) {
-             if (segments < 3) throw py::value_error("segments >= 3");
-             return e.add(name, collision::make_cylinder(radius, height, segments), group, st, h);
-           }, py::arg("name"), py::arg("radius"), py::arg("height"), py::arg("segments") = 24, py::arg("group") = -1,
+      .def("add_box", &PyEngine::add_box, py::arg("name"), py::arg("size"), py::arg("group") = -1, py::arg("static") = false, py::arg("halvings") = 9)
+      .def("add_cylinder", &PyEngine::add_cylinder, py::arg("name"), py::arg("radius"), py::arg("height"), py::arg("segments") = 24, py::arg("group") = -1,
            py::arg("static") = false, py::arg("halvings") = 9)
       .def("set_pose", &PyEngine::set_pose, py::arg("body"), py::arg("pose"))
       .def("set_pair_enabled", [](PyEngine& e, collision::BodyId a, collision::BodyId b, bool on) {
+             const InUse busy(e.busy(), "this Engine");
              e.name(a);  // an unknown id raises IndexError
              e.name(b);
              e.engine().set_pair_enabled(a, b, on);
            }, py::arg("a"), py::arg("b"), py::arg("enabled"))
-      .def("set_clearance", [](PyEngine& e, double c) { e.engine().set_default_clearance(c); }, py::arg("clearance_mm"))
+      .def("set_clearance", [](PyEngine& e, double c) {
+             const InUse busy(e.busy(), "this Engine");
+             if (!(std::isfinite(c) && c >= 0)) throw py::value_error("clearance: a finite number >= 0 [mm]");
+             e.engine().set_default_clearance(c);
+           }, py::arg("clearance_mm"))
       .def("check", &PyEngine::check, "The first contact at the current poses (dict), or None.")
       .def("collides", [](PyEngine& e) { return !e.check().is_none(); })
       .def("check_poses", &PyEngine::check_poses, py::arg("bodies"), py::arg("poses"),
@@ -596,5 +839,11 @@ PYBIND11_MODULE(_asimov, m) {
            "beyond: at least `upper` apart (distance is a lower bound).")
       .def("body_name", &PyEngine::name, py::arg("body"))
       .def("body_closed", [](PyEngine& e, collision::BodyId id) { e.name(id); return e.engine().body_closed(id); }, py::arg("body"))
-      .def("__len__", &PyEngine::size);
+      .def("__len__", &PyEngine::size)
+      .def("__repr__", [](const PyEngine& e) {
+        std::string names;
+        for (std::size_t k = 0; k < e.size() && k < 8; ++k) names += (k ? ", " : "") + e.name(static_cast<collision::BodyId>(k));
+        if (e.size() > 8) names += ", ...";
+        return "<asimov.Engine " + std::to_string(e.size()) + (e.size() == 1 ? " body" : " bodies") + (names.empty() ? "" : ": " + names) + ">";
+      });
 }

@@ -56,6 +56,13 @@ class Monitor {
   // then reported as LOAD would).
   CommandStatus end_of_input();
 
+  // The outcome of the last program execution (EXECUTE, PROCEED, ...) and how many there were:
+  // the Python Session's CommandError carries its program, line, kind and report.
+  const std::optional<RunResult>& last_run() const { return last_run_; }
+  std::uint64_t run_count() const { return run_count_; }
+  // A run made outside the monitor (Python's Session.run): STATUS reports it as an EXECUTE's.
+  void record_run(const RunResult& r, const std::string& main);
+
   // Asked before replacing a file or ZERO; unset (scripted mode): the answer is yes.
   std::function<bool(const std::string& question)> confirm;
 
@@ -105,6 +112,9 @@ class Monitor {
   std::string state_program_;         // in which program (a CALLed one, when it differs)
   std::vector<TaskReport> tasks_;     // the tasks of the last execution, when it had several
   std::optional<motion::InterruptReport> halted_;  // the motion Ctrl-C halted in it
+  std::optional<RunResult> last_run_;
+  std::uint64_t run_count_ = 0;
+  void remember(const RunResult& r);
 };
 
 }  // namespace asimov::interpreter
