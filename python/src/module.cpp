@@ -285,30 +285,24 @@ py::list robot_ik_all(const robots::Robot& robot, const Array& flange, const std
 // display step dq.
 py::array_t<double> robot_jacobian(const robots::Robot& robot, const Array& joints) {
   const robots::JointVector q = to_joints(robot, joints);
-  std::vector<Pose> frames;
-  robots::link_frames(robot, q, frames);
+  const robots::JointVector internal = robots::display_to_dh(robot, q);
   const int n = robot.joint_count();
-  const Pose flange = frames.back();
+  std::vector<robots::JointScrews> screws(static_cast<std::size_t>(n));
+  Pose f = Pose::Identity();
+  for (int k = 0; k < n; ++k) f = robots::joint_screws(robot, k, internal[k], f, screws[static_cast<std::size_t>(k)]);
   py::array_t<double> out({py::ssize_t{6}, py::ssize_t{n}});
   auto m = out.mutable_unchecked<2>();
   for (int k = 0; k < n; ++k) {
-    // Joint k moves frame k+1 about (or along) its axis through the origin of the frame it
-    // turns in: frames[k] . origin for a chain, frames[k] (z axis) for DH.
-    Pose pre = frames[static_cast<std::size_t>(k)];
-    collision::Vec3 axis = pre.linear().col(2);
-    if (robot.is_chain()) {
-      pre = pre * robot.chain[static_cast<std::size_t>(k)].origin;
-      axis = pre.linear() * robot.chain[static_cast<std::size_t>(k)].axis;
-    }
     // Display to internal: d(internal)/d(display) = sign * pi/180 (revolute) or 1 (prismatic).
     const double scale = robot.prismatic(k) ? 1.0 : (robot.mapping.empty() ? 1.0 : robot.mapping[static_cast<std::size_t>(k)].sign) * M_PI / 180;
-    collision::Vec3 v, w;
-    if (robot.prismatic(k)) {
-      v = axis * scale, w = collision::Vec3::Zero();
-    } else {
-      v = axis.cross(flange.translation() - pre.translation()) * scale, w = axis * scale;
+    collision::Vec3 v = collision::Vec3::Zero(), w = collision::Vec3::Zero();
+    const robots::JointScrews& s = screws[static_cast<std::size_t>(k)];
+    for (int i = 0; i < s.count; ++i) {  // its own axis and those of its coupled joints
+      const robots::JointScrew& x = s.screw[static_cast<std::size_t>(i)];
+      if (x.type == robots::JointType::prismatic) v += x.rate * x.axis;
+      else v += x.rate * x.axis.cross(f.translation() - x.point), w += x.rate * x.axis;
     }
-    for (int r = 0; r < 3; ++r) m(r, k) = v[r], m(r + 3, k) = w[r];
+    for (int r = 0; r < 3; ++r) m(r, k) = v[r] * scale, m(r + 3, k) = w[r] * scale;
   }
   return out;
 }

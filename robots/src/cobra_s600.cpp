@@ -41,7 +41,7 @@ Robot cobra_s600() {
   Robot r;
   r.name = "cobra_s600";
   const auto joint = [](const char* name, const Pose& origin, const Vec3& axis, JointType type) {
-    return ChainJoint{name, origin, axis, type};
+    return ChainJoint{name, origin, axis, type, {}};
   };
   r.chain = {joint("J1", translation(0, 0, h1), Vec3::UnitZ(), JointType::revolute),
              joint("J2", translation(l1, 0, 0), Vec3::UnitZ(), JointType::revolute),

@@ -22,13 +22,21 @@ BodyReach body_reach(const Robot& robot, const collision::Polyhedron& mesh, int 
   const double sphere = std::min(rho_origin, centre.norm() + rho_centre);
   const int n = std::min(link, robot.joint_count());
   for (int j = 0; j < n; ++j) {  // joint j+1 turns about an axis through o_j (DH) or o_{j+1} (chain)
-    if (robot.prismatic(j)) {     // every point of the body moves by exactly |dq| [mm]
-      r.radius[static_cast<std::size_t>(j)] = 180 / std::numbers::pi;
-      continue;
-    }
     double chain = 0;            // |o_j - o_link| <= sum of the link offsets in between
     for (int i = j; i < link; ++i) chain += link_offset_bound(robot, i);
+    if (robot.prismatic(j)) {     // every point of the body moves by exactly |dq| [mm]
+      r.radius[static_cast<std::size_t>(j)] = 180 / std::numbers::pi;
+      if (robot.is_chain())  // coupled joints: per mm of the leader, |rate| mm or |rate| rad x the distance
+        for (const CoupledJoint& c : robot.chain[static_cast<std::size_t>(j)].coupled)
+          r.radius[static_cast<std::size_t>(j)] += std::abs(c.multiplier) * (c.type == JointType::prismatic ? 1.0 : chain + sphere) * 180 / std::numbers::pi;
+      continue;
+    }
     r.radius[static_cast<std::size_t>(j)] = chain + sphere;
+    // Coupled joints turn (or slide) with joint j at their rates, about axes as near the body
+    // as o_j's: each adds |rate| x that distance (a sliding one |rate| mm per rad).
+    if (robot.is_chain())
+      for (const CoupledJoint& c : robot.chain[static_cast<std::size_t>(j)].coupled)
+        r.radius[static_cast<std::size_t>(j)] += std::abs(c.multiplier) * (c.type == JointType::prismatic ? 1.0 : chain + sphere);
   }
   return r;
 }

@@ -92,6 +92,7 @@ bool solve_spherical(const Robot& robot, const Pose& flange, const JointVector& 
 }  // namespace
 
 const IkFamily* ik_family_of(const Robot& robot) {
+  if (has_coupled_joints(robot)) return nullptr;  // the closed forms know no coupled joints: numeric
 #define ASIMOV_IK_FAMILY(NAME) &NAME##_family,
   static constexpr const IkFamily* kFamilies[] = {
 #include "arm_families.def"

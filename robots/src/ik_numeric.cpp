@@ -29,33 +29,22 @@ struct Chain {
 // Flange pose and weighted error e = [p* - p; L * log(R* R^T)] and Jacobian at internal q.
 void evaluate(const Chain& c, const JointVector& q, const Pose& target, Vec6& e, Jac* jac) {
   Pose f = Pose::Identity();
-  std::array<Vec3, kMaxJoints> axis, point;
-  for (int k = 0; k < c.n; ++k) {
-    Pose pre;  // frame in which joint k moves
-    Vec3 a;
-    if (c.robot.is_chain()) {
-      const ChainJoint& j = c.robot.chain[static_cast<std::size_t>(k)];
-      pre = f * j.origin;
-      a = pre.linear() * j.axis;
-    } else {
-      pre = f;
-      a = f.linear().col(2);
-    }
-    axis[static_cast<std::size_t>(k)] = a;
-    point[static_cast<std::size_t>(k)] = pre.translation();
-    f = f * joint_transform(c.robot, k, q[k]);
-  }
+  std::array<JointScrews, kMaxJoints> screws;
+  for (int k = 0; k < c.n; ++k) f = joint_screws(c.robot, k, q[k], f, screws[static_cast<std::size_t>(k)]);
   e.head<3>() = target.translation() - f.translation();
   const Eigen::AngleAxisd r(target.linear() * f.linear().transpose());
   e.tail<3>() = c.length * r.angle() * r.axis();
   if (!jac) return;
   jac->resize(6, c.n);
-  for (int k = 0; k < c.n; ++k) {
-    const Vec3& a = axis[static_cast<std::size_t>(k)];
-    if (c.robot.prismatic(k)) {
-      jac->col(k) << a, Vec3::Zero();
-    } else {
-      jac->col(k) << a.cross(f.translation() - point[static_cast<std::size_t>(k)]), c.length * a;
+  for (int k = 0; k < c.n; ++k) {  // own axis, plus those of coupled joints at their rates
+    jac->col(k).setZero();
+    const JointScrews& s = screws[static_cast<std::size_t>(k)];
+    for (int i = 0; i < s.count; ++i) {
+      const JointScrew& w = s.screw[static_cast<std::size_t>(i)];
+      Vec6 col;
+      if (w.type == JointType::prismatic) col << w.axis, Vec3::Zero();
+      else col << w.axis.cross(f.translation() - w.point), c.length * w.axis;
+      jac->col(k) += w.rate * col;
     }
   }
 }

@@ -29,27 +29,22 @@ constexpr double kRotationTol = 1e-9;   // [rad]
 void evaluate(const Robot& robot, const JointVector& q, const Pose& target, double length, Vec6& e, Jac& jac) {
   const int n = robot.joint_count();
   Pose f = Pose::Identity();
-  std::array<Vec3, kMaxJoints> axis, point;
-  for (int k = 0; k < n; ++k) {
-    Pose pre = f;
-    Vec3 a = f.linear().col(2);
-    if (robot.is_chain()) {
-      const ChainJoint& j = robot.chain[static_cast<std::size_t>(k)];
-      pre = f * j.origin;
-      a = pre.linear() * j.axis;
-    }
-    axis[static_cast<std::size_t>(k)] = a;
-    point[static_cast<std::size_t>(k)] = pre.translation();
-    f = f * joint_transform(robot, k, q[k]);
-  }
+  std::array<JointScrews, kMaxJoints> screws;
+  for (int k = 0; k < n; ++k) f = joint_screws(robot, k, q[k], f, screws[static_cast<std::size_t>(k)]);
   e.head<3>() = target.translation() - f.translation();
   const Eigen::AngleAxisd r(target.linear() * f.linear().transpose());
   e.tail<3>() = length * r.angle() * r.axis();
   jac.resize(6, n);
-  for (int k = 0; k < n; ++k) {
-    const Vec3& a = axis[static_cast<std::size_t>(k)];
-    if (robot.prismatic(k)) jac.col(k) << length * a, Vec3::Zero();
-    else jac.col(k) << a.cross(f.translation() - point[static_cast<std::size_t>(k)]), length * a;
+  for (int k = 0; k < n; ++k) {  // own axis, plus those of coupled joints at their rates
+    jac.col(k).setZero();
+    const JointScrews& s = screws[static_cast<std::size_t>(k)];
+    for (int i = 0; i < s.count; ++i) {
+      const JointScrew& w = s.screw[static_cast<std::size_t>(i)];
+      Vec6 col;
+      if (w.type == JointType::prismatic) col << length * w.axis, Vec3::Zero();
+      else col << w.axis.cross(f.translation() - w.point), length * w.axis;
+      jac.col(k) += (robot.prismatic(k) ? length : 1.0) * w.rate * col / (w.type == JointType::prismatic ? length : 1.0);
+    }
   }
 }
 }  // namespace

@@ -55,7 +55,7 @@ int sp3(const Vec3& w, const Vec3& r, const Vec3& p, const Vec3& q, double d, do
 }  // namespace
 
 bool spherical_wrist_model(const Robot& robot, SphericalWristModel& m) {
-  if (!robot.is_chain() || robot.joint_count() != 6) return false;
+  if (!robot.is_chain() || robot.joint_count() != 6 || has_coupled_joints(robot)) return false;
   for (const auto& j : robot.chain)
     if (j.type != JointType::revolute) return false;
   Pose f = Pose::Identity();

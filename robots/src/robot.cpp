@@ -112,7 +112,13 @@ double link_offset_bound(const Robot& robot, int k) {
   if (!robot.is_chain()) return std::hypot(robot.dh[i].a, robot.dh[i].d);
   const ChainJoint& j = robot.chain[i];
   double b = j.origin.translation().norm();
-  if (j.type == JointType::prismatic) b += std::max(std::abs(robot.lower[k]), std::abs(robot.upper[k]));
+  const double travel = std::max(std::abs(robot.lower[k]), std::abs(robot.upper[k]));  // display
+  if (j.type == JointType::prismatic) b += travel;
+  for (const CoupledJoint& c : j.coupled) {
+    b += c.origin.translation().norm();
+    if (c.type == JointType::prismatic)  // its travel: |multiplier| x the leader's (internal) + |offset|
+      b += std::abs(c.multiplier) * (j.type == JointType::prismatic ? travel : travel * std::numbers::pi / 180) + std::abs(c.offset);
+  }
   if (k + 1 == robot.joint_count()) b += robot.flange_offset.translation().norm();
   return b;
 }
@@ -126,8 +132,42 @@ Pose joint_transform(const Robot& robot, int k, double q) {
     t.rotate(Eigen::AngleAxisd(q, j.axis));
   else
     t.translate(q * j.axis);
+  for (const CoupledJoint& c : j.coupled) {
+    t = t * c.origin;
+    const double v = c.multiplier * q + c.offset;
+    if (c.type == JointType::revolute) t.rotate(Eigen::AngleAxisd(v, c.axis));
+    else t.translate(v * c.axis);
+  }
   if (k + 1 == robot.joint_count()) t = t * robot.flange_offset;
   return t;
+}
+
+bool has_coupled_joints(const Robot& robot) {
+  return std::any_of(robot.chain.begin(), robot.chain.end(), [](const ChainJoint& j) { return !j.coupled.empty(); });
+}
+
+Pose joint_screws(const Robot& robot, int k, double q, const Pose& frame_k, JointScrews& out) {
+  out.count = 0;
+  if (!robot.is_chain()) {
+    out.screw[0] = {frame_k.linear().col(2), frame_k.translation(), 1.0, JointType::revolute};
+    out.count = 1;
+    return frame_k * joint_transform(robot, k, q);
+  }
+  const ChainJoint& j = robot.chain[static_cast<std::size_t>(k)];
+  Pose f = frame_k * j.origin;
+  out.screw[0] = {f.linear() * j.axis, f.translation(), 1.0, j.type};
+  out.count = 1;
+  if (j.type == JointType::revolute) f.rotate(Eigen::AngleAxisd(q, j.axis));
+  else f.translate(q * j.axis);
+  for (const CoupledJoint& c : j.coupled) {
+    f = f * c.origin;
+    if (out.count < static_cast<int>(out.screw.size())) out.screw[static_cast<std::size_t>(out.count++)] = {f.linear() * c.axis, f.translation(), c.multiplier, c.type};
+    const double v = c.multiplier * q + c.offset;
+    if (c.type == JointType::revolute) f.rotate(Eigen::AngleAxisd(v, c.axis));
+    else f.translate(v * c.axis);
+  }
+  if (k + 1 == robot.joint_count()) f = f * robot.flange_offset;
+  return f;
 }
 
 void link_frames(const Robot& robot, const JointVector& display, std::vector<Pose>& frames) {

@@ -363,6 +363,8 @@ class Parser {
       return j->child;
     };
     std::string at = roots[0];
+    std::map<std::size_t, std::vector<CoupledJoint>> coupled;  // chain index -> its followers
+    std::size_t since_movable = 0;  // the first entry of `placed` after the last movable (or coupled) joint
     Pose acc = Pose::Identity();  // from the current movable frame to link `at`
     int frame = 0;
     placed.push_back({0, at, acc});
@@ -401,9 +403,39 @@ class Parser {
       if (next->kind == Kind::fixed) {
         acc = acc * next->origin;
       } else {
-        if (!next->mimic.empty())
-          throw UrdfError(source_, next->line, "joint '" + next->name + "' on the arm chain mimics '" + next->mimic +
-                                                   "': coupled arm joints are not modelled");
+        if (!next->mimic.empty()) {
+          // A coupled joint (IRB 5400's joint5b follows joint5): folded into the transform of the
+          // movable joint just before it, which it must follow; the links between the two are
+          // then posed by both, so they must carry no collision geometry (split-joint modelling).
+          if (chain.empty() || chain.back().name != next->mimic)
+            throw UrdfError(source_, next->line, "joint '" + next->name + "' on the arm chain mimics '" + next->mimic +
+                                                     "', not the movable joint just before it" +
+                                                     (chain.empty() ? std::string() : " ('" + chain.back().name + "')") +
+                                                     ": such coupled arm joints are not modelled");
+          for (std::size_t p = since_movable; p < placed.size(); ++p)
+            if (!links.at(placed[p].link).geometry.empty())
+              throw UrdfError(source_, next->line, "joint '" + next->name + "' follows '" + next->mimic + "', and link '" +
+                                                       placed[p].link + "' between them has collision geometry: not modelled");
+          std::vector<CoupledJoint>& followers = coupled[chain.size() - 1];
+          if (followers.size() >= static_cast<std::size_t>(kMaxCoupled))
+            throw UrdfError(source_, next->line, "joint '" + next->mimic + "' has more than " + std::to_string(kMaxCoupled) + " coupled followers");
+          const Joint& leader = chain.back();
+          const double u_leader = leader.kind == Kind::prismatic ? kMm : 1.0, u_follower = next->kind == Kind::prismatic ? kMm : 1.0;
+          CoupledJoint c;
+          c.name = next->name;
+          c.origin = acc * next->origin;
+          c.axis = next->axis;
+          c.type = next->kind == Kind::prismatic ? JointType::prismatic : JointType::revolute;
+          c.multiplier = next->mimic_multiplier * u_follower / u_leader;  // internal units: rad, mm
+          c.offset = next->mimic_offset * u_follower;
+          followers.push_back(c);
+          for (std::size_t p = since_movable; p < placed.size(); ++p) placed[p].pose = Pose::Identity();  // no geometry
+          acc = Pose::Identity();
+          at = next->child;
+          placed.push_back({frame, at, acc});
+          since_movable = placed.size() - 1;
+          continue;
+        }
         Joint j = *next;
         j.origin = acc * next->origin;
         chain.push_back(j);
@@ -414,6 +446,7 @@ class Parser {
       }
       at = next->child;
       placed.push_back({frame, at, acc});
+      if (next->kind != Kind::fixed) since_movable = placed.size() - 1;
     }
     if (at == tip)
       for (const Joint* j : children[at]) branches.push_back({j, frame, acc});
@@ -509,7 +542,13 @@ class Parser {
     r.lower.resize(n), r.upper.resize(n), r.limit_tolerance.resize(n), r.max_velocity.resize(n), r.max_acceleration.resize(n), r.ready.resize(n);
     for (int i = 0; i < n; ++i) {
       const Joint& j = chain[static_cast<std::size_t>(i)];
-      r.chain.push_back({j.name, j.origin, j.axis, j.kind == Kind::prismatic ? JointType::prismatic : JointType::revolute});
+      ChainJoint cj;
+      cj.name = j.name;
+      cj.origin = j.origin;
+      cj.axis = j.axis;
+      cj.type = j.kind == Kind::prismatic ? JointType::prismatic : JointType::revolute;
+      if (auto it = coupled.find(static_cast<std::size_t>(i)); it != coupled.end()) cj.coupled = it->second;
+      r.chain.push_back(std::move(cj));
       r.mapping.push_back({1.0, 0.0});
       r.lower[i] = j.lower, r.upper[i] = j.upper;
       r.limit_tolerance[i] = j.limit_tolerance;

@@ -129,7 +129,8 @@ TEST_CASE("planner: refusals carry the VAL error and no trajectory; nothing move
   p = plan_move(start_of(cell, world, st), request, far, true, {}, 1);  // stretches out: refused on the way
   CHECK(p.result.status == MotionStatus::error);
   CHECK(p.trajectory.line.samples.empty());
-  CHECK(p.result.error.detail.ends_with("% of the path"));
+  INFO(p.result.error.detail);
+  CHECK(p.result.error.detail.find("% of the path") != std::string::npos);
 }
 
 TEST_CASE("walker: an interrupt before the first step halts at the start pose, clock unchanged", "[walker]") {

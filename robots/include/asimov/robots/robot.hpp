@@ -6,6 +6,7 @@
 #pragma once
 #include "asimov/collision/polyhedron.hpp"
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -30,14 +31,42 @@ struct JointMapping {
 
 enum class JointType { revolute, prismatic };
 
-// One movable joint of a URDF-style chain: frame k+1 = frame k . origin . motion(q), where
-// motion is a rotation by q [rad] about `axis` (revolute) or a translation by q [mm] along it.
+// A joint of the arm chain that follows the movable joint before it (a URDF <mimic> on the
+// chain, as IRB 5400's joint5b follows joint5): after that joint's motion come `origin` and a
+// motion by multiplier * q + offset (internal units: rad, mm) about / along `axis`.
+struct CoupledJoint {
+  std::string name;
+  Pose origin = Pose::Identity();  // [mm], fixed joints before it folded in
+  Vec3 axis = Vec3::UnitZ();
+  JointType type = JointType::revolute;
+  double multiplier = 1, offset = 0;
+};
+constexpr int kMaxCoupled = 4;  // followers of one joint
+
+// One movable joint of a URDF-style chain: frame k+1 = frame k . origin . motion(q) [. each
+// coupled joint's origin . motion], where motion is a rotation by q [rad] about `axis`
+// (revolute) or a translation by q [mm] along it.
 struct ChainJoint {
   std::string name;
   Pose origin = Pose::Identity();  // [mm]; fixed joints before this one are folded in
   Vec3 axis = Vec3::UnitZ();       // unit vector in the joint frame
   JointType type = JointType::revolute;
+  std::vector<CoupledJoint> coupled;  // at most kMaxCoupled
 };
+
+// The directions joint k moves the flange by, at internal joints q, in the base frame: its own
+// axis (rate 1) and those of its coupled joints (rate = multiplier): the Jacobian column of joint
+// k is the sum of rate * [a x (p_flange - point); a] (revolute) or rate * [a; 0] (prismatic).
+struct JointScrew {
+  Vec3 axis = Vec3::UnitZ(), point = Vec3::Zero();
+  double rate = 1;
+  JointType type = JointType::revolute;
+};
+struct JointScrews {
+  std::array<JointScrew, 1 + kMaxCoupled> screw;
+  int count = 0;
+};
+
 
 struct LinkBody {
   int link = 0;                  // 0 = base column (fixed), k = moves with DH frame k
@@ -90,6 +119,11 @@ struct Robot {
   bool is_chain() const { return !chain.empty(); }
   bool prismatic(int j) const { return is_chain() && chain[static_cast<std::size_t>(j)].type == JointType::prismatic; }
 };
+
+// `frame_k` is the pose of frame k; returns frame k+1 (frame_k . joint_transform(robot, k, q)).
+Pose joint_screws(const Robot& robot, int k, double q, const Pose& frame_k, JointScrews& out);
+// True when a chain joint has coupled followers (the closed forms then do not apply).
+bool has_coupled_joints(const Robot& robot);
 
 // The READY joints of the robot (robot.ready, or (0, -90, 90, 0, 0, 0) for a 6-axis arm).
 JointVector ready_joints(const Robot& robot);
