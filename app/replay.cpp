@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -196,10 +197,34 @@ nlohmann::json workcell_data(const motion::Cell& cell, const motion::CellRuntime
           {"events", std::move(events)}};
 }
 
-// "</script" inside an inlined script would end it early.
-std::string script_safe(std::string s) {
-  for (std::size_t at = 0; (at = s.find("</", at)) != std::string::npos; at += 3) s.replace(at, 2, "<\\/");
-  return s;
+// Text inlined into a <script> element must not end it early (`</script`) nor put the HTML
+// tokenizer into its "double escaped" state (`<!--` then `<script`), where the real `</script>`
+// no longer closes it and the rest of the page is swallowed. In JSON every `<` is inside a
+// string, so `\u003c` is the same text to JSON.parse; the viewer's own code gets `<\/`, `<\!--`
+// and `<\script`, which JavaScript strings read unchanged (viewer.js has none in a regex).
+std::string json_script_safe(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    if (c == '<') out += "\\u003c";
+    else out += c;
+  }
+  return out;
+}
+
+std::string script_safe(const std::string& s) {
+  const auto at = [&s](std::size_t i, const char* word) {  // ASCII case-insensitive, as the tokenizer
+    for (std::size_t k = 0; word[k]; ++k)
+      if (i + k >= s.size() || std::tolower(static_cast<unsigned char>(s[i + k])) != word[k]) return false;
+    return true;
+  };
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    out += s[i];
+    if (s[i] == '<' && (at(i + 1, "/") || at(i + 1, "!--") || at(i + 1, "script"))) out += '\\';
+  }
+  return out;
 }
 
 }  // namespace
@@ -254,7 +279,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   // at the end of the run shows that, except after a contact, where the halting pose ends it.
   const double end_s = result.status == interpreter::RunStatus::collision ? result.collision.time_free_s : sim.time_s();
   if (samples.empty() || samples.back().time_s < end_s)
-    samples.push_back({end_s, sim.joints(), samples.empty() ? 0 : samples.back().step, false});
+    samples.push_back({end_s, sim.joints(), samples.empty() ? 0 : samples.back().step, false, sim.here().translation()});
 
   auto bodies = nlohmann::json::array();
   std::vector<std::size_t> moving;
@@ -284,7 +309,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   }
 
   std::vector<double> times;
-  std::vector<float> joints, world;
+  std::vector<float> joints, world, tool_path;
   std::vector<std::int32_t> steps;
   std::vector<std::uint8_t> checked;
   std::vector<int> distinct_steps;
@@ -295,6 +320,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
     for (std::size_t i : moving) push_pose(world, poses[i]);
     steps.push_back(s.step);
     checked.push_back(s.checked ? 1 : 0);
+    for (int c = 0; c < 3; ++c) tool_path.push_back(static_cast<float>(s.tool_mm[c]));
     if (std::find(distinct_steps.begin(), distinct_steps.end(), s.step) == distinct_steps.end())
       distinct_steps.push_back(s.step);
   }
@@ -316,6 +342,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
                   {"step", b64(steps)},            // Int32: the motion's program step
                   {"checked", b64(checked)},       // Uint8: 1 at a checked pose (the trace's)
                   {"joints_deg", b64(joints)},     // Float32, count x joint_count
+                  {"tool_mm", b64(tool_path)},     // Float32, count x 3: the tool point (world)
                   {"poses", b64(world)}}},         // Float32, count x moving x 7
       {"steps", step_lines(result.motions, distinct_steps)},
       {"end_time_s", samples.back().time_s}};
@@ -369,8 +396,8 @@ std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data) 
   html += "<title>asimov replay</title>\n";
   html += "<!-- written by `asimov run --replay`; three.js (MIT, three.js authors) is inlined below -->\n";
   html += "</head>\n<body>\n";
-  html += "<script type=\"application/json\" id=\"asimov-replay-data\">" + script_safe(data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
-  html += "<script type=\"importmap\">" + script_safe(imports.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
+  html += "<script type=\"application/json\" id=\"asimov-replay-data\">" + json_script_safe(data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
+  html += "<script type=\"importmap\">" + json_script_safe(imports.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
   html += "<script type=\"module\" id=\"asimov-replay-viewer\">\n" + script_safe(assets.viewer) + "\n</script>\n";
   html += "</body>\n</html>\n";
   return html;
