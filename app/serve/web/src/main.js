@@ -9,8 +9,18 @@ import { EditorState, StateEffect, StateField, RangeSetBuilder } from '@codemirr
 import { Decoration, WidgetType, keymap } from '@codemirror/view';
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { HighlightStyle, syntaxHighlighting } from '@codemirror/language';
+import { tags } from '@lezer/highlight';
 import { vplus } from './vplus.js';
-import { atEndTime, cellBounds, decodeReplay, fitDistance, frameAt, movingPose, toolAt } from '../../../replay/viewer.js';
+import { atEndTime, cellBounds, decodeReplay, fitDistance, frameAt, movingPose, partAt, toolAt } from '../../../replay/viewer.js';
+
+// Colours readable on the dark editor.
+const darkHighlight = HighlightStyle.define([
+  { tag: tags.keyword, color: '#c792ea' }, { tag: tags.comment, color: '#7f8c98', fontStyle: 'italic' },
+  { tag: tags.string, color: '#c3e88d' }, { tag: tags.number, color: '#f78c6c' }, { tag: tags.operator, color: '#89ddff' },
+  { tag: [tags.atom, tags.function(tags.variableName)], color: '#82aaff' }, { tag: tags.special(tags.variableName), color: '#ffcb6b' },
+  { tag: tags.variableName, color: '#e6e6e6' },
+]);
 
 const $ = (tag, attrs = {}, parent = null) => {
   const e = Object.assign(document.createElement(tag), attrs);
@@ -127,7 +137,7 @@ const editor = new EditorView({
   state: EditorState.create({
     doc: '',
     extensions: [
-      basicSetup, vplus, diagField, pointerField, EditorView.theme({}, { dark: true }),
+      basicSetup, vplus, syntaxHighlighting(darkHighlight), diagField, pointerField, EditorView.theme({}, { dark: true }),
       keymap.of([{ key: 'Mod-s', run: () => { save(); return true; } }, { key: 'Mod-Enter', run: () => { run(); return true; } }]),
       EditorView.updateListener.of((u) => { if (u.docChanged) { clearTimeout(checkTimer); checkTimer = setTimeout(check, 250); } }),
     ],
@@ -226,18 +236,23 @@ scene.add(sun);
 const camera = new THREE.PerspectiveCamera(45, 1, 1, 200000);
 camera.up.set(0, 0, 1);
 const controls = new OrbitControls(camera, renderer.domElement);
-let bodies = [], moving = [], marker = null, path = null, framed = null, rep = null;
+let bodies = [], moving = [], marker = null, path = null, framed = null, rep = null, cellGroup = null;
+const PART_COLORS = { resting: 0x5fb760, on_conveyor: 0x3cc8d8, carried: 0xc27ae0, removed: 0x808080 };
+const DEVICE_COLORS = { conveyor: 0xb0b8c0, sensor: 0xffd54a, sink: 0xff7060, feeder: 0x90d0ff };
+const flatGeometry = (m) => {
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(m.vertices, 3));
+  g.setIndex(new THREE.BufferAttribute(m.triangles, 1));
+  const flat = g.toNonIndexed();
+  flat.computeVertexNormals();
+  return flat;
+};
 const setPose = (o, p) => { o.position.set(p[0], p[1], p[2]); o.quaternion.set(p[3], p[4], p[5], p[6]); };
 
 function buildScene(data) {
   for (const b of bodies) scene.remove(b.mesh);
   bodies = data.bodies.map((b) => {
-    const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.BufferAttribute(b.vertices, 3));
-    g.setIndex(new THREE.BufferAttribute(b.triangles, 1));
-    const flat = g.toNonIndexed();
-    flat.computeVertexNormals();
-    const mesh = new THREE.Mesh(flat, new THREE.MeshStandardMaterial({ color: COLORS[b.kind], roughness: 0.6, metalness: 0.1 }));
+    const mesh = new THREE.Mesh(flatGeometry(b), new THREE.MeshStandardMaterial({ color: COLORS[b.kind], roughness: 0.6, metalness: 0.1 }));
     if (b.pose) setPose(mesh, b.pose);
     scene.add(mesh);
     return { mesh, kind: b.kind, name: b.name };
@@ -285,6 +300,27 @@ function showRun(m) {
   }
   for (const b of bodies) b.mesh.material.color.setHex(COLORS[b.kind]);
   marker.visible = false;
+  // A cell with parts or devices: the parts with their own shapes, the devices' boxes faintly.
+  if (cellGroup) scene.remove(cellGroup);
+  cellGroup = null;
+  const W = rep.workcell;
+  if (W) {
+    cellGroup = new THREE.Group();
+    const geometries = W.part_meshes.map(flatGeometry);
+    cellGroup.userData.parts = W.parts.map((p) => {
+      const m = new THREE.Mesh(geometries[p.mesh], new THREE.MeshStandardMaterial({ color: PART_COLORS.resting, roughness: 0.5 }));
+      m.visible = false;
+      cellGroup.add(m);
+      return m;
+    });
+    for (const d of W.devices) {
+      const box = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxGeometry(...d.size)),
+                                         new THREE.LineBasicMaterial({ color: DEVICE_COLORS[d.kind], transparent: true, opacity: 0.5 }));
+      setPose(box, d.pose);
+      cellGroup.add(box);
+    }
+    scene.add(cellGroup);
+  }
   report.className = 'hidden';
   playT = 0;
   playing = true;
@@ -307,6 +343,11 @@ function poseRun(t) {
     pos.needsUpdate = true;
     path.geometry.setDrawRange(0, i + 2);
   }
+  if (cellGroup) cellGroup.userData.parts.forEach((m, k) => {
+    const p = partAt(rep, k, t);
+    m.visible = p !== null && p.state !== 'removed';
+    if (m.visible) { setPose(m, p.pose); m.material.color.setHex(PART_COLORS[p.state]); }
+  });
   const line = rep.steps[String(F.step[i])];
   showPointer(line && line.program === rep.program ? line.line : line ? line.line : 0);
   const atEnd = atEndTime(t, end), hit = rep.collision;
