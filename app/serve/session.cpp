@@ -225,7 +225,7 @@ json StudioSession::run(const Request& r) {
       messages << interpreter::format_diagnostic(summary.result.error) << app::collision_lines(summary.result.collision);
       break;
   }
-  json data = app::replay_data(file, sim, summary.result);
+  json data = app::replay_data(file, sim, summary.result, r.text);
   answer["status"] = app::status_name(summary.result);
   answer["output"] = out.str();
   answer["messages"] = messages.str();

@@ -74,6 +74,8 @@ try {
   page = await open(beltUrl, { width: 800, height: 600 });
   s = await state(page);
   check(!s.panel && s.framed, `belt_pick 800x600: panel hidden ${!s.panel}, cell framed ${s.framed}`);
+  // The arm waits for the barrier at the start: the HUD names the WAIT, not a bare step.
+  check(/belt_pick, line 10: WAIT SIG\(1001\)/.test(s.hud) && !/\nstep \d/.test(s.hud), `belt_pick at 0: the waiting line named (${s.hud})`);
   const small = await pixelStats(context, await page.screenshot({ path: join(scratch, 'belt-800x600.png') }));
   check(small.nonBackground > 0.08, `belt_pick 800x600: the scene covers ${small.nonBackground}`);
   check(await page.evaluate(() => window.asimovReplay.panel(true)), 'belt_pick: the panel shows');
