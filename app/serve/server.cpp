@@ -333,6 +333,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (req.method() != http::verb::get && req.method() != http::verb::head)
       return respond(req, http::status::method_not_allowed, "text/plain", "GET only\n", req.keep_alive());
     const std::string path = path_of(target);
+    if (path == "/favicon.ico") return respond(req, http::status::no_content, "text/plain", "", req.keep_alive());
     if (path != "/" && path != "/index.html" && path != "/studio.js")
       return respond(req, http::status::not_found, "text/plain", "not found\n", req.keep_alive());
     if (!token_ok)

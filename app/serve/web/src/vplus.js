@@ -21,9 +21,9 @@ export const vplus = StreamLanguage.define({
       const w = word[0].toLowerCase(), bare = w.replace(/^[#$]/, '');
       if (INSTRUCTIONS.has(w)) return 'keyword';
       if (OPERATORS.has(w)) return 'operator';
-      if (FUNCTIONS.has(bare) && stream.match(/^\s*\(/, false)) return 'function(variableName)';
+      if (FUNCTIONS.has(bare) && stream.match(/^\s*\(/, false)) return 'variableName.function';
       if (FUNCTIONS.has(bare)) return 'atom';
-      return w.startsWith('#') ? 'special(variableName)' : w.startsWith('$') ? 'string.special' : 'variableName';
+      return w.startsWith('#') ? 'variableName.special' : w.startsWith('$') ? 'string.special' : 'variableName';
     }
     if (stream.match(/^(<>|<=|>=|==|[-+*/^=<>:])/)) return 'operator';
     stream.next();
