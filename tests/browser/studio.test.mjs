@@ -65,11 +65,19 @@ try {
   await page.click('.cm-content');
   await page.keyboard.press('Control+a');
   await page.keyboard.press('Delete');
-  await page.keyboard.type('.PROGRAM typed()\n    MOVE #PPOINT(0, -90, 90, 0, 0, 0)\n    SPEED 50 ALWAYS\n    MOVE nowhere(\n.END\n', { delay: 2 });
+  // (the editor keeps the previous line's indentation and closes brackets as one types)
+  await page.keyboard.type('.PROGRAM typed()\nMOVE #PPOINT(0, -90, 90, 0, 0, 0)\nSPEED 50 ALWAYS\nx = 1 +\n.END\n', { delay: 2 });
+  // The check of the whole text (250 ms after the last key) puts its error under line 4.
+  await page.waitForFunction(() => /\.END\n$/.test(window.asimovStudio.text()) &&
+                             window.asimovStudio.state().diagnostics.some((d) => !d.warning && d.line === 4), null, { timeout: 20000 });
   await page.waitForSelector('.cm-diag', { timeout: 20000 });
   const diag = await page.textContent('.cm-diag');
-  const s1 = await st();
-  check(/Syntax error|\*/.test(diag) && s1.diagnostics.some((d) => d.line === 4 && !d.warning), `a check error under line 4: ${diag}`);
+  const under = await page.evaluate(() => {  // the message's block sits right below line 4's text
+    const lines = [...document.querySelectorAll('.cm-line')], box = document.querySelector('.cm-diag').getBoundingClientRect();
+    const l4 = lines.find((l) => l.textContent === 'x = 1 +').getBoundingClientRect();
+    return box.top >= l4.bottom - 1 && box.top - l4.bottom < 5;
+  });
+  check(/\*Syntax error\*/.test(diag) && under, `a check error under the typed line: ${diag} (under ${under})`);
   // The error line fixed: the message goes.
   await page.evaluate(() => window.asimovStudio.setText('.PROGRAM typed()\n    MOVE #PPOINT(0, -90, 90, 0, 0, 0)\n.END\n'));
   await page.waitForFunction(() => window.asimovStudio.state().diagnostics.length === 0 && !document.querySelector('.cm-diag'), null, { timeout: 20000 });
@@ -94,6 +102,16 @@ try {
   await page.waitForFunction(() => !window.asimovStudio.state().playing, null, { timeout: 60000 });
   let s = await st();
   check(s.run.status === 'completed' && /Program completed: pick_place/.test(s.report), `pick_place completed: ${s.report}`);
+  // Playback: Restart plays it again from the start, Pause stops it where it is.
+  await page.evaluate(() => window.asimovStudio.setSpeed(0.5));
+  await page.click('#restart');
+  await page.waitForTimeout(500);
+  await page.click('#play');
+  const paused = await st();
+  await page.waitForTimeout(500);
+  const later = await st();
+  check(!paused.playing && paused.t > 0 && paused.t < 5 && later.t === paused.t && !paused.report &&
+        (await page.textContent('#play')) === 'Play', `restart then pause: t ${paused.t} then ${later.t}`);
 
   // A collision: the report, the marker, the pointer at the line, red bodies in the picture.
   await page.evaluate((t) => window.asimovStudio.setText(t), readFileSync(join(source, 'programs/demo/crash.v2'), 'utf8'));

@@ -61,6 +61,8 @@ const bSave = btn('save', 'Save', 'save the editor into the workspace (Ctrl-S)')
 $('span', { className: 'sep' }, bar);
 const bRun = btn('run', 'Run', 'run the program to its end (Ctrl-Enter)');
 const bAbort = btn('abort', 'Abort', 'stop the run or monitor command under way');
+const bPlay = btn('play', 'Pause', 'pause or go on playing the last run back (Restart: from its start)');
+const bRestart = btn('restart', 'Restart', 'play the last run back from its start');
 const speed = $('select', { id: 'speed', title: 'playback speed' }, bar);
 for (const [v, t] of [[0.25, 'x0.25'], [0.5, 'x0.5'], [1, 'x1'], [2, 'x2'], [4, 'x4'], [0, 'at once']])
   $('option', { value: v, textContent: t, selected: v === 1 }, speed);
@@ -288,6 +290,7 @@ function poseMoving(poses) { moving.forEach((b, k) => setPose(bodies[b].mesh, po
 
 // --- runs: played back on the simulated clock ---------------------------------------------------
 let playT = 0, playing = false, lastNow = 0, frameCount = 0;
+function setPlaying(on) { playing = on && !!rep; bPlay.textContent = playing ? 'Pause' : 'Play'; }
 function showRun(m) {
   rep = decodeReplay(m.replay);
   if (path) { scene.remove(path); path = null; }
@@ -323,7 +326,7 @@ function showRun(m) {
   }
   report.className = 'hidden';
   playT = 0;
-  playing = true;
+  setPlaying(true);
   if (Number(speed.value) === 0) playT = rep.frames.time[rep.frames.count - 1];
 }
 function poseRun(t) {
@@ -360,7 +363,7 @@ function poseRun(t) {
   hud.textContent = `${rep.program}  t = ${(atEnd ? end : t).toFixed(3)} s / ${end.toFixed(3)} s\n` +
     (line ? `${line.program}, line ${line.line}: ${line.text}\n` : '\n') + `joints ${joints.join('  ')}`;
   if (atEnd) {
-    playing = false;
+    setPlaying(false);
     report.textContent = `${lastRun.messages}${lastRun.output ? '\n' + lastRun.output : ''}`;
     report.className = lastRun.status === 'collision' ? 'collision' : lastRun.status === 'completed' ? 'completed' : 'error';
     if (hit) showPointer(lastRun.line);
@@ -405,7 +408,7 @@ async function monitor(line) {
   lastMonitor = m;
   if (m.output) print(m.output);
   promptEl.textContent = m.prompt;
-  if (m.poses && moving.length) { playing = false; poseMoving(m.poses); }
+  if (m.poses && moving.length) { setPlaying(false); poseMoving(m.poses); }
 }
 cmdline.addEventListener('keydown', (e) => {
   if (e.key !== 'Enter') return;
@@ -418,6 +421,20 @@ bSave.onclick = save;
 bRun.onclick = run;
 bAbort.onclick = () => send({ type: 'abort' });
 bReplay.onclick = exportReplay;
+// Playback of the last run (the run itself is computed whole: docs/studio.md).
+bPlay.onclick = () => {
+  if (!rep) return;
+  if (!playing && atEndTime(playT, rep.frames.time[rep.frames.count - 1])) return bRestart.onclick();
+  setPlaying(!playing);
+};
+bRestart.onclick = () => {
+  if (!rep) return;
+  for (const b of bodies) b.mesh.material.color.setHex(COLORS[b.kind]);
+  marker.visible = false;
+  report.className = 'hidden';
+  playT = 0;
+  setPlaying(true);
+};
 
 // The API of the page (tests, embedding).
 window.asimovStudio = {
