@@ -56,7 +56,7 @@ if [ "$fuzz" = ON ] && [ "$seconds" -gt 0 ]; then
   start=$SECONDS
   status=0
   ./fuzz/run.sh build-asan "$seconds" load run monitor & first=$!
-  ./fuzz/run.sh build-asan "$seconds" cell mesh urdf || status=1
+  ./fuzz/run.sh build-asan "$seconds" cell mesh urdf paths || status=1
   wait "$first" || status=1
   lane "fuzz smoke (${seconds} s per target)" $((SECONDS - start))
   exit $status
