@@ -32,8 +32,8 @@ struct Tree {
     const fs::path o = top / "o";
     fs::create_directories(p / "a" / "b");
     fs::create_directories(o / "sub");
-    for (const fs::path f : {p / "f", p / "a" / "f", p / "a" / "b" / "f"}) std::ofstream(f) << "in\n";
-    for (const fs::path f : {o / "f", o / "sub" / "f", top / "f"}) std::ofstream(f) << "out\n";
+    for (const fs::path& f : {p / "f", p / "a" / "f", p / "a" / "b" / "f"}) std::ofstream(f) << "in\n";
+    for (const fs::path& f : {o / "f", o / "sub" / "f", top / "f"}) std::ofstream(f) << "out\n";
     fs::create_symlink("../o", p / "out");
     fs::create_symlink(o, p / "abs");
     fs::create_symlink("/etc", p / "etc");
