@@ -16,7 +16,7 @@ build="$(cd "${1:?build dir}" && pwd)"
 seconds="${2:?seconds}"
 shift 2
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(load run monitor cell mesh urdf paths)
+[ ${#targets[@]} -gt 0 ] || targets=(load run monitor cell mesh urdf paths studio_message)
 findings="$here/findings"
 status=0
 for t in "${targets[@]}"; do

@@ -212,15 +212,19 @@ FsResult<std::pair<UniqueFd, std::string>> ConfinedFolder::parent_of(std::string
 FsResult<UniqueFd> ConfinedFolder::open_read(std::string_view name) const { return open_regular(name, O_RDONLY); }
 
 FsResult<UniqueFd> ConfinedFolder::open_append(std::string_view name) const {
-  auto existing = open_regular(name, O_WRONLY | O_APPEND);
-  if (existing || existing.error.kind != FsRefusal::not_found) return existing;
-  auto parent = parent_of(name);
-  if (!parent) return parent.error;
-  auto& [dir, leaf] = *parent.value;
-  const int fd = ::openat(dir.get(), leaf.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY, 0666);
-  if (fd >= 0) return UniqueFd(fd);
-  if (errno == EEXIST) return FsError{FsRefusal::not_regular, "is a link to a file that does not exist"};
-  return error_of(errno);
+  // Another writer may create the file between our look and our create: then it is there to
+  // open (a few rounds; a name that stays taken and unopenable is a link to nothing).
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    auto existing = open_regular(name, O_WRONLY | O_APPEND);
+    if (existing || existing.error.kind != FsRefusal::not_found) return existing;
+    auto parent = parent_of(name);
+    if (!parent) return parent.error;
+    auto& [dir, leaf] = *parent.value;
+    const int fd = ::openat(dir.get(), leaf.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY, 0666);
+    if (fd >= 0) return UniqueFd(fd);
+    if (errno != EEXIST) return error_of(errno);
+  }
+  return FsError{FsRefusal::not_regular, "is a link to a file that does not exist"};
 }
 
 FsResult<NewFile> ConfinedFolder::create(std::string_view name, bool replace) const {

@@ -129,6 +129,9 @@ Plan plan_line_move(const PlanStart& st, const Location& target, const SpeedSett
         std::snprintf(buf, sizeof buf, ": J%d by %.1f deg", line.joint + 1, line.value);
         detail += buf;
       }
+      // Singular where the line starts (the PUMA at READY: elbow straight): no straight line can
+      // leave that pose, a joint move can. Learners meet this on their first MOVES.
+      if (line.fail_fraction < 0.0005) detail += "; the start pose is singular: MOVE (joint-interpolated) away from it first";
       p = refused("*Singularity on straight-line path*", detail);
       break;
     }
