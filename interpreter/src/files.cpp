@@ -157,30 +157,15 @@ int FileUnits::close(int lun, std::string& error) {
   return ok ? kIoOk : 0;
 }
 
-int FileUnits::empty(int lun, const std::string& path, std::string& error) {
+// FEMPTY and FDELETE: one operation on a named file, no unit's file involved.
+int FileUnits::on_name(int lun, const std::string& path, std::string& error, bool remove) {
   Unit* u = open_unit(lun, error);
   if (!u) return 0;
   const auto name = relative_name(path, error);
   if (!name) return 0;
   const core::ConfinedFolder* dir = folder(error);
   if (!dir) return 0;
-  auto done = dir->truncate(*name);
-  if (!done && done.error.kind == FsRefusal::not_found) return u->status = kIoFileNotFound;
-  if (!done) {
-    error = refusal(path, done.error);
-    return 0;
-  }
-  return u->status = kIoOk;
-}
-
-int FileUnits::remove(int lun, const std::string& path, std::string& error) {
-  Unit* u = open_unit(lun, error);
-  if (!u) return 0;
-  const auto name = relative_name(path, error);
-  if (!name) return 0;
-  const core::ConfinedFolder* dir = folder(error);
-  if (!dir) return 0;
-  auto done = dir->remove(*name);
+  auto done = remove ? dir->remove(*name) : dir->truncate(*name);
   if (!done && done.error.kind == FsRefusal::not_found) return u->status = kIoFileNotFound;
   if (!done) {
     error = refusal(path, done.error);

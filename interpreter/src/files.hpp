@@ -69,9 +69,9 @@ class FileUnits {
   // FCLOSE: commits a written file; IOSTAT's value.
   int close(int lun, std::string& error);
   // FEMPTY: the file exists afterwards and is empty.
-  int empty(int lun, const std::string& path, std::string& error);
+  int empty(int lun, const std::string& path, std::string& error) { return on_name(lun, path, error, false); }
   // FDELETE: removes a file (a link: the link); a missing one sets IOSTAT.
-  int remove(int lun, const std::string& path, std::string& error);
+  int remove(int lun, const std::string& path, std::string& error) { return on_name(lun, path, error, true); }
 
   // READ: the next record (LF, CR LF or CR CR LF removed); nullopt at the end of the file
   // (IOSTAT kIoEndOfFile). The unit must hold a file open for reading (or a directory).
@@ -101,6 +101,7 @@ class FileUnits {
     int status = 0;                        // IOSTAT
   };
   Unit* open_unit(int lun, std::string& error);
+  int on_name(int lun, const std::string& path, std::string& error, bool remove);
   const core::ConfinedFolder* folder(std::string& error);
   // At least `count` bytes of `u` are buffered from `next` on (false: the file ends before, or
   // `error` says why it could not be read).
