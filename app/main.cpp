@@ -1,8 +1,9 @@
 // asimov: runs VAL II programs in simulation and halts them the instant the arm touches
-// something. Subcommands: run, check, pairs, monitor, test; no subcommand starts the monitor (README.md
+// something. Subcommands: run, check, pairs, monitor, test, serve; no subcommand starts the monitor (README.md
 // has the contract).
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
+#include "app/serve/cmd_serve.hpp"
 #include "asimov/version.hpp"
 
 #include <CLI/CLI.hpp>
@@ -59,6 +60,14 @@ int main(int argc, char** argv) {
   test_cmd->add_option("--merge-junit", test.merge_junit,
                        "write OUT merging the JUnit files given as PATHs (from --shard runs); nothing runs");
 
+  asimov::serve::ServeOptions serve;
+  auto* serve_cmd = cli.add_subcommand("serve", "the studio: editor, monitor and 3D cell in the browser (prints the URL)");
+  serve_cmd->add_option("--workspace", serve.workspace, "folder files are opened from and saved to (default: .)");
+  serve_cmd->add_option("--cell", serve.cell, "cell file (YAML); default: the built-in cell");
+  serve_cmd->add_option("--address", serve.address, "address to listen on (default 127.0.0.1: this machine only)");
+  serve_cmd->add_option("--port", serve.port, "port (default 0: any free port)")->check(CLI::Range(0, 65535));
+  serve_cmd->add_option("--open", serve.file, "file of the workspace the editor opens (default: the sample program)");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -74,6 +83,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run, std::cout, std::cerr);
     if (*check_cmd) return check_command(check_file, std::cout, std::cerr);
     if (*pairs_cmd) return pairs_command(pairs, std::cout, std::cerr);
+    if (*serve_cmd) return asimov::serve::serve_command(serve, std::cout, std::cerr);
     if (*test_cmd) {
       if (!shard.empty() && !parse_shard(shard, test.shard, test.shards)) {
         std::cerr << "*Invalid argument*  --shard " << shard << ": expected K/N with 1 <= K <= N\n";

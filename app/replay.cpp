@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -53,14 +54,66 @@ nlohmann::json pose_json(const collision::Pose& p) {
   return v;
 }
 
-// The program line of each step in the frames, from the motions the run started: a step is
-// named where exactly one motion instruction ran at it (programs of a file may share a step
-// number), otherwise the page shows the bare step.
-nlohmann::json step_lines(const std::vector<interpreter::MotionStep>& motions, const std::vector<int>& steps) {
+// The programs of a source text: each `.PROGRAM` line's number and name, and every line.
+struct SourcePrograms {
+  std::vector<std::string> lines;
+  std::vector<std::pair<int, std::string>> programs;  // (file line of .PROGRAM, lower-case name)
+};
+SourcePrograms source_programs(const std::string& text) {
+  SourcePrograms out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) {
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    out.lines.push_back(l);
+    std::size_t a = l.find_first_not_of(" \t");
+    if (a == std::string::npos || l.size() < a + 8) continue;
+    std::string head = l.substr(a, 8);
+    std::transform(head.begin(), head.end(), head.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (head != ".program") continue;
+    std::string name = l.substr(a + 8);
+    name.erase(0, std::min(name.size(), name.find_first_not_of(" \t")));
+    name = name.substr(0, name.find_first_of("( \t;"));
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+    out.programs.emplace_back(static_cast<int>(out.lines.size()), name);
+  }
+  return out;
+}
+
+// The program line of each step in the frames. A motion's step is named from the motions the run
+// started, where exactly one motion instruction ran at it (programs of a file may share a step
+// number). Any other step (the arm at rest: WAIT, a hand's time, a dwell while the belts run) is
+// named from the source when exactly one program that ran has a statement at that step (step =
+// file line - .PROGRAM line, as the checker numbers them; blank and comment lines are none);
+// otherwise the page shows the bare step.
+nlohmann::json step_lines(const std::vector<interpreter::MotionStep>& motions, const std::vector<int>& steps,
+                          const std::string& source, const std::vector<std::string>& ran) {
   nlohmann::json out = nlohmann::json::object();
-  for (int step : steps)
-    if (const interpreter::MotionStep* m = interpreter::motion_at_step(motions, step))
+  const SourcePrograms src = source_programs(source);
+  for (int step : steps) {
+    if (const interpreter::MotionStep* m = interpreter::motion_at_step(motions, step)) {
       out[std::to_string(step)] = {{"program", m->program}, {"line", m->line}, {"text", m->text}};
+      continue;
+    }
+    if (step <= 0) continue;
+    const std::pair<int, std::string>* found = nullptr;
+    int count = 0;
+    for (std::size_t k = 0; k < src.programs.size(); ++k) {
+      const auto& [at, name] = src.programs[k];
+      const int line = at + step;  // 1-based file line
+      const int next = k + 1 < src.programs.size() ? src.programs[k + 1].first : static_cast<int>(src.lines.size()) + 1;
+      if (line >= next || std::find(ran.begin(), ran.end(), name) == ran.end()) continue;
+      const std::string& text = src.lines[static_cast<std::size_t>(line - 1)];
+      const std::size_t a = text.find_first_not_of(" \t");
+      if (a == std::string::npos || text[a] == ';') continue;
+      found = &src.programs[k];
+      ++count;
+    }
+    if (count == 1) {
+      const int line = found->first + step;
+      const std::string& text = src.lines[static_cast<std::size_t>(line - 1)];
+      out[std::to_string(step)] = {{"program", found->second}, {"line", line}, {"text", text.substr(text.find_first_not_of(" \t"))}};
+    }
+  }
   return out;
 }
 
@@ -196,10 +249,54 @@ nlohmann::json workcell_data(const motion::Cell& cell, const motion::CellRuntime
           {"events", std::move(events)}};
 }
 
-// "</script" inside an inlined script would end it early.
-std::string script_safe(std::string s) {
-  for (std::size_t at = 0; (at = s.find("</", at)) != std::string::npos; at += 3) s.replace(at, 2, "<\\/");
-  return s;
+// Text inlined into a <script> element must not end it early (`</script`) nor put the HTML
+// tokenizer into its "double escaped" state (`<!--` then `<script`), where the real `</script>`
+// no longer closes it and the rest of the page is swallowed. In JSON every `<` is inside a
+// string, so `\u003c` is the same text to JSON.parse; the viewer's own code gets `<\/`, `<\!--`
+// and `<\script`, which JavaScript strings read unchanged (viewer.js has none in a regex).
+std::string json_script_safe(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    if (c == '<') out += "\\u003c";
+    else out += c;
+  }
+  return out;
+}
+
+std::string script_safe(const std::string& s) {
+  const auto at = [&s](std::size_t i, const char* word) {  // ASCII case-insensitive, as the tokenizer
+    for (std::size_t k = 0; word[k]; ++k)
+      if (i + k >= s.size() || std::tolower(static_cast<unsigned char>(s[i + k])) != word[k]) return false;
+    return true;
+  };
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    out += s[i];
+    if (s[i] == '<' && (at(i + 1, "/") || at(i + 1, "!--") || at(i + 1, "script"))) out += '\\';
+  }
+  return out;
+}
+
+// The source of `file` for step_lines ("" when it cannot be read: steps stay bare).
+std::string file_text(const std::string& file) {
+  std::string text;
+  if (file.empty() || !read_file(file, text)) return {};
+  return text;
+}
+
+// The programs that ran: those of its motions, its tasks', and where it ended.
+std::vector<std::string> programs_run(const interpreter::RunResult& result) {
+  std::vector<std::string> out;
+  const auto add = [&out](const std::string& p) {
+    if (!p.empty() && std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
+  };
+  add(result.program);
+  for (const auto& m : result.motion_times) add(m.program);
+  for (const auto& m : result.motions) add(m.program);
+  for (const auto& t : result.tasks) add(t.program);
+  return out;
 }
 
 }  // namespace
@@ -244,7 +341,8 @@ Result<ReplayAssets> load_replay_assets() {
   return assets;
 }
 
-nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result) {
+nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result,
+                           const std::string& source) {
   const motion::Cell& cell = sim.cell();
   const motion::Scene scene = motion::scene_bodies(cell);
   const int n = cell.robot.joint_count();
@@ -254,7 +352,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   // at the end of the run shows that, except after a contact, where the halting pose ends it.
   const double end_s = result.status == interpreter::RunStatus::collision ? result.collision.time_free_s : sim.time_s();
   if (samples.empty() || samples.back().time_s < end_s)
-    samples.push_back({end_s, sim.joints(), samples.empty() ? 0 : samples.back().step, false});
+    samples.push_back({end_s, sim.joints(), samples.empty() ? 0 : samples.back().step, false, sim.here().translation()});
 
   auto bodies = nlohmann::json::array();
   std::vector<std::size_t> moving;
@@ -284,7 +382,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
   }
 
   std::vector<double> times;
-  std::vector<float> joints, world;
+  std::vector<float> joints, world, tool_path;
   std::vector<std::int32_t> steps;
   std::vector<std::uint8_t> checked;
   std::vector<int> distinct_steps;
@@ -295,6 +393,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
     for (std::size_t i : moving) push_pose(world, poses[i]);
     steps.push_back(s.step);
     checked.push_back(s.checked ? 1 : 0);
+    for (int c = 0; c < 3; ++c) tool_path.push_back(static_cast<float>(s.tool_mm[c]));
     if (std::find(distinct_steps.begin(), distinct_steps.end(), s.step) == distinct_steps.end())
       distinct_steps.push_back(s.step);
   }
@@ -316,8 +415,9 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
                   {"step", b64(steps)},            // Int32: the motion's program step
                   {"checked", b64(checked)},       // Uint8: 1 at a checked pose (the trace's)
                   {"joints_deg", b64(joints)},     // Float32, count x joint_count
+                  {"tool_mm", b64(tool_path)},     // Float32, count x 3: the tool point (world)
                   {"poses", b64(world)}}},         // Float32, count x moving x 7
-      {"steps", step_lines(result.motions, distinct_steps)},
+      {"steps", step_lines(result.motions, distinct_steps, source.empty() ? file_text(file) : source, programs_run(result))},
       {"end_time_s", samples.back().time_s}};
   if (const motion::CellRuntime* runtime = sim.cell_runtime())
     doc["workcell"] = workcell_data(cell, *runtime, sim.recorders().replay.parts, samples, samples.back().time_s, doc["frames"]);
@@ -369,8 +469,8 @@ std::string replay_html(const ReplayAssets& assets, const nlohmann::json& data) 
   html += "<title>asimov replay</title>\n";
   html += "<!-- written by `asimov run --replay`; three.js (MIT, three.js authors) is inlined below -->\n";
   html += "</head>\n<body>\n";
-  html += "<script type=\"application/json\" id=\"asimov-replay-data\">" + script_safe(data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
-  html += "<script type=\"importmap\">" + script_safe(imports.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
+  html += "<script type=\"application/json\" id=\"asimov-replay-data\">" + json_script_safe(data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
+  html += "<script type=\"importmap\">" + json_script_safe(imports.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>\n";
   html += "<script type=\"module\" id=\"asimov-replay-viewer\">\n" + script_safe(assets.viewer) + "\n</script>\n";
   html += "</body>\n</html>\n";
   return html;

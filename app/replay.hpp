@@ -29,7 +29,10 @@ Result<ReplayAssets> load_replay_assets();
 // with parts or devices also `workcell` (parts, their state segments, devices, events) and the
 // carried part's pose per frame. `sim` is the simulator after the run, with set_replay() on
 // before it.
-nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result);
+// `source`: the file's text when the caller has it (the studio); empty: read from `file`. It names
+// the steps that are not motions (WAIT, a hand's time, SIGNAL waits): step_lines.
+nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim, const interpreter::RunResult& result,
+                           const std::string& source = {});
 
 // The source line of each motion step tag, where the tag names one motion instruction of one
 // program of `file` unambiguously: {"TAG": {"program", "line", "text"}} (others are left out).

@@ -32,6 +32,8 @@ install(FILES ${PROJECT_BINARY_DIR}/asimovConfig.cmake ${PROJECT_BINARY_DIR}/asi
 # The executable and what it reads at run time, found relative to itself (app/replay/replay.cmake).
 install(TARGETS asimov RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${ASIMOV_REPLAY_OUT}/ DESTINATION ${ASIMOV_REPLAY_INSTALL_DIR})
+# The studio's bundled script (app/serve/web/web.cmake), when it was built.
+install(DIRECTORY ${ASIMOV_STUDIO_OUT}/ DESTINATION ${ASIMOV_STUDIO_INSTALL_DIR} OPTIONAL)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/robots/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/asimov/robots)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/programs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/asimov/programs)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})

@@ -16,7 +16,7 @@ build="$(cd "${1:?build dir}" && pwd)"
 seconds="${2:?seconds}"
 shift 2
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(load run monitor cell mesh urdf)
+[ ${#targets[@]} -gt 0 ] || targets=(load run monitor cell mesh urdf paths studio_message)
 findings="$here/findings"
 status=0
 for t in "${targets[@]}"; do
@@ -26,7 +26,8 @@ for t in "${targets[@]}"; do
   mkdir -p "$scratch/corpus" "$scratch/work"
   dict=()
   case "$t" in load|run) dict=(-dict="$here/dict/v2.dict") ;; monitor) dict=(-dict="$here/dict/monitor.dict") ;;
-    cell) dict=(-dict="$here/dict/cell.dict") ;; mesh) dict=(-dict="$here/dict/mesh.dict") ;; urdf) dict=(-dict="$here/dict/urdf.dict") ;; esac
+    cell) dict=(-dict="$here/dict/cell.dict") ;; mesh) dict=(-dict="$here/dict/mesh.dict") ;; urdf) dict=(-dict="$here/dict/urdf.dict") ;;
+    paths) dict=(-dict="$here/dict/paths.dict") ;; esac
   start=$SECONDS
   # The monitor's STORE writes into the current folder: a scratch one.
   (cd "$scratch/work" && nice -n 19 "$bin" -max_total_time="$seconds" -timeout="${FUZZ_TIMEOUT:-10}" -rss_limit_mb=2048 \

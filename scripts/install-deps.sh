@@ -33,6 +33,11 @@ fi
 if [ "${ASIMOV_WITH_REPLAY:-1}" = 1 ] && ! command -v npm >/dev/null 2>&1; then
   packages+=(nodejs npm)
 fi
+# The browser tests (tests/browser, label browser): Debian's chromium, driven by playwright-core
+# from npm (never a browser download).
+if [ "${ASIMOV_WITH_BROWSER:-1}" = 1 ]; then
+  packages+=(chromium)
+fi
 
 # npm ci in app/replay, only when node_modules does not hold the locked three.js yet.
 replay_npm() {
@@ -54,6 +59,32 @@ replay_npm() {
   (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
 }
 
+# npm ci in another folder of the repository (the studio's page, the browser tests), only when
+# its node_modules does not match its lock file yet (npm writes node_modules/.package-lock.json).
+npm_folder() {
+  local dir
+  dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/$1"
+  [ -f "$dir/package-lock.json" ] || return 0
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "install-deps: npm not found; $1 not installed"
+    return 0
+  fi
+  if [ -f "$dir/node_modules/.package-lock.json" ] &&
+     node -e 'const a=require(process.argv[1]).packages,b=require(process.argv[2]).packages;for(const k in a)if(k&&!a[k].optional&&(!b[k]||b[k].version!==a[k].version))process.exit(1)' \
+       "$dir/package-lock.json" "$dir/node_modules/.package-lock.json" 2>/dev/null; then
+    echo "install-deps: $1 node_modules present"
+    return 0
+  fi
+  echo "install-deps: npm ci in $1"
+  (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+}
+npm_all() {
+  replay_npm
+  npm_folder app/serve/web
+  [ "${ASIMOV_WITH_BROWSER:-1}" = 1 ] && npm_folder tests/browser
+  return 0
+}
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
@@ -61,7 +92,7 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
-  replay_npm
+  npm_all
   exit 0
 fi
 
@@ -71,4 +102,4 @@ sudo_cmd=()
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
-replay_npm
+npm_all

@@ -6,7 +6,8 @@
 #     whose committed corpora CTest replays), every finding fatal, each test at most 300 s,
 #     without the tests listed in scripts/asan-skip.txt (measured there: minutes each under ASan;
 #     their code paths are covered by faster tests that stay) and without the labels install
-#     and python (packaging, not memory safety: lane 1 runs them).
+#     and python (packaging, not memory safety: lane 1 runs them) and browser (chromium's own
+#     time; the studio's session code runs under the sanitizers in test_app's serve tests).
 #       ASIMOV_SANITIZER_LANE=0     skips it;  =full  runs every test, the skipped ones too
 #  3. fuzz smoke (clang only): every fuzz target over its committed corpus, then
 #     ASIMOV_FUZZ_SECONDS (default 60; 0 skips) of new inputs, two targets at a time.
@@ -47,7 +48,7 @@ export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"
 skip="$(sed -e 's/[[:space:]]*#.*//' -e '/^[[:space:]]*$/d' scripts/asan-skip.txt | paste -sd'|')"
 exclude=(-E "$skip")
 [ "$mode" != full ] || exclude=()
-ctest --test-dir build-asan --output-on-failure -j2 --timeout 300 -LE 'install|python' "${exclude[@]}"
+ctest --test-dir build-asan --output-on-failure -j2 --timeout 300 -LE 'install|python|browser' "${exclude[@]}"
 lane "sanitizer suite" $((SECONDS - start))
 
 seconds="${ASIMOV_FUZZ_SECONDS:-60}"
@@ -55,7 +56,7 @@ if [ "$fuzz" = ON ] && [ "$seconds" -gt 0 ]; then
   start=$SECONDS
   status=0
   ./fuzz/run.sh build-asan "$seconds" load run monitor & first=$!
-  ./fuzz/run.sh build-asan "$seconds" cell mesh urdf || status=1
+  ./fuzz/run.sh build-asan "$seconds" cell mesh urdf paths || status=1
   wait "$first" || status=1
   lane "fuzz smoke (${seconds} s per target)" $((SECONDS - start))
   exit $status

@@ -34,6 +34,7 @@ export function decodeReplay(data) {
       joints: decodeFloat32(f.joints_deg),
       poses: decodeFloat32(f.poses),
       carried: f.carried ? decodeFloat32(f.carried) : null,
+      tool: f.tool_mm ? decodeFloat32(f.tool_mm) : null,
     },
     workcell: data.workcell ? decodeWorkcell(data.workcell) : null,
   };
@@ -157,6 +158,55 @@ export function closestMark(rep) {
   return { frame: frameAt(F.time, c.time_s), slider: end > 0 ? Math.round((Math.min(c.time_s, end) / end) * 10000) : 0, mid };
 }
 
+// The page shows times to the millisecond: a time that reads as the end time (within half a
+// millisecond of it) is the end, where a run that hit something shows the contact. `?t=3.379`
+// of a run that halted at 3.37936 s therefore shows the red bodies and the marker.
+export const END_TOLERANCE_S = 0.0005;
+export const atEndTime = (t, end) => t >= end - END_TOLERANCE_S - 1e-12;
+
+// The tool point at time t (world, mm): the frames' tool path interpolated; null without one.
+export function toolAt(rep, t) {
+  const F = rep.frames, P = F.tool;
+  if (!P) return null;
+  const i = frameAt(F.time, t), j = Math.min(i + 1, F.count - 1);
+  const u = j > i ? Math.min(1, Math.max(0, (t - F.time[i]) / (F.time[j] - F.time[i]))) : 0;
+  return [0, 1, 2].map((c) => P[3 * i + c] + (P[3 * j + c] - P[3 * i + c]) * u);
+}
+
+// The box { min, max } (world, mm) that holds the whole cell over the run: the bodies that never
+// move, the moving ones at `samples` frames spread over the run (and the first and last), the
+// tool path, the devices' regions and every place a part rests or starts on a belt. The first
+// camera frames it, so nothing of the cell starts outside the view (the sink at a cell's edge).
+export function cellBounds(rep, samples = 24) {
+  const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity];
+  const add = (p) => { for (let c = 0; c < 3; ++c) { if (p[c] < min[c]) min[c] = p[c]; if (p[c] > max[c]) max[c] = p[c]; } };
+  const addMesh = (m, pose) => { for (let v = 0; v < m.vertices.length; v += 3) add(transformPoint(pose, m.vertices.subarray(v, v + 3))); };
+  const F = rep.frames;
+  rep.bodies.forEach((b) => { if (b.pose) addMesh(b, b.pose); });
+  const frames = new Set([0, F.count - 1]);
+  for (let k = 1; k < samples; ++k) frames.add(Math.round((k * (F.count - 1)) / samples));
+  for (const i of frames) rep.moving.forEach((b, k) => addMesh(rep.bodies[b], movingPose(rep, i, k)));
+  if (F.tool) for (let i = 0; i < F.count; ++i) add(F.tool.subarray(3 * i, 3 * i + 3));
+  const W = rep.workcell;
+  if (W) {
+    for (const d of W.devices)
+      for (const sx of [-1, 1]) for (const sy of [-1, 1]) for (const sz of [-1, 1])
+        add(transformPoint(d.pose, [(sx * d.size[0]) / 2, (sy * d.size[1]) / 2, (sz * d.size[2]) / 2]));
+    const S = W.segments;
+    for (let i = 0; i < S.count; ++i)
+      if (W.states[S.state[i]] !== 'carried') addMesh(W.part_meshes[W.parts[S.part[i]].mesh], Array.from(S.pose.subarray(7 * i, 7 * i + 7)));
+  }
+  if (min[0] > max[0]) return { min: [-500, -500, -500], max: [500, 500, 500] };  // nothing at all
+  return { min, max };
+}
+
+// The camera distance that shows a sphere of `radius` whole with a vertical field of view of
+// `fovDeg` on a view `aspect` (width / height) wide: the narrower of the two angles decides.
+export function fitDistance(radius, fovDeg, aspect) {
+  const v = (fovDeg * Math.PI) / 360, h = Math.atan(Math.tan(v) * aspect);
+  return radius / Math.sin(Math.min(v, h));
+}
+
 // --- page --------------------------------------------------------------------------------------
 
 const COLORS = { link: 0xd98c3a, tool: 0x8a8f98, object: 0x5b87b8 };
@@ -181,12 +231,12 @@ async function main() {
     #hud{position:absolute;top:8px;left:10px;white-space:pre;pointer-events:none;text-shadow:0 0 3px #000}
     #bar{position:absolute;bottom:0;left:0;right:0;display:flex;gap:8px;align-items:center;padding:8px;background:#000a}
     #bar input[type=range]{flex:1} button,select{font:inherit}
-    #cell{position:absolute;top:8px;right:10px;bottom:52px;width:330px;display:flex;flex-direction:column;gap:6px;
+    #cell{position:absolute;top:8px;right:10px;bottom:52px;width:min(330px,45vw);display:flex;flex-direction:column;gap:6px;
       background:#0008;padding:6px 8px;border-radius:4px;font-size:12px;color-scheme:dark}
     #cell h3{margin:0;font-size:12px;color:#aab}
     #sig div{white-space:pre} #sig .on{color:#7dff7d} #sig .off{color:#889}
     #ev{overflow-y:auto;overflow-x:hidden;flex:1;white-space:pre} #ev div{text-overflow:ellipsis;overflow:hidden} #ev div{cursor:pointer;padding:0 2px} #ev div:hover{background:#fff2}
-    #ev .future{color:#778} #ev .now{background:#4a6cff66;color:#fff}` }, document.head);
+    #ev .future{color:#778} #ev .now{background:#4a6cff66;color:#fff} .hidden{display:none !important}` }, document.head);
   const hud = el('div', { id: 'hud' }, document.body);
   const bar = el('div', { id: 'bar' }, document.body);
   const play = el('button', { textContent: 'play', title: 'space' }, bar);
@@ -201,6 +251,7 @@ async function main() {
   }
   const speed = el('select', {}, bar);
   for (const s of SPEEDS) el('option', { value: s, textContent: `x${s}`, selected: s === 1 }, speed);
+  const pathButton = el('button', { textContent: 'path', title: 'show or hide the tool path (key p)' }, bar);
 
   const renderer = new THREE.WebGLRenderer({ antialias: true });
   renderer.setPixelRatio(window.devicePixelRatio);
@@ -264,10 +315,38 @@ async function main() {
     scene.add(witness);
   }
 
+  // The tool point's path: the whole run faintly, the part already travelled brightly (its
+  // blended corners and a drawing program's strokes show as the tool went).
+  let pathAll = null, pathDone = null;
+  if (F.tool) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(F.tool, 3));
+    pathAll = new THREE.Line(g, new THREE.LineBasicMaterial({ color: 0x9fe870, transparent: true, opacity: 0.22 }));
+    const done = new THREE.BufferGeometry();
+    done.setAttribute('position', new THREE.BufferAttribute(new Float32Array(F.tool.length + 3), 3));
+    pathDone = new THREE.Line(done, new THREE.LineBasicMaterial({ color: 0x9fe870 }));
+    pathDone.frustumCulled = pathAll.frustumCulled = false;
+    scene.add(pathAll, pathDone);
+  }
+  pathButton.disabled = !F.tool;
+  const showPath = (on) => { if (pathAll) pathAll.visible = pathDone.visible = on; pathButton.style.opacity = on ? 1 : 0.5; };
+  pathButton.onclick = () => showPath(!(pathAll && pathAll.visible));
+  showPath(true);
+  // The travelled part up to t: the frames before t and the interpolated point at t.
+  function pathAt(t) {
+    if (!pathDone) return;
+    const i = frameAt(F.time, t), pos = pathDone.geometry.attributes.position, here = toolAt(rep, t);
+    pos.array.set(F.tool.subarray(0, 3 * (i + 1)));
+    pos.array.set(here, 3 * (i + 1));
+    pos.needsUpdate = true;
+    pathDone.geometry.setDrawRange(0, i + 2);
+  }
+
   // A cell with parts or devices: the parts (one geometry per shape, a material per part for its
   // state's colour), the devices' regions drawn faintly, a panel with the signals and events.
   const W = rep.workcell;
   const partMeshes = [], sensorBoxes = [];
+  let panel = null;
   let signalRows = null, eventRows = [], shownEvent = -2;
   if (W) {
     const geometries = W.part_meshes.map(flatGeometry);
@@ -301,7 +380,7 @@ async function main() {
       scene.add(group);
     }
     // The panel: each signal touched, named by the devices that use it, and the events.
-    const panel = el('div', { id: 'cell' }, document.body);
+    panel = el('div', { id: 'cell' }, document.body);
     el('h3', { textContent: 'signals' }, panel);
     const sig = el('div', { id: 'sig' }, panel);
     const users = (k) => W.devices.filter((d) => d.signal === k).map((d) => `${d.kind} ${d.name}`).join(', ');
@@ -317,6 +396,13 @@ async function main() {
     });
   }
   const hitParts = hit && hit.part_index ? hit.part_index.filter((k) => k >= 0) : [];
+  // The side panel hides (button or key h); a narrow window (800 x 600) starts with it hidden so
+  // the scene shows.
+  const panelButton = el('button', { textContent: 'panel', title: 'show or hide the side panel (key h)' }, bar);
+  panelButton.disabled = !panel;
+  const showPanel = (on) => { if (panel) panel.classList.toggle('hidden', !on); panelButton.style.opacity = on ? 1 : 0.5; };
+  panelButton.onclick = () => showPanel(!!panel && panel.classList.contains('hidden'));
+  showPanel(!!panel && window.innerWidth >= 1000);
 
   // Parts, sensors, the signal panel and the current event at time t.
   function workcellAt(t, atEnd) {
@@ -350,12 +436,30 @@ async function main() {
   camera.up.set(0, 0, 1);  // the cell's Z is up
   const controls = new OrbitControls(camera, renderer.domElement);
   poseAt(0);
-  const box = new THREE.Box3();
-  for (const m of meshes) box.expandByObject(m);
-  const centre = box.getCenter(new THREE.Vector3()), radius = box.getSize(new THREE.Vector3()).length() / 2;
+  const bounds = cellBounds(rep), lo = new THREE.Vector3(...bounds.min), hi = new THREE.Vector3(...bounds.max);
+  const centre = lo.clone().add(hi).multiplyScalar(0.5), radius = Math.max(1, hi.distanceTo(lo) / 2);
+  const viewDir = new THREE.Vector3(1.2, -1.6, 0.9).normalize();
   controls.target.copy(centre);
-  camera.position.copy(centre).add(new THREE.Vector3(1.2, -1.6, 0.9).multiplyScalar(radius * 1.0));
-  controls.update();
+  // The contact marker stays visible however large the cell: 1.5 % of the cell's size, 10 mm at least.
+  if (marker) marker.scale.setScalar(Math.max(1, (radius * 0.015) / 10));
+  // Placed on every resize too until the user turns the view (the aspect changes the distance).
+  let userMoved = false;
+  controls.addEventListener('start', () => { userMoved = true; });
+  // Every corner of the cell's box inside the view (the API reports it; tests check it).
+  function framed() {
+    camera.updateMatrixWorld();
+    for (const x of [lo.x, hi.x]) for (const y of [lo.y, hi.y]) for (const z of [lo.z, hi.z]) {
+      const p = new THREE.Vector3(x, y, z).project(camera);
+      if (Math.abs(p.x) > 1 || Math.abs(p.y) > 1 || p.z > 1) return false;
+    }
+    return true;
+  }
+  function frameCell() {
+    camera.position.copy(centre).addScaledVector(viewDir, fitDistance(radius, camera.fov, camera.aspect) * 1.02);
+    camera.far = Math.max(100000, camera.position.distanceTo(centre) + 4 * radius);
+    camera.updateProjectionMatrix();
+    controls.update();
+  }
 
   // Bodies at simulated time t: frames interpolated (position linear, rotation slerp).
   function poseAt(t) {
@@ -368,7 +472,8 @@ async function main() {
       qb.fromArray(c, 3);
       m.quaternion.slerpQuaternions(qa, qb, u);
     });
-    const atEnd = t >= end;
+    const atEnd = atEndTime(t, end);
+    pathAt(t);
     if (hit) {  // the contact is shown at the halting pose, where the replay ends
       marker.visible = atEnd;
       hit.body_index.forEach((b, k) => {
@@ -381,7 +486,7 @@ async function main() {
     const joints = Array.from(F.joints.subarray(i * rep.joint_count, (i + 1) * rep.joint_count), (v) => v.toFixed(2));
     hud.textContent = [
       `${rep.file}  ${rep.program}  (${rep.robot})  ${rep.status}`,
-      `t = ${t.toFixed(3)} s / ${end.toFixed(3)} s   frame ${i + 1}/${F.count}${F.checked[i] ? '  checked pose' : ''}`,
+      `t = ${(atEnd ? end : t).toFixed(3)} s / ${end.toFixed(3)} s   frame ${i + 1}/${F.count}${F.checked[i] ? '  checked pose' : ''}`,
       line ? `${line.program}, line ${line.line}: ${line.text}` : s > 0 ? `step ${s}` : '',
       `joints [deg]  ${joints.join('  ')}`,
       ...(parts !== null && W.parts.length ? [`parts: ${parts}`] : []),
@@ -399,11 +504,17 @@ async function main() {
     setPlaying(!playing);
   };
   slider.oninput = () => { t = (slider.value / 10000) * end; setPlaying(false); };
-  window.addEventListener('keydown', (e) => { if (e.code === 'Space') { e.preventDefault(); play.onclick(); } });
+  window.addEventListener('keydown', (e) => {
+    if (e.target instanceof HTMLSelectElement || e.target instanceof HTMLInputElement && e.target.type !== 'range') return;
+    if (e.code === 'Space') { e.preventDefault(); play.onclick(); }
+    if (e.key === 'h') panelButton.onclick();
+    if (e.key === 'p') pathButton.onclick();
+  });
   function resize() {
     renderer.setSize(window.innerWidth, window.innerHeight);
     camera.aspect = window.innerWidth / window.innerHeight;
     camera.updateProjectionMatrix();
+    if (!userMoved) frameCell();
   }
   window.addEventListener('resize', resize);
   resize();
@@ -419,11 +530,41 @@ async function main() {
     controls.update();
     renderer.render(scene, camera);
   });
-  // ?t=SECONDS opens the page at that simulated time, ?play starts playing (screenshots, demos).
-  const params = new URLSearchParams(location.search), start = Number(params.get('t'));
-  if (start > 0) { t = Math.min(end, start); slider.value = end > 0 ? Math.round((t / end) * 10000) : 0; }
+  // Seeking, for the slider's keys, the URL, tests and pages that embed the replay: t clamped to
+  // [0, end], a time that reads as the end (atEndTime) is the end.
+  function seek(to) {
+    const x = Number(to);
+    if (!Number.isFinite(x)) return t;
+    t = Math.min(end, Math.max(0, x));
+    if (atEndTime(t, end)) t = end;
+    slider.value = end > 0 ? Math.round((t / end) * 10000) : 10000;
+    poseAt(t);
+    return t;
+  }
+  // ?t=SECONDS opens the page at that simulated time, ?play starts playing (screenshots, demos),
+  // ?panel=0|1 hides or shows the side panel.
+  const params = new URLSearchParams(location.search);
+  if (params.has('t')) seek(params.get('t'));
+  if (params.has('panel')) showPanel(params.get('panel') !== '0');
   if (params.has('play')) setPlaying(true);
-  window.asimovReplay = { frames: F.count, end, ready: true };
+  // The page's JavaScript API (docs/cli.md "Replay page"): what tests and embedding pages use.
+  window.asimovReplay = {
+    ready: true, frames: F.count, end, file: rep.file, status: rep.status,
+    seek, play: () => setPlaying(true), pause: () => setPlaying(false),
+    panel: (on) => { showPanel(on === undefined ? !!panel && panel.classList.contains('hidden') : !!on); return !!panel && !panel.classList.contains('hidden'); },
+    state: () => {
+      const i = frameAt(F.time, t);
+      return {
+        t, frame: i, playing, end, atEnd: atEndTime(t, end),
+        contactShown: !!(marker && marker.visible), hud: hud.textContent,
+        tool: toolAt(rep, t), joints: Array.from(F.joints.subarray(i * rep.joint_count, (i + 1) * rep.joint_count)),
+        panel: !!panel && !panel.classList.contains('hidden'), path: !!(pathAll && pathAll.visible),
+        camera: { position: camera.position.toArray(), target: controls.target.toArray() },
+        framed: framed(),
+      };
+    },
+  };
 }
 
-if (typeof document !== 'undefined') main();
+// Only on a replay page: the studio (app/serve/web) imports the functions above without it.
+if (typeof document !== 'undefined' && document.getElementById('asimov-replay-data')) main();

@@ -111,6 +111,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   sim_.set_interrupt(limits_.interrupt);
   sim_.settings().continuous_path = memory_.settings.cp;  // ENABLE / DISABLE CP (docs/blending.md)
   files_.set_root(limits_.files_root);
+  files_.set_limits({limits_.max_record_bytes, limits_.max_file_bytes});
   struct FileClosing {  // what was written is committed however the run ends
     FileUnits& files;
     ~FileClosing() { files.close_all(); }
@@ -1073,14 +1074,7 @@ void Evaluator::io(const Instr& in) {
     }
     case IoOp::fclose: files_.close(lun, error); return check();
     case IoOp::fempty: files_.empty(lun, text_item(), error); return check();
-    case IoOp::fdelete: {
-      const auto target = resolve_inside(files_.root(), text_item(), error);
-      check();
-      if (!files_.attached(lun)) raise(Message::illegal_value, fmt::format("FDELETE: logical unit {} is not attached", lun));
-      std::error_code ec;
-      files_.set_iostat(lun, std::filesystem::remove(*target, ec) ? kIoOk : kIoFileNotFound);
-      return;
-    }
+    case IoOp::fdelete: files_.remove(lun, text_item(), error); return check();
     case IoOp::read: {
       if (in.args.size() > 1 && first_item > 1 && in.args[1].kind != NodeKind::absent
           && to_real(eval(in.args[1]), "record number") != 0)

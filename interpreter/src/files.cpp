@@ -3,15 +3,27 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
-#include <system_error>
+#include <cerrno>
+#include <cstring>
 #include <unistd.h>
 
 namespace asimov::interpreter {
 
 namespace fs = std::filesystem;
+using core::FsError;
+using core::FsRefusal;
 
-std::optional<fs::path> resolve_inside(const fs::path& root, const std::string& path, std::string& why) {
+namespace {
+
+// The program's words for a refusal of the folder: `"NAME" why`.
+std::string refusal(const std::string& name, const FsError& e) {
+  if (e.kind == FsRefusal::outside) return fmt::format("\"{}\" leaves the program's folder", name);
+  return fmt::format("\"{}\" {}", name, e.why);
+}
+
+}  // namespace
+
+std::optional<std::string> relative_name(const std::string& path, std::string& why) {
   std::string p = path;
   std::replace(p.begin(), p.end(), '\\', '/');  // V+ writes \dir\file
   while (!p.empty() && (p.back() == ' ' || p.back() == '\t')) p.pop_back();
@@ -25,20 +37,24 @@ std::optional<fs::path> resolve_inside(const fs::path& root, const std::string& 
     why = fmt::format("\"{}\" is not inside the program's folder (absolute path or drive)", path);
     return std::nullopt;
   }
-  std::error_code ec;
-  const fs::path base = fs::weakly_canonical(fs::absolute(root, ec), ec);
-  if (ec) {
-    why = fmt::format("the files folder {} cannot be used", root.string());
-    return std::nullopt;
+  return p;
+}
+
+void FileUnits::set_root(fs::path root) {
+  root_ = std::move(root);
+  folder_.reset();
+  written_ = 0;
+}
+
+const core::ConfinedFolder* FileUnits::folder(std::string& error) {
+  if (folder_) return &*folder_;
+  auto opened = core::ConfinedFolder::open(root_, resolver_);
+  if (!opened) {
+    error = fmt::format("the files folder {} cannot be used: it {}", root_.string(), opened.error.why);
+    return nullptr;
   }
-  // weakly_canonical follows the links that exist, so a link leading out is caught as well.
-  const fs::path full = fs::weakly_canonical(base / p, ec);
-  const auto mismatch = std::mismatch(base.begin(), base.end(), full.begin(), full.end());
-  if (ec || mismatch.first != base.end() || full == base) {
-    why = fmt::format("\"{}\" leaves the program's folder", path);
-    return std::nullopt;
-  }
-  return full;
+  folder_ = std::move(*opened.value);
+  return &*folder_;
 }
 
 bool FileUnits::attach(int lun) { return units_.try_emplace(lun).second; }
@@ -50,13 +66,11 @@ int FileUnits::free_unit() const {
 }
 
 bool FileUnits::commit(Unit& u, std::string& error) {
-  if (u.mode != Open::write && u.mode != Open::append) return true;
-  u.out.close();
-  std::error_code ec;
-  fs::rename(u.temp, u.target, ec);  // atomic replacement in the same folder
-  if (ec) {
-    fs::remove(u.temp, ec);
-    error = fmt::format("{} could not be written", u.target.filename().string());
+  if (!u.created) return true;
+  auto done = u.created->commit();
+  u.created.reset();
+  if (!done) {
+    error = fmt::format("\"{}\" could not be written: {}", u.name, done.error.why);
     return false;
   }
   return true;
@@ -86,42 +100,51 @@ int FileUnits::open(int lun, Open mode, const std::string& path, std::string& er
     error = fmt::format("logical unit {} has a file open already", lun);
     return 0;
   }
-  const auto target = resolve_inside(root_, path, error);
-  if (!target) return 0;
-  std::error_code ec;
-  const bool exists = fs::exists(*target, ec);
-  u->target = *target;
+  const auto name = relative_name(path, error);
+  if (!name) return 0;
+  const core::ConfinedFolder* dir = folder(error);
+  if (!dir) return 0;
+  // A missing file (or folder on the way) and an existing one for FOPENW are the program's to
+  // handle (IOSTAT); everything else the folder refuses stops it.
+  auto refused = [&](const FsError& e) {
+    if (e.kind == FsRefusal::not_found) return u->status = kIoFileNotFound;
+    if (e.kind == FsRefusal::exists) return u->status = kIoFileExists;
+    error = refusal(path, e);
+    return 0;
+  };
+  Unit fresh;
+  fresh.name = path;
   switch (mode) {
-    case Open::read:
-      if (!exists || fs::is_directory(*target, ec)) return u->status = kIoFileNotFound;
-      u->in.open(*target, std::ios::binary);
-      if (!u->in) return u->status = kIoFileNotFound;
-      break;
-    case Open::directory: {
-      if (!fs::is_directory(*target, ec)) return u->status = kIoFileNotFound;
-      u->entries.clear();
-      for (const auto& e : fs::directory_iterator(*target, ec)) u->entries.push_back(e.path().filename().string());
-      std::sort(u->entries.begin(), u->entries.end());
-      u->next_entry = 0;
+    case Open::read: {
+      auto fd = dir->open_read(*name);
+      if (!fd) return refused(fd.error);
+      fresh.fd = std::move(*fd.value);
       break;
     }
-    case Open::write:
+    case Open::directory: {
+      auto names = dir->list(*name, limits_.max_folder_names);
+      if (!names) return refused(names.error);
+      fresh.entries = std::move(*names.value);
+      break;
+    }
+    case Open::write: {
+      auto created = dir->create(*name);
+      if (!created) return refused(created.error);
+      fresh.created.emplace(std::move(*created.value));
+      break;
+    }
     case Open::append: {
-      if (mode == Open::write && exists) return u->status = kIoFileExists;
-      if (!fs::is_directory(target->parent_path(), ec)) return u->status = kIoFileNotFound;
-      u->temp = target->parent_path() / fmt::format(".{}.tmp.{}", target->filename().string(), ::getpid());
-      if (mode == Open::append && exists) fs::copy_file(*target, u->temp, fs::copy_options::overwrite_existing, ec);
-      u->out.open(u->temp, std::ios::binary | (mode == Open::append ? std::ios::app : std::ios::trunc));
-      if (ec || !u->out) {
-        error = fmt::format("{} could not be opened for writing", path);
-        return 0;
-      }
+      auto fd = dir->open_append(*name);
+      if (!fd) return refused(fd.error);
+      fresh.fd = std::move(*fd.value);
       break;
     }
     case Open::none: break;
   }
-  u->mode = mode;
-  return u->status = kIoOk;
+  fresh.mode = mode;
+  fresh.status = kIoOk;
+  *u = std::move(fresh);
+  return kIoOk;
 }
 
 int FileUnits::close(int lun, std::string& error) {
@@ -134,20 +157,39 @@ int FileUnits::close(int lun, std::string& error) {
   return ok ? kIoOk : 0;
 }
 
-int FileUnits::empty(int lun, const std::string& path, std::string& error) {
-  if (!open_unit(lun, error)) return 0;
-  const auto target = resolve_inside(root_, path, error);
-  if (!target) return 0;
-  std::error_code ec;
-  if (!fs::exists(*target, ec)) return units_[lun].status = kIoFileNotFound;
-  const fs::path temp = target->parent_path() / fmt::format(".{}.tmp.{}", target->filename().string(), ::getpid());
-  { std::ofstream(temp, std::ios::binary | std::ios::trunc); }
-  fs::rename(temp, *target, ec);
-  if (ec) {
-    error = fmt::format("{} could not be emptied", path);
+// FEMPTY and FDELETE: one operation on a named file, no unit's file involved.
+int FileUnits::on_name(int lun, const std::string& path, std::string& error, bool remove) {
+  Unit* u = open_unit(lun, error);
+  if (!u) return 0;
+  const auto name = relative_name(path, error);
+  if (!name) return 0;
+  const core::ConfinedFolder* dir = folder(error);
+  if (!dir) return 0;
+  auto done = remove ? dir->remove(*name) : dir->truncate(*name);
+  if (!done && done.error.kind == FsRefusal::not_found) return u->status = kIoFileNotFound;
+  if (!done) {
+    error = refusal(path, done.error);
     return 0;
   }
-  return units_[lun].status = kIoOk;
+  return u->status = kIoOk;
+}
+
+bool FileUnits::have(Unit& u, std::size_t count, std::string& error) {
+  while (u.buffer.size() - u.next < count) {
+    if (u.at_end) return false;
+    u.buffer.erase(0, u.next);  // what was consumed goes; the rest moves to the front
+    u.next = 0;
+    char chunk[16384];
+    const ssize_t n = ::read(u.fd.get(), chunk, sizeof chunk);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      error = fmt::format("\"{}\" could not be read: {}", u.name, std::strerror(errno));
+      return false;
+    }
+    if (n == 0) u.at_end = true;
+    u.buffer.append(chunk, static_cast<std::size_t>(n));
+  }
+  return true;
 }
 
 std::optional<std::string> FileUnits::read_record(int lun, std::string& error) {
@@ -165,26 +207,32 @@ std::optional<std::string> FileUnits::read_record(int lun, std::string& error) {
     error = fmt::format("logical unit {} has no file open for reading", lun);
     return std::nullopt;
   }
-  std::string record;
-  int c = u->in.get();
-  if (c == std::char_traits<char>::eof()) {
-    u->status = kIoEndOfFile;
+  if (!have(*u, 1, error)) {
+    if (error.empty()) u->status = kIoEndOfFile;
     return std::nullopt;
   }
-  // A record ends at LF, CR LF, CR CR LF or a lone CR (as program files, dialect §1).
-  for (; c != std::char_traits<char>::eof(); c = u->in.get()) {
-    if (c == '\n') break;
-    if (c == '\r') {
-      if (u->in.peek() == '\n') u->in.get();
-      else if (u->in.peek() == '\r') {
-        u->in.get();
-        if (u->in.peek() == '\n') u->in.get();
-        else u->in.unget();
-      }
-      break;
+  // A record ends at LF, CR LF, CR CR LF or a lone CR (as program files, dialect §1). Bytes are
+  // taken a buffer at a time; a record longer than the limit stops the program without being
+  // kept whole or shown.
+  std::string record;
+  while (have(*u, 1, error)) {
+    const char* begin = u->buffer.data() + u->next;
+    const char* end = u->buffer.data() + u->buffer.size();
+    const char* stop = std::find_if(begin, end, [](char c) { return c == '\n' || c == '\r'; });
+    record.append(begin, stop);
+    u->next += static_cast<std::size_t>(stop - begin);
+    if (record.size() > limits_.max_record_bytes) {
+      error = fmt::format("a record of \"{}\" is longer than {} bytes", u->name, limits_.max_record_bytes);
+      return std::nullopt;
     }
-    record += static_cast<char>(c);
+    if (stop == end) continue;
+    if (u->buffer[u->next++] == '\r') {
+      if (have(*u, 1, error) && u->buffer[u->next] == '\n') ++u->next;
+      else if (have(*u, 2, error) && u->buffer[u->next] == '\r' && u->buffer[u->next + 1] == '\n') u->next += 2;
+    }
+    break;
   }
+  if (!error.empty()) return std::nullopt;
   u->status = kIoOk;
   return record;
 }
@@ -196,9 +244,12 @@ int FileUnits::get_byte(int lun, std::string& error) {
     error = fmt::format("logical unit {} has no file open for reading", lun);
     return 0;
   }
-  const int c = u->in.get();
-  u->status = c == std::char_traits<char>::eof() ? kIoEndOfFile : kIoOk;
-  return c == std::char_traits<char>::eof() ? kIoEndOfFile : c;
+  if (!have(*u, 1, error)) {
+    u->status = kIoEndOfFile;
+    return kIoEndOfFile;
+  }
+  u->status = kIoOk;
+  return static_cast<unsigned char>(u->buffer[u->next++]);
 }
 
 void FileUnits::write(int lun, const std::string& text, std::string& error) {
@@ -208,9 +259,23 @@ void FileUnits::write(int lun, const std::string& text, std::string& error) {
     error = fmt::format("logical unit {} has no file open for writing", lun);
     return;
   }
-  u->out << text;
-  u->status = u->out ? kIoOk : 0;
-  if (!u->out) error = fmt::format("{} could not be written", u->target.filename().string());
+  if (text.size() > limits_.max_record_bytes) {
+    error = fmt::format("a record of {} bytes is longer than {} bytes", text.size(), limits_.max_record_bytes);
+    return;
+  }
+  if (written_ + text.size() > limits_.max_written_bytes) {
+    error = fmt::format("the run's files would pass {} bytes in all (docs/limits.md)", limits_.max_written_bytes);
+    return;
+  }
+  auto done = u->mode == Open::write ? core::write_all(u->created->fd(), text) : core::append_whole(u->fd.get(), text);
+  if (!done) {
+    u->status = 0;
+    error = fmt::format("\"{}\" could not be written: {}{}", u->name, done.error.why,
+                        u->mode == Open::append ? " (the file keeps what it held before this record)" : "");
+    return;
+  }
+  written_ += text.size();
+  u->status = kIoOk;
 }
 
 int FileUnits::iostat(int lun) const {
@@ -226,6 +291,7 @@ void FileUnits::close_all() {
   std::string ignored;
   for (auto& [lun, u] : units_) commit(u, ignored);
   units_.clear();
+  folder_.reset();
 }
 
 }  // namespace asimov::interpreter

@@ -117,7 +117,11 @@ Plan plan_line_move(const PlanStart& st, const Location& target, const SpeedSett
                          : line.singularity == SingularityKind::elbow      ? "elbow"
                          : line.singularity == SingularityKind::joint_jump ? "joint jump"
                                                                            : "unresolved step";
-      p = refused("*Singularity on straight-line path*", fmt_fraction(what, line.fail_fraction));
+      std::string detail = fmt_fraction(what, line.fail_fraction);
+      // Singular where the line starts (the PUMA at READY: elbow straight): no straight line can
+      // leave that pose, a joint move can. Learners meet this on their first MOVES.
+      if (line.fail_fraction < 0.0005) detail += "; the start pose is singular: MOVE (joint-interpolated) away from it first";
+      p = refused("*Singularity on straight-line path*", detail);
       break;
     }
   }

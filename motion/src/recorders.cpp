@@ -55,7 +55,7 @@ void ReplayRecorder::push(double t, const robots::JointVector& q, bool checked) 
     checked = checked || samples.back().checked;  // same instant (a zero-length motion)
     samples.pop_back();
   }
-  samples.push_back({t, q, current->step, checked});
+  samples.push_back({t, q, current->step, checked, (base * robots::flange_pose(robot, q) * tool).translation()});
 }
 
 void ReplayRecorder::on_stretch(const Trajectory& tr, const Stretch& s) {

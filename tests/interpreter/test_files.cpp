@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sys/stat.h>
+
 using asimov::test::InterpreterFixture;
 using asimov::interpreter::RunStatus;
 namespace fs = std::filesystem;
@@ -31,6 +33,8 @@ struct Folder {
   void write(const std::string& name, const std::string& text) const { std::ofstream(path / name, std::ios::binary) << text; }
   std::string read(const std::string& name) const { return asimov::test::slurp(path / name); }
 };
+
+std::string slurp_or_none(const fs::path& p) { return fs::exists(p) ? asimov::test::slurp(p) : "<none>"; }
 
 std::string program(const std::string& body) { return ".PROGRAM main()\n" + body + "\n.END\n"; }
 
@@ -151,12 +155,87 @@ TEST_CASE("units used wrongly stop the program; network devices stop with a hint
   CHECK_FALSE(f.load(program("FOPENR \"x\"")).empty());       // the unit
 }
 
-TEST_CASE("resolve_inside", "[files]") {
-  Folder d;
+TEST_CASE("V+ file names become relative names; absolute ones and drives are refused", "[files]") {
   std::string why;
-  CHECK(asimov::interpreter::resolve_inside(d.path, "a/b.txt", why) == fs::weakly_canonical(d.path) / "a" / "b.txt");
-  CHECK_FALSE(asimov::interpreter::resolve_inside(d.path, "", why));
+  CHECK(asimov::interpreter::relative_name(" a\\b.txt ", why) == "a/b.txt");
+  CHECK_FALSE(asimov::interpreter::relative_name("  ", why));
   CHECK(why == "empty file name");
-  CHECK_FALSE(asimov::interpreter::resolve_inside(d.path, "..", why));
-  CHECK_FALSE(asimov::interpreter::resolve_inside(d.path, ".", why));
+  CHECK_FALSE(asimov::interpreter::relative_name("/etc/passwd", why));
+  CHECK_FALSE(asimov::interpreter::relative_name("D>x", why));
+  CHECK(why == "\"D>x\" is not inside the program's folder (absolute path or drive)");
+}
+
+// Issue 29: with `ln -s ../o p/out`, a program in p/ read, created, emptied and deleted files in o/.
+TEST_CASE("no route leads a program out of its folder", "[files][confinement]") {
+  Folder top;
+  const fs::path p = top.path / "p", o = top.path / "o";
+  fs::create_directories(p / "sub");
+  fs::create_directories(o);
+  std::ofstream(o / "secret") << "secret\n";
+  fs::create_symlink("../o", p / "out");
+  fs::create_symlink("/etc/hostname", p / "host");
+  fs::create_symlink("/dev/zero", p / "zero");
+  REQUIRE(::mkfifo((p / "fifo").c_str(), 0600) == 0);
+  auto run = [&](const std::string& body) {
+    InterpreterFixture f;
+    f.interp.limits().files_root = p.string();
+    std::string text = "ATTACH (5)\n";
+    return asimov::test::outcome_of(f, program(text.append(body)));
+  };
+  // Through a folder that does not exist and back: not found, nothing read.
+  CHECK(run("FOPENR (5) \"x/../out/secret\"\nTYPE IOSTAT(5)") == "-500\n");
+  const std::string leaves = "\" leaves the program's folder";
+  CHECK(run("FOPENR (5) \"out/secret\"") == "ERROR *Illegal value* FOPENR: \"out/secret" + leaves);
+  CHECK(run("FOPENR (5) \"sub/../out/secret\"") == "ERROR *Illegal value* FOPENR: \"sub/../out/secret" + leaves);
+  CHECK(run("FOPENW (5) \"out/new\"") == "ERROR *Illegal value* FOPENW: \"out/new" + leaves);
+  CHECK(run("FOPENW (5) \"x/../out/new\"\nTYPE IOSTAT(5)") == "-500\n");
+  CHECK(run("FOPENA (5) \"out/secret\"") == "ERROR *Illegal value* FOPENA: \"out/secret" + leaves);
+  CHECK(run("FEMPTY (5) \"out/secret\"") == "ERROR *Illegal value* FEMPTY: \"out/secret" + leaves);
+  CHECK(run("FDELETE (5) \"out/secret\"") == "ERROR *Illegal value* FDELETE: \"out/secret" + leaves);
+  CHECK(run("FDELETE (5) \"out\\..\\out\\secret\"") == "ERROR *Illegal value* FDELETE: \"out\\..\\out\\secret" + leaves);
+  CHECK(run("FOPEND (5) \"out\"") == "ERROR *Illegal value* FOPEND: \"out" + leaves);
+  CHECK(run("FOPENR (5) \"host\"") == "ERROR *Illegal value* FOPENR: \"host" + leaves);
+  CHECK(run("FOPENR (5) \"zero\"") == "ERROR *Illegal value* FOPENR: \"zero" + leaves);
+  CHECK(slurp_or_none(o / "secret") == "secret\n");
+  CHECK(std::distance(fs::directory_iterator(o), fs::directory_iterator()) == 1);
+  // Regular files only, each refusal said as what it is (a FIFO is not opened: no blocking).
+  CHECK(run("FOPENR (5) \"fifo\"") == "ERROR *Illegal value* FOPENR: \"fifo\" is a FIFO, not a regular file");
+  CHECK(run("FOPENA (5) \"fifo\"") == "ERROR *Illegal value* FOPENA: \"fifo\" is a FIFO, not a regular file");
+  CHECK(run("FOPENR (5) \"sub\"") == "ERROR *Illegal value* FOPENR: \"sub\" is a folder, not a file");
+  CHECK(run("FDELETE (5) \"sub\"") == "ERROR *Illegal value* FDELETE: \"sub\" is a folder, not a file");
+  // Deleting the link removes the link, inside the folder.
+  CHECK(run("FDELETE (5) \"out\"\nTYPE IOSTAT(5)") == "1\n");
+  CHECK(slurp_or_none(o / "secret") == "secret\n");
+}
+
+TEST_CASE("records and what a run writes are bounded", "[files][limits]") {
+  Folder d;
+  d.write("big.txt", std::string(100'000, 'a') + "\n");
+  const std::string big = outcome(d, "ATTACH (5)\nFOPENR (5) \"big.txt\"\nREAD (5) x");
+  CHECK(big == "ERROR *Illegal value* READ: a record of \"big.txt\" is longer than 65536 bytes");
+  InterpreterFixture f;
+  f.interp.limits().files_root = d.path.string();
+  f.interp.limits().max_file_bytes = 1000;
+  const std::string flood = asimov::test::outcome_of(f, program(
+      "ATTACH (5)\nFOPENW (5) \"flood.txt\"\nFOR i = 1 TO 100000\n  WRITE (5) \"012345678901234567\"\nEND"));
+  CHECK(flood == "ERROR *Illegal value* WRITE: the run's files would pass 1000 bytes in all (docs/limits.md)");
+  CHECK(d.read("flood.txt").size() == 1000);  // 50 records of 20 bytes, committed at the end of the run
+  InterpreterFixture g;
+  g.interp.limits().files_root = d.path.string();
+  g.interp.limits().max_record_bytes = 10;
+  CHECK(asimov::test::outcome_of(g, program("ATTACH (5)\nFOPENW (5) \"r.txt\"\nWRITE (5) \"0123456789\""))
+        == "ERROR *Illegal value* WRITE: a record of 12 bytes is longer than 10 bytes");
+}
+
+TEST_CASE("FOPENA appends each record in place, after what the file held", "[files]") {
+  Folder d;
+  d.write("log.txt", "old\r\n");
+  InterpreterFixture f;
+  f.interp.limits().files_root = d.path.string();
+  // Until the run ends the record is in the file already (in place, not a copy renamed later).
+  REQUIRE(f.load(program("ATTACH (5)\nFOPENA (5) \"log.txt\"\nWRITE (5) \"new\"\nPAUSE\nFCLOSE (5)")).empty());
+  REQUIRE(f.interp.run("main").status == RunStatus::paused);
+  CHECK(d.read("log.txt") == "old\r\nnew\r\n");
+  CHECK(outcome(d, "ATTACH (5)\nFOPENA (5) \"fresh.txt\"\nWRITE (5) \"a\", /S\nWRITE (5) \"b\"") == "");
+  CHECK(d.read("fresh.txt") == "ab\r\n");
 }

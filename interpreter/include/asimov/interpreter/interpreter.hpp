@@ -105,10 +105,12 @@ struct Limits {
   // its next checked pose (the simulator reads the flag while a run goes on).
   const std::atomic<bool>* interrupt = nullptr;
   double tick_s = 0.016;          // WAIT: the clock advances by ticks [s]
-  double max_wait_s = 3600;
-  // Files (dialect §7a): every path FOPENR ... names is resolved inside this folder (the
-  // program file's folder, or `asimov run --files DIR`), never outside it.
-  std::string files_root = ".";       // WAIT: simulated seconds before *Wait limit exceeded*
+  double max_wait_s = 3600;       // WAIT: simulated seconds before *Wait limit exceeded*
+  // Files (dialect §7a): every path FOPENR ... names is resolved beneath this folder (the
+  // program file's folder, or `asimov run --files DIR`), never outside it (docs/limits.md).
+  std::string files_root = ".";
+  std::size_t max_record_bytes = 64 * 1024;     // one record READ or WRITE
+  std::uint64_t max_file_bytes = 256ull << 20;  // every byte a run writes to files
 };
 
 class Interpreter {

@@ -30,6 +30,7 @@ struct ReplaySample {
   robots::JointVector joints;   // display [deg]
   int step = 0;                  // program step of the motion it belongs to
   bool checked = false;         // a checked pose (also in the trace)
+  Eigen::Vector3d tool_mm = Eigen::Vector3d::Zero();  // world tool point (BASE . FK . TOOL): the page's tool path
 };
 
 // What the run's settings cost in accuracy, measured along the run (docs/cli.md "accuracy").
@@ -100,7 +101,9 @@ struct PartHistory {
 // at time_free_s (later samples dropped). Times strictly increase; a sample at the instant of
 // the previous one replaces it. With a runtime, the parts' states too (PartHistory).
 struct ReplayRecorder final : WalkObserver {
-  explicit ReplayRecorder(const robots::Robot& robot) : robot(robot) {}
+  // BASE and TOOL are read at each pose, as the trace reads them (the tool point's path).
+  ReplayRecorder(const robots::Robot& robot, const Location& base, const Location& tool)
+      : robot(robot), base(base), tool(tool) {}
   void on_walk_begin(const Trajectory& tr) override;
   void on_stretch(const Trajectory& tr, const Stretch& s) override;
   void on_checked_pose(double t, const robots::JointVector& q, bool contact) override;
@@ -115,6 +118,7 @@ struct ReplayRecorder final : WalkObserver {
  private:
   void push(double t, const robots::JointVector& q, bool checked);
   const robots::Robot& robot;
+  const Location &base, &tool;
   const Trajectory* current = nullptr;
 };
 
@@ -203,7 +207,7 @@ struct TimingRecorder final : WalkObserver {
 // and replay on by setting trace.on and replay.grid_s.
 struct Recorders {
   Recorders(const robots::Robot& robot, const Location& base, const Location& tool)
-      : trace(robot, base, tool), replay(robot), accuracy(robot) {}
+      : trace(robot, base, tool), replay(robot, base, tool), accuracy(robot) {}
   TimingRecorder timing;
   CountRecorder counts;
   TraceRecorder trace;
