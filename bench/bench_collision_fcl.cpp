@@ -70,7 +70,8 @@ void measure_timer_overhead() {
 std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const Polyhedron& m) { return bench::fcl_mesh<fcl::OBBRSSd>(m); }
 
 struct Row;
-void profile(const std::vector<collision::QueryResult>& results, const std::vector<double>& t, Row& row);
+void profile(const std::vector<collision::QueryResult>& results, const std::vector<double>& t,
+             const std::vector<double>& peer, Row& row);
 
 struct Disagreements {
   int touching = 0, containment = 0, other = 0;
@@ -86,6 +87,7 @@ struct Row {
   std::array<std::size_t, 4> ended{};      // step 2, step 3, step 4 free, contact
   std::array<double, 4> ended_median_us{};
   std::array<double, 4> ended_share_us{};  // each class's part of the mean (sum = ours.mean)
+  std::array<double, 4> peer_share_us{};   // FCL's time on the same poses, by our class (sum = peer.mean)
   Stats ours{}, peer{};
   double ours_prep_ms = 0, peer_prep_ms = 0;
   double ours_colliding = 0, peer_colliding = 0;
@@ -95,12 +97,14 @@ struct Row {
   double agreement() const { return 1.0 - static_cast<double>(dis.total()) / static_cast<double>(queries); }
 };
 
-void profile(const std::vector<collision::QueryResult>& results, const std::vector<double>& t, Row& row) {
+void profile(const std::vector<collision::QueryResult>& results, const std::vector<double>& t,
+             const std::vector<double>& peer, Row& row) {
   std::array<std::vector<double>, 4> by;
   for (std::size_t i = 0; i < results.size(); ++i) {
     const auto& r = results[i];
     const int k = r.collided ? 3 : r.counts.pairs_after_minimax == 0 ? 0 : r.counts.pairs_after_voxels == 0 ? 1 : 2;
     by[static_cast<std::size_t>(k)].push_back(t[i]);
+    row.peer_share_us[static_cast<std::size_t>(k)] += peer[i] / static_cast<double>(results.size());
   }
   for (std::size_t k = 0; k < 4; ++k) {
     row.ended[k] = by[k].size();
@@ -187,7 +191,7 @@ Row pair_row(const std::string& name, const Polyhedron& fixed, const Polyhedron&
   row.peer_colliding /= static_cast<double>(poses.size());
   row.ours = stats(tours);
   row.peer = stats(tpeer);
-  profile(results, tours, row);
+  profile(results, tours, tpeer, row);
   return row;
 }
 
@@ -330,7 +334,7 @@ Row puma_row(const std::string& name, int moves, int samples) {
   row.peer_colliding /= static_cast<double>(q);
   row.ours = stats(tours);
   row.peer = stats(tpeer);
-  profile(results, tours, row);
+  profile(results, tours, tpeer, row);
   return row;
 }
 
@@ -341,10 +345,11 @@ void print(const Row& r) {
               r.peer.mean, r.ratio(), r.mean_ratio(), 100 * r.ours_colliding, 100 * r.peer_colliding, r.agreement(), r.dis.touching,
               r.dis.containment, r.dis.other, r.ours_prep_ms, r.peer_prep_ms, r.m.c_str(), r.after_minimax, r.voxel_pairs, r.face_pairs);
   std::printf("    ours ended at: step 2 %zu (median %.2f us), step 3 %zu (%.2f us), step 4 free %zu (%.2f us), "
-              "contact %zu (%.2f us); share of the mean %.2f / %.2f / %.2f / %.2f us\n",
+              "contact %zu (%.2f us); share of the mean %.2f / %.2f / %.2f / %.2f us (fcl on the same poses "
+              "%.2f / %.2f / %.2f / %.2f us)\n",
               r.ended[0], r.ended_median_us[0], r.ended[1], r.ended_median_us[1], r.ended[2], r.ended_median_us[2],
               r.ended[3], r.ended_median_us[3], r.ended_share_us[0], r.ended_share_us[1], r.ended_share_us[2],
-              r.ended_share_us[3]);
+              r.ended_share_us[3], r.peer_share_us[0], r.peer_share_us[1], r.peer_share_us[2], r.peer_share_us[3]);
   std::fflush(stdout);
 }
 
@@ -546,7 +551,7 @@ int main(int argc, char** argv) {
       const std::size_t mesh_bytes = sizeof(collision::Vec3) * m.vertices.size() + sizeof(collision::Triangle) * m.triangles.size();
       const std::size_t grid = sizeof(std::uint32_t) * (g.offsets.size() + g.faces.size() + g.occupied.size()) +
                                sizeof(collision::FloatBox) * g.face_parts.size() + sizeof(collision::Box) * g.content.size() +
-                               sizeof(collision::TreeNode) * g.tree.size() + g.classes.size();
+                               sizeof(collision::TreeNode) * g.tree.size() + sizeof(collision::TreeSlabs) * g.slabs.size() + g.classes.size();
       row.ours_bytes_per_face = static_cast<double>(mesh_bytes + grid) / static_cast<double>(row.faces);
     }
     std::printf("%-48s %8zu faces  ours %8.1f ms (M %d, %.0f B/face)  fcl BVH build %8.1f ms (%.0f B/face)  ratio %.2f"
@@ -572,7 +577,9 @@ int main(int argc, char** argv) {
                  {"ended_step3_median_us", r.ended_median_us[1]}, {"ended_step4_free_median_us", r.ended_median_us[2]},
                  {"ended_contact_median_us", r.ended_median_us[3]},
                  {"ended_step2_mean_share_us", r.ended_share_us[0]}, {"ended_step3_mean_share_us", r.ended_share_us[1]},
-                 {"ended_step4_free_mean_share_us", r.ended_share_us[2]}, {"ended_contact_mean_share_us", r.ended_share_us[3]}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
+                 {"ended_step4_free_mean_share_us", r.ended_share_us[2]}, {"ended_contact_mean_share_us", r.ended_share_us[3]},
+                 {"peer_step2_mean_share_us", r.peer_share_us[0]}, {"peer_step3_mean_share_us", r.peer_share_us[1]},
+                 {"peer_step4_free_mean_share_us", r.peer_share_us[2]}, {"peer_contact_mean_share_us", r.peer_share_us[3]}, {"ours_prep_ms", r.ours_prep_ms}, {"peer_prep_ms", r.peer_prep_ms}});
   for (const DistanceRow& r : drows)
     j.push_back({{"name", r.name}, {"ours_us", r.ours.median}, {"peer", "fcl distance"}, {"peer_us", r.peer.median},
                  {"ratio", r.ratio()}, {"agreement", static_cast<double>(r.agree) / static_cast<double>(r.queries)},

@@ -45,7 +45,7 @@ double thread_cpu_us() {
 std::size_t grid_bytes(const VoxelGrid& g) {
   return sizeof(std::uint32_t) * (g.offsets.size() + g.faces.size() + g.face_offsets.size() + g.face_voxels.size() +
                                   g.occupied.size()) +
-         sizeof(FloatBox) * g.face_parts.size() + sizeof(Box) * g.content.size() + sizeof(TreeNode) * g.tree.size() + g.classes.size();
+         sizeof(FloatBox) * g.face_parts.size() + sizeof(Box) * g.content.size() + sizeof(TreeNode) * g.tree.size() + sizeof(TreeSlabs) * g.slabs.size() + g.classes.size();
 }
 
 Cell measure_once(const Polyhedron& mesh, int m, const std::vector<Pose>& poses) {

@@ -17,11 +17,22 @@ namespace asimov::collision {
 // pair's c + ε_r plus a bound on the float rounding of the mapping (32 float ulps of the
 // magnitudes in play, and a few smallest normal floats for tiny scenes), so the test errs only
 // toward "meet". A NaN (coordinates beyond float range) compares false and also means "meet".
+//
+// Each node also carries a slab (TreeSlabs): its faces lie in its box and within n . x in
+// sm +- sr. Two more axes are tested per pair of nodes: the child's normal and the other node's.
+// Along each, one node's extent is its slab, and the other's is bounded twice: by its box's
+// projection, and by its own slab and box together (n' = alpha n + w with w = n' - alpha n, so
+// n' . x lies within alpha (sm +- sr) plus w . x over the box), which is tight when the two
+// normals are near parallel: two surfaces passing close without crossing. These sums carry more
+// float rounding than the box test: `slab_grow` allows 512 float ulps of the magnitudes (each
+// projection is a sum of at most a dozen products of terms up to twice the magnitude, and the
+// float axes are within an ulp of the double rotation), on top of c + eps_r.
 struct NodeTest {
   float r[3][3]{};   // B's axes in A's frame: a = r b + t
   float ar[3][3]{};  // |r|
   float t[3]{};
   float grow = 0;
+  float slab_grow = 0;
 
   NodeTest() = default;
   // scale_a, scale_b: largest |local coordinate| of each body's container.
@@ -37,6 +48,9 @@ struct NodeTest {
     const double g = grow_by + 32 * FLT_EPSILON * magnitude + 16 * FLT_MIN;
     grow = static_cast<float>(g);
     if (static_cast<double>(grow) < g) grow = std::nextafter(grow, INFINITY);
+    const double sg = 1.001 * grow_by + 512 * FLT_EPSILON * magnitude + 64 * FLT_MIN;
+    slab_grow = static_cast<float>(sg);
+    if (static_cast<double>(slab_grow) < sg) slab_grow = std::nextafter(slab_grow, INFINITY);
   }
 };
 
@@ -48,6 +62,11 @@ struct NodePair {
   float xc[3], xh[3], yc[3], yh[3];
   float y_centre_a[3], y_reach_a[3];
   float x_centre_b[3], x_reach_b[3];
+  // Slabs (own frame): normal, middle, radius; whether each is worth testing (TreeNode::thin).
+  // A node whose slab is not has its nearest ancestor's here (it holds the node's faces too).
+  float xn[3], yn[3];
+  float xm, xr, ym, yr;
+  bool x_thin, y_thin;
 };
 
 namespace detail {
@@ -90,7 +109,11 @@ bool descend(const VoxelGrid& ga, const VoxelGrid& gb, const NodeTest& nt, Leaf&
       e.xh[i] = ga.root_half[static_cast<std::size_t>(i)];
       e.yc[i] = gb.root_centre[static_cast<std::size_t>(i)];
       e.yh[i] = gb.root_half[static_cast<std::size_t>(i)];
+      e.xn[i] = ga.root_normal[static_cast<std::size_t>(i)];
+      e.yn[i] = gb.root_normal[static_cast<std::size_t>(i)];
     }
+    e.xm = ga.root_sm, e.xr = ga.root_sr, e.ym = gb.root_sm, e.yr = gb.root_sr;
+    e.x_thin = ga.root_thin, e.y_thin = gb.root_thin;
     for (int i = 0; i < 3; ++i) {
       e.y_centre_a[i] = nt.t[i];
       e.y_reach_a[i] = 0;
@@ -149,6 +172,68 @@ bool descend(const VoxelGrid& ga, const VoxelGrid& gb, const NodeTest& nt, Leaf&
         apart |= vabs(mc[i] - cur.xc[i]) > mk[i] + (cur.xh[i] + g);
       }
     }
+    const bool children_thin = node.thin != 0, other_thin = split_a ? cur.y_thin : cur.x_thin;
+    const TreeSlabs& slabs = split_a ? ga.slabs[cur.x] : gb.slabs[cur.y];
+    if (children_thin || other_thin) {
+      // The slabs: the children's normals u (own frame) and the other node's normal (each only
+      // when some slab along it is thin: wide slabs near the root would part nothing).
+      const V4 u[3] = {detail::load4(slabs.nx), detail::load4(slabs.ny), detail::load4(slabs.nz)};
+      const V4 sm = detail::load4(slabs.sm), sr = detail::load4(slabs.sr);
+      // The other node in its own frame, and the maps between the frames: the other's point o
+      // is a child-frame point r o + t (split A) or r^T (o - t) (split B).
+      const float* oc = split_a ? cur.yc : cur.xc;
+      const float* oh = split_a ? cur.yh : cur.xh;
+      const float* on = split_a ? cur.yn : cur.xn;
+      const float om = split_a ? cur.ym : cur.xm, orad = split_a ? cur.yr : cur.xr;
+      V4 uo[3];  // u in the other's frame
+      V4 off;    // u . x (child frame) = uo . o + off
+      float v[3];  // the other's normal in the child frame; v . x = on . o + vt
+      float vt;
+      if (split_a) {
+        for (int j = 0; j < 3; ++j) uo[j] = nt.r[0][j] * u[0] + nt.r[1][j] * u[1] + nt.r[2][j] * u[2];
+        off = u[0] * nt.t[0] + u[1] * nt.t[1] + u[2] * nt.t[2];
+        for (int i = 0; i < 3; ++i) v[i] = nt.r[i][0] * on[0] + nt.r[i][1] * on[1] + nt.r[i][2] * on[2];
+        vt = v[0] * nt.t[0] + v[1] * nt.t[1] + v[2] * nt.t[2];
+      } else {
+        for (int i = 0; i < 3; ++i) uo[i] = nt.r[i][0] * u[0] + nt.r[i][1] * u[1] + nt.r[i][2] * u[2];
+        off = -(uo[0] * nt.t[0] + uo[1] * nt.t[1] + uo[2] * nt.t[2]);
+        for (int j = 0; j < 3; ++j) v[j] = nt.r[0][j] * on[0] + nt.r[1][j] * on[1] + nt.r[2][j] * on[2];
+        vt = -(on[0] * nt.t[0] + on[1] * nt.t[1] + on[2] * nt.t[2]);
+      }
+      const float sg = nt.slab_grow;
+      const V4 alpha = uo[0] * on[0] + uo[1] * on[1] + uo[2] * on[2];  // u . v
+      const V4 aa = vabs(alpha);
+      if (children_thin) {  // axis u: the child's slab against the other's box (and its slab and box)
+        V4 c1 = off, r1 = V4{0, 0, 0, 0};
+        for (int j = 0; j < 3; ++j) {
+          c1 += uo[j] * oc[j];
+          r1 += vabs(uo[j]) * oh[j];
+        }
+        apart |= vabs(sm - c1) > sr + r1 + sg;
+        if (other_thin) {
+          V4 c2 = alpha * om + off, r2 = aa * orad;
+          for (int j = 0; j < 3; ++j) {
+            const V4 w = uo[j] - alpha * on[j];
+            c2 += w * oc[j];
+            r2 += vabs(w) * oh[j];
+          }
+          apart |= vabs(sm - c2) > sr + r2 + sg;
+        }
+      }
+      if (other_thin) {  // axis v: the other's slab against the children's boxes, then their slabs and boxes
+        const float vm = om + vt;
+        V4 d1 = V4{0, 0, 0, 0}, q1 = V4{0, 0, 0, 0}, d2 = alpha * sm, q2 = aa * sr;
+        for (int k = 0; k < 3; ++k) {
+          const V4 w = v[k] - alpha * u[k];
+          d1 += v[k] * c[k];
+          q1 += std::fabs(v[k]) * h[k];
+          d2 += w * c[k];
+          q2 += vabs(w) * h[k];
+        }
+        apart |= vabs(d1 - vm) > q1 + (orad + sg);
+        apart |= vabs(d2 - vm) > q2 + (orad + sg);
+      }
+    }
     // Children that meet, farthest first so the nearest ends on top.
     // The live lanes as bits first (no branch per lane: which children meet is data-dependent
     // and mispredicted often), then only those are ordered.
@@ -175,6 +260,14 @@ bool descend(const VoxelGrid& ga, const VoxelGrid& gb, const NodeTest& nt, Leaf&
       (split_a ? e.x : e.y) = node.child[u];
       own_c[0] = node.cx[u], own_c[1] = node.cy[u], own_c[2] = node.cz[u];
       own_h[0] = node.hx[u], own_h[1] = node.hy[u], own_h[2] = node.hz[u];
+      const bool thin = ((node.thin >> s) & 1u) != 0;
+      (split_a ? e.x_thin : e.y_thin) = thin;
+      if (thin) {  // (a slab not worth testing is never read)
+        float* own_n = split_a ? e.xn : e.yn;
+        own_n[0] = slabs.nx[u], own_n[1] = slabs.ny[u], own_n[2] = slabs.nz[u];
+        (split_a ? e.xm : e.ym) = slabs.sm[u];
+        (split_a ? e.xr : e.yr) = slabs.sr[u];
+      }
       for (int k = 0; k < 3; ++k) {
         map_c[k] = mc[k][s];
         map_k[k] = mk[k][s];

@@ -8,6 +8,7 @@
 #include <limits>
 #include <cfloat>
 #include <cmath>
+#include <span>
 #include <utility>
 
 namespace asimov::collision {
@@ -95,40 +96,154 @@ std::vector<int> halving_axes(const Vec3& size, int halvings) {
   return axes;
 }
 
+// A node's slab (TreeNode) while the tree is built, in double: the sum of its faces' normals
+// (area-weighted: the cross products, over every listing of a face in its voxels), the normal
+// as it will be stored (rounded to float, then used as given: any direction bounds the faces)
+// and n . x over the faces' vertices, within the box's projection.
+struct Slab {
+  Vec3 sum = Vec3::Zero();
+  Vec3 n = Vec3::UnitX();
+  double lo = 0, hi = 0;
+};
+
 // The binary halvings tree as built.
 struct BinaryNode {
   Box box;
+  Slab slab;
   std::uint32_t second = 0;  // index of the second child (the first is next); 0 for a leaf
   std::uint32_t voxel = 0;   // leaf: its voxel index
   bool leaf() const { return second == 0; }
 };
 
+// Up to this many face listings a node's slab is measured on its faces' vertices; above, it is
+// bounded from its two children's slabs (cheaper, looser; the upper levels' normals spread
+// anyway).
+constexpr std::uint32_t kSlabExactListings = 256;
+
+// x rounded to float, the result opaque to the optimiser: GCC 12 at -O3 folds (double)(float)x
+// to x when it vectorises two such conversions (measured here: slabs measured along the
+// unrounded normal while the rounded one was stored, a bound off by 1e-7 relative).
+float opaque_float(double x) {
+  float f = static_cast<float>(x);
+  asm volatile("" : "+m"(f));
+  return f;
+}
+
+// The stored normal: the direction of `sum` rounded to float (x when the normals cancel).
+Vec3 slab_normal(const Vec3& sum) {
+  const double len = sum.norm();
+  if (!(len > 0) || !std::isfinite(len)) return Vec3::UnitX();
+  const Vec3 u = sum / len;
+  return Vec3(opaque_float(u.x()), opaque_float(u.y()), opaque_float(u.z()));
+}
+
+// [lo, hi] of n . x over the box (centre +- half).
+std::pair<double, double> box_along(const Vec3& n, const Box& b) {
+  const Vec3 c = 0.5 * (b.lo + b.hi), h = 0.5 * (b.hi - b.lo);
+  const double m = n.dot(c), r = std::abs(n.x()) * h.x() + std::abs(n.y()) * h.y() + std::abs(n.z()) * h.z();
+  return {m - r, m + r};
+}
+
+// The slab's interval cut to the box's projection, widened by the rounding of the dot products
+// (a relative 1e-12 of the magnitudes in play: far above their few ulps).
+void finish_slab(Slab& s, const Box& box, double magnitude) {
+  const auto [blo, bhi] = box_along(s.n, box);
+  const double room = 1e-12 * magnitude;
+  double lo = std::max(s.lo, blo), hi = std::min(s.hi, bhi);
+  if (!(lo <= hi)) lo = s.lo, hi = s.hi;  // cannot happen (the faces' parts lie in the box); keep it sound
+  s.lo = lo - room;
+  s.hi = hi + room;
+}
+
+// A leaf's or a small node's slab, measured on the faces listed in `voxels`.
+Slab measured_slab(const VoxelGrid& g, const Polyhedron& mesh, std::span<const std::uint32_t> voxels, const Box& box,
+                   double magnitude) {
+  Slab s;
+  for (const std::uint32_t v : voxels)
+    for (const std::uint32_t f : g.faces_in(v)) {
+      const Triangle& t = mesh.triangles[f];
+      const Vec3 &p = mesh.vertices[t[0]], &q = mesh.vertices[t[1]], &r = mesh.vertices[t[2]];
+      s.sum += (q - p).cross(r - p);
+    }
+  s.n = slab_normal(s.sum);
+  s.lo = INFINITY;
+  s.hi = -INFINITY;
+  for (const std::uint32_t v : voxels)
+    for (const std::uint32_t f : g.faces_in(v))
+      for (const std::uint32_t i : mesh.triangles[f]) {
+        const double d = s.n.dot(mesh.vertices[i]);
+        s.lo = std::min(s.lo, d);
+        s.hi = std::max(s.hi, d);
+      }
+  finish_slab(s, box, magnitude);
+  return s;
+}
+
+// A node's slab from its children's: along n, each child's faces lie in its box and in its slab,
+// so within alpha [lo_c, hi_c] + w . x over its box, where alpha = n . n_c and w = n - alpha n_c.
+Slab composed_slab(const BinaryNode& a, const BinaryNode& b, const Box& box, double magnitude) {
+  Slab s;
+  s.sum = a.slab.sum + b.slab.sum;
+  s.n = slab_normal(s.sum);
+  s.lo = INFINITY;
+  s.hi = -INFINITY;
+  for (const BinaryNode* c : {&a, &b}) {
+    const double alpha = s.n.dot(c->slab.n);
+    const auto [wlo, whi] = box_along(s.n - alpha * c->slab.n, c->box);
+    const auto [blo, bhi] = box_along(s.n, c->box);
+    const double x = alpha * c->slab.lo, y = alpha * c->slab.hi;
+    s.lo = std::min(s.lo, std::max(blo, std::min(x, y) + wlo));
+    s.hi = std::max(s.hi, std::min(bhi, std::max(x, y) + whi));
+  }
+  finish_slab(s, box, magnitude);
+  return s;
+}
+
 // Appends the subtree of the cell `r` (after `depth` halvings) in preorder and returns its
 // box; nothing when the cell holds no non-empty voxel. A cell with one non-empty half is
 // replaced by that half's subtree (same box), so every inner node has two children.
-bool add_subtree(const VoxelGrid& g, const std::vector<int>& axes, const CellRange& r, std::size_t depth,
-                 std::vector<BinaryNode>& tree, Box& box) {
+// `leaves`: the voxels of the subtree are appended (for the slabs of small nodes).
+struct TreeBuild {
+  const VoxelGrid& g;
+  const Polyhedron& mesh;
+  const std::vector<int>& axes;
+  double magnitude;
+  std::vector<BinaryNode> tree;
+  std::vector<std::uint32_t> leaves;
+};
+
+bool add_subtree(TreeBuild& b, const CellRange& r, std::size_t depth, Box& box) {
+  const VoxelGrid& g = b.g;
   if (g.count_nonempty(r) == 0) return false;
-  if (depth == axes.size()) {
-    const std::size_t v = g.index(r.lo[0], r.lo[1], r.lo[2]);
+  if (depth == b.axes.size()) {
+    const auto v = static_cast<std::uint32_t>(g.index(r.lo[0], r.lo[1], r.lo[2]));
     box = g.content[v];
-    tree.push_back({.box = box, .second = 0, .voxel = static_cast<std::uint32_t>(v)});
+    b.leaves.push_back(v);
+    b.tree.push_back({.box = box, .slab = measured_slab(g, b.mesh, std::span(&v, 1), box, b.magnitude), .second = 0,
+                      .voxel = v});
     return true;
   }
-  const auto axis = static_cast<std::size_t>(axes[depth]);
+  const auto axis = static_cast<std::size_t>(b.axes[depth]);
   CellRange lo = r, hi = r;
   lo.hi[axis] = (r.lo[axis] + r.hi[axis]) / 2;
   hi.lo[axis] = lo.hi[axis] + 1;
   const bool lo_full = g.count_nonempty(lo) != 0, hi_full = g.count_nonempty(hi) != 0;
-  if (!lo_full || !hi_full) return add_subtree(g, axes, lo_full ? lo : hi, depth + 1, tree, box);
-  const std::size_t node = tree.size();
-  tree.emplace_back();
-  Box a, b;
-  add_subtree(g, axes, lo, depth + 1, tree, a);
-  tree[node].second = static_cast<std::uint32_t>(tree.size());
-  add_subtree(g, axes, hi, depth + 1, tree, b);
-  box = Box{a.lo.cwiseMin(b.lo), a.hi.cwiseMax(b.hi)};
-  tree[node].box = box;
+  if (!lo_full || !hi_full) return add_subtree(b, lo_full ? lo : hi, depth + 1, box);
+  const std::size_t node = b.tree.size();
+  const std::size_t first_leaf = b.leaves.size();
+  b.tree.emplace_back();
+  Box x, y;
+  add_subtree(b, lo, depth + 1, x);
+  const std::size_t second = b.tree.size();
+  b.tree[node].second = static_cast<std::uint32_t>(second);
+  add_subtree(b, hi, depth + 1, y);
+  box = Box{x.lo.cwiseMin(y.lo), x.hi.cwiseMax(y.hi)};
+  b.tree[node].box = box;
+  const std::span<const std::uint32_t> voxels = std::span(b.leaves).subspan(first_leaf);
+  std::uint32_t listings = 0;
+  for (const std::uint32_t v : voxels) listings += g.offsets[v + 1] - g.offsets[v];
+  b.tree[node].slab = listings <= kSlabExactListings ? measured_slab(g, b.mesh, voxels, box, b.magnitude)
+                                                     : composed_slab(b.tree[node + 1], b.tree[second], box, b.magnitude);
   return true;
 }
 
@@ -141,6 +256,21 @@ float float_down(float x) {
 float float_up(float x) {
   if (x == 0) return std::numeric_limits<float>::denorm_min();
   return std::bit_cast<float>(std::bit_cast<std::uint32_t>(x) + (x > 0 ? 1u : 0xffffffffu));
+}
+
+// Whether the slab is worth testing (kThinSlab).
+bool thin_slab(const Slab& s, const Box& box) {
+  const auto [blo, bhi] = box_along(s.n, box);
+  return s.hi - s.lo <= kThinSlab * (bhi - blo);
+}
+
+// A slab's interval [lo, hi] as a float middle and radius that hold it.
+void float_interval(double lo, double hi, float& mid, float& radius) {
+  float l = opaque_float(lo), h = opaque_float(hi);
+  if (static_cast<double>(l) > lo) l = float_down(l);
+  if (static_cast<double>(h) < hi) h = float_up(h);
+  mid = 0.5f * (l + h);
+  radius = float_up(std::max(mid - l, h - mid));  // covers their rounding
 }
 
 // A box (the double box lo, hi) as float centre and half sides that hold it.
@@ -161,6 +291,7 @@ std::uint32_t leaf_ref(const BinaryNode& n) { return TreeNode::kLeaf | n.voxel; 
 std::uint32_t add_node(VoxelGrid& g, const std::vector<BinaryNode>& bin, std::uint32_t i) {
   const auto index = static_cast<std::uint32_t>(g.tree.size());
   g.tree.emplace_back();
+  g.slabs.emplace_back();
   std::array<std::uint32_t, 4> lanes{};
   int n = 0;
   for (const std::uint32_t c : {i + 1, bin[i].second}) {
@@ -174,29 +305,41 @@ std::uint32_t add_node(VoxelGrid& g, const std::vector<BinaryNode>& bin, std::ui
   for (int s = 0; s < 4; ++s) {
     const auto u = static_cast<std::size_t>(s);
     float centre[3] = {0, 0, 0}, half[3] = {-1e30f, -1e30f, -1e30f};  // unused: ref kNone, masked
+    float normal[3] = {1, 0, 0}, mid = 0, radius = 0;
     std::uint32_t ref = TreeNode::kNone;
     if (s < n) {
       const BinaryNode& b = bin[lanes[u]];
       float_box(b.box.lo, b.box.hi, centre, half);
+      for (int k = 0; k < 3; ++k) normal[k] = static_cast<float>(b.slab.n[k]);  // exact: n is float-valued
+      float_interval(b.slab.lo, b.slab.hi, mid, radius);
+      if (thin_slab(b.slab, b.box)) g.tree[index].thin |= 1u << s;
       ref = b.leaf() ? leaf_ref(b) : add_node(g, bin, lanes[u]);
     }
-    TreeNode& t = g.tree[index];  // add_node may have moved the vector
+    TreeNode& t = g.tree[index];  // add_node may have moved the vectors
     t.cx[u] = centre[0], t.cy[u] = centre[1], t.cz[u] = centre[2];
     t.hx[u] = half[0], t.hy[u] = half[1], t.hz[u] = half[2];
     t.child[u] = ref;
+    TreeSlabs& l = g.slabs[index];
+    l.nx[u] = normal[0], l.ny[u] = normal[1], l.nz[u] = normal[2];
+    l.sm[u] = mid, l.sr[u] = radius;
   }
   return index;
 }
 
-void build_tree(VoxelGrid& g, const std::vector<int>& axes) {
+void build_tree(VoxelGrid& g, const Polyhedron& mesh, const std::vector<int>& axes) {
   g.tree.clear();
+  g.slabs.clear();
   g.root = VoxelGrid::kNoRoot;
   CellRange all;
   for (std::size_t k = 0; k < 3; ++k) all.hi[k] = g.cells[k] - 1;
-  std::vector<BinaryNode> bin;
+  TreeBuild b{g, mesh, axes, g.container.scale + g.container.size.maxCoeff(), {}, {}};
   Box box;
-  if (!add_subtree(g, axes, all, 0, bin, box)) return;
+  if (!add_subtree(b, all, 0, box)) return;
+  const std::vector<BinaryNode>& bin = b.tree;
   float_box(bin[0].box.lo, bin[0].box.hi, g.root_centre.data(), g.root_half.data());
+  for (std::size_t k = 0; k < 3; ++k) g.root_normal[k] = static_cast<float>(bin[0].slab.n[static_cast<Eigen::Index>(k)]);
+  float_interval(bin[0].slab.lo, bin[0].slab.hi, g.root_sm, g.root_sr);
+  g.root_thin = thin_slab(bin[0].slab, bin[0].box);
   g.root = bin[0].leaf() ? leaf_ref(bin[0]) : add_node(g, bin, 0);
 }
 
@@ -360,7 +503,7 @@ VoxelGrid build_voxel_grid(const Polyhedron& mesh, int halvings, bool closed) {
                       at(i, j, k - 1) - at(i - 1, j - 1, k) - at(i - 1, j, k - 1) - at(i, j - 1, k - 1) +
                       at(i - 1, j - 1, k - 1);
 
-  build_tree(g, halving_axes(g.container.size, std::clamp(halvings, 0, kMaxHalvings)));
+  build_tree(g, mesh, halving_axes(g.container.size, std::clamp(halvings, 0, kMaxHalvings)));
   if (closed) classify_voxels(g, mesh);
   return g;
 }

@@ -21,13 +21,29 @@ struct CellRange {
 // A node of the halvings tree [ours], as step 3 reads it: two levels of halvings at once, so up
 // to four children, their boxes side by side in float lanes (one SIMD test for all four). A
 // child box is the union of its voxels' content boxes (local frame), rounded outward to float.
-struct TreeNode {
+//
+// [ours] Each child also has a slab (TreeSlabs, the same index as its node, kept apart so that
+// the nodes near the root, whose slabs are not worth testing, stay two cache lines each).
+struct alignas(64) TreeNode {
   static constexpr std::uint32_t kLeaf = 0x80000000u;  // child ref: kLeaf | voxel index, else a node index
   static constexpr std::uint32_t kNone = 0xffffffffu;  // an unused lane
   std::array<float, 4> cx{}, cy{}, cz{};  // children's centres
   std::array<float, 4> hx{}, hy{}, hz{};  // children's half sides
   std::array<std::uint32_t, 4> child{};
+  std::uint32_t thin = 0;  // bit s: child s's slab is thin enough to be worth testing (kThinSlab)
 };
+// The children's slabs of a TreeNode: a unit normal n (the area-weighted mean normal of the
+// faces in the child's voxels) and the interval sm +- sr of n . x over those faces' vertices,
+// within the projection of its box. A patch of surface is thin along its own normal, so where two
+// surfaces come near without crossing, their slabs part them long after their boxes (local
+// axis-aligned, fat for a tilted patch) still meet (tree_descent.hpp).
+struct TreeSlabs {
+  std::array<float, 4> nx{}, ny{}, nz{};  // normals (unit, as stored)
+  std::array<float, 4> sm{}, sr{};        // n . x within sm +- sr (rounded outward)
+};
+// A slab is tested only when its radius is at most this fraction of its box's along n (near the
+// root the normals spread and the slab is the box again: the test would only cost).
+constexpr double kThinSlab = 0.5;
 
 // A box in float, rounded outward from the double box it stands for (half the bytes of a Box:
 // the per-face parts are the largest part of a big mesh's grid, 1.5 per face at 1M faces).
@@ -62,7 +78,11 @@ struct VoxelGrid {
   // is replaced by it), leaves = non-empty voxels; stored two levels per TreeNode. Step 3
   // descends both bodies' trees together, so only subtrees whose boxes meet are visited.
   std::vector<TreeNode> tree;           // nodes; the root's box and ref below
+  std::vector<TreeSlabs> slabs;         // per node, its children's slabs
   std::array<float, 3> root_centre{}, root_half{};
+  std::array<float, 3> root_normal{1, 0, 0};  // the root's slab (TreeNode)
+  float root_sm = 0, root_sr = 0;
+  bool root_thin = false;
   std::uint32_t root = kNoRoot;         // kNoRoot when the mesh has no face
   static constexpr std::uint32_t kNoRoot = 0xffffffffu;
   std::vector<std::uint32_t> occupied;  // summed-volume table of non-empty voxels,
