@@ -21,7 +21,7 @@ void PartHistory::observe(const CellRuntime& runtime) {
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const PartState& p = parts[i];
     PartSegment s{static_cast<int>(i), p.anchor_s, p.holder, p.conveyor, p.anchor, p.velocity, p.end_s};
-    if (p.holder == Holder::carried) s.pose = runtime.grip(), s.velocity.setZero(), s.end_s = std::numeric_limits<double>::infinity();
+    if (p.holder == Holder::carried) s.pose = runtime.grip_of(i), s.velocity.setZero(), s.end_s = std::numeric_limits<double>::infinity();
     if (i < last_.size()) {
       PartSegment& l = segments[last_[i]];
       // The carried part's anchor follows the flange (DeviceClock::move_carried): not a change.

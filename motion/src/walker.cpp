@@ -102,7 +102,7 @@ struct Walker::Walk {
       w.world_.query({.clearance_mm = clearance,
                       .pairs = dwelling ? std::optional(checked_pairs()) : std::nullopt,
                       .gaps = want_gaps && !dwelling},
-                     w.result_);
+                     w.result_, true);
       const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
       if (want_gaps) {
         w.gaps_next_.assign(w.result_.gaps.begin(), w.result_.gaps.end());
@@ -174,6 +174,7 @@ struct Walker::Walk {
       hit_pairs.clear();
       CollisionReport probe;
       w.probe_pairs_.assign(w.world_.pairs().begin(), w.world_.pairs().end());
+      w.probe_pairs_.insert(w.probe_pairs_.end(), w.world_.touching().begin(), w.world_.touching().end());
       for (const collision::BodyPair& pair : w.probe_pairs_) {
         w.world_.query({.clearance_mm = clearance, .pairs = std::span(&pair, 1)}, w.result_);
         if (record(w.result_, {QueryKind::probe}, report.joints, probe)) hit_pairs.push_back(pair);
@@ -312,7 +313,25 @@ struct Walker::Walk {
       known.mu = w.window_mu_;
     }
     mu.ok = false;
-    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, known);
+    ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, known);
+    // A part coming to rest on an object or another part (docs/collision.md §15): that pair joins
+    // the resting contacts and the stretch is proven again without it.
+    while (c.found) {
+      const collision::BodyPair p = checked_pairs()[c.pair];
+      if (!w.world_.resting_pair(p)) break;
+      CollisionReport probe;
+      if (record(query(c.q_hit, c.t_hit, std::span(&p, 1)), {QueryKind::probe}, c.q_hit, probe)) break;
+      w.world_.rest(p, c.t_hit);
+      if (dwelling) moving_pairs();
+      checker->reset();
+      pairs_verified = w.world_.pairs_revision();
+      path.pairs = checked_pairs();
+      c = checker->verify(t_a, st.joints, t_b, q_b, path, {});
+      if (!c.found) {
+        w.world_.pose(q_b, t_b);
+        w.world_.confirm_resting();
+      }
+    }
     if (!c.found) return false;
     checker->reset();
     const collision::BodyPair pair = checked_pairs()[c.pair];
