@@ -143,7 +143,7 @@ nlohmann::json workcell_data(const motion::Cell& cell, const motion::CellRuntime
   std::vector<const collision::Polyhedron*> distinct;
   auto parts = nlohmann::json::array();
   for (const motion::PartState& p : clock.parts()) {
-    const collision::Polyhedron& m = p.def.mesh;
+    const collision::Polyhedron& m = p.def->mesh;
     std::size_t k = 0;
     while (k < distinct.size() && !(distinct[k]->vertices == m.vertices && distinct[k]->triangles == m.triangles)) ++k;
     if (k == distinct.size()) {
@@ -160,8 +160,8 @@ nlohmann::json workcell_data(const motion::Cell& cell, const motion::CellRuntime
                         {"vertices", b64(v)},
                         {"triangles", b64(tri)}});
     }
-    nlohmann::json j = {{"name", p.def.name}, {"mesh", k}};
-    if (!p.def.colour.empty()) j["colour"] = p.def.colour;
+    nlohmann::json j = {{"name", p.def->name}, {"mesh", k}};
+    if (!p.def->colour.empty()) j["colour"] = p.def->colour;
     if (p.feeder >= 0) j["feeder"] = w.feeders[static_cast<std::size_t>(p.feeder)].name;
     parts.push_back(std::move(j));
   }
@@ -431,7 +431,7 @@ nlohmann::json replay_data(const std::string& file, const motion::Simulator& sim
     if (!runtime || part_name.empty()) return -1;
     const auto& parts = runtime->clock().parts();
     for (std::size_t i = 0; i < parts.size(); ++i)
-      if (parts[i].def.name == part_name) return static_cast<int>(i);
+      if (parts[i].def->name == part_name) return static_cast<int>(i);
     return -1;
   };
   // The closest approach of the clearance report (docs/collision.md §12): the page marks it.

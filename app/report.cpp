@@ -109,6 +109,7 @@ nlohmann::json clearance_json(const motion::Simulator& sim, const std::vector<in
     const interpreter::MotionStep* m = interpreter::motion_at_step(motions, a.step);
     pairs.push_back({{"bodies", {sim.body_name(a.pair.a), sim.body_name(a.pair.b)}},
                      {"distance_mm", a.distance_mm},
+                     {"lower_bound_mm", a.lower_bound_mm},
                      {"time_s", a.time_s},
                      {"step", a.step},
                      {"program", m ? m->program : std::string()},  // "" / 0: the step is not one motion's

@@ -31,10 +31,11 @@ nlohmann::json workcell_json(const motion::CellRuntime& cell) {
     const auto& p = clock.parts()[i];
     const motion::Location pose = clock.part_pose(i);
     const auto oat = motion::decompose(pose);
-    nlohmann::json j = {{"name", p.def.name},
+    nlohmann::json j = {{"name", p.def->name},
                         {"state", part_state_name(p.holder)},
                         {"pose", {oat[0], oat[1], oat[2], oat[3], oat[4], oat[5]}}};
-    if (!p.def.colour.empty()) j["colour"] = p.def.colour;
+    if (!p.def->colour.empty()) j["colour"] = p.def->colour;
+    if (const std::string on = cell.resting_on(i); !on.empty()) j["on"] = on;
     parts.push_back(std::move(j));
   }
   // The signals on at the end of the run (outputs, inputs, soft signals), ascending.

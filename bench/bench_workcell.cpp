@@ -63,7 +63,7 @@ Outcome run_once(const std::string& cell_yaml, const std::string& program) {
   if (const auto* c = interp.cell_state()) {
     o.parts = c->clock().parts().size();
     for (std::size_t i = 0; i < c->clock().parts().size(); ++i)
-      if (c->clock().parts()[i].def.name.rfind("cube", 0) == 0) o.belt_x.push_back(c->clock().part_pose(i).translation().x());
+      if (c->clock().parts()[i].def->name.rfind("cube", 0) == 0) o.belt_x.push_back(c->clock().part_pose(i).translation().x());
   }
   return o;
 }

@@ -158,7 +158,7 @@ void conveyor(const Fields& f, const YAML::Node& d, motion::Cell& cell, std::set
 }
 
 void sensor(const Fields& f, const YAML::Node& d, motion::Cell& cell) {
-  f.expect_keys(d, {"sensor", "box", "at", "signal", "parts", "colour"}, "a sensor");
+  f.expect_keys(d, {"sensor", "box", "at", "signal", "parts", "colour", "sensing"}, "a sensor");
   motion::Sensor s;
   s.name = f.text(d["sensor"], "a sensor's name");
   if (!d["signal"]) f.fail(d, "a sensor needs signal: (an input 1001-1512 or soft signal 2001-2512)");
@@ -166,6 +166,11 @@ void sensor(const Fields& f, const YAML::Node& d, motion::Cell& cell) {
   s.region = region(f, d, "sensor '" + s.name + "'");
   if (d["parts"]) s.pattern = f.text(d["parts"], "sensor parts pattern");
   if (d["colour"]) s.colour = f.text(d["colour"], "sensor colour");
+  if (d["sensing"]) {
+    const std::string how = f.text(d["sensing"], "sensor sensing");
+    if (how != "origin" && how != "overlap") f.fail(d["sensing"], "sensor sensing must be origin or overlap");
+    s.sensing = how == "overlap" ? motion::Sensing::overlap : motion::Sensing::origin;
+  }
   cell.workcell.sensors.push_back(std::move(s));
 }
 
@@ -208,10 +213,18 @@ void feeder(const Fields& f, const YAML::Node& d, motion::Cell& cell, std::set<s
 }
 
 void sink(const Fields& f, const YAML::Node& d, motion::Cell& cell) {
-  f.expect_keys(d, {"sink", "box", "at"}, "a sink");
+  f.expect_keys(d, {"sink", "box", "at", "signal", "edge"}, "a sink");
   motion::Sink s;
   s.name = f.text(d["sink"], "a sink's name");
   s.region = region(f, d, "sink '" + s.name + "'");
+  // Gated: removes what lies in it at an edge of the signal (docs/cell-format.md "sink").
+  if (d["signal"]) s.signal = signal(f, d["signal"], "sink '" + s.name + "' signal");
+  if (d["edge"]) {
+    if (!d["signal"]) f.fail(d["edge"], "a sink's edge needs its signal:");
+    const std::string e = f.text(d["edge"], "sink edge");
+    if (e != "rising" && e != "falling") f.fail(d["edge"], "a sink's edge must be rising or falling");
+    s.on_rising = e == "rising";
+  }
   cell.workcell.sinks.push_back(std::move(s));
 }
 

@@ -56,7 +56,7 @@ void ContinuousChecker::measure(std::size_t pair, Point& p, double upper, bool p
       engine_.distance(bp.a, bp.b,
                        {.upper_mm = upper, .guess = g.pair == bp ? g.dir : collision::Vec3::Zero(), .exact_below_mm = exact_below});
   g = {bp, r.guess};
-  if (on_measure) on_measure(pair, r, p.t, probe, cpu_ticks() - k0);
+  if (on_measure) on_measure(bp, r, p.t, probe, cpu_ticks() - k0);
   ++queries_;
   if (r.status != collision::DistanceStatus::beyond) least_[pair] = std::min(least_[pair], r.distance);
   p.hit = r.status == collision::DistanceStatus::contact ||
@@ -76,7 +76,7 @@ void ContinuousChecker::measure_probe(std::size_t pair, Point& p, double upper) 
 // Lazy: a pose measured only as a bound that may still be nearer than the pair's least and the
 // report threshold is kept for flush().
 void ContinuousChecker::keep(std::size_t pair, const Point& p, const robots::JointVector& q) {
-  if (lazy_ && !p.hit && !p.exact && p.d < std::min(report_mm_, least_[pair])) kept_.push_back({pair, p.t, p.d, q});
+  if (lazy_ && !p.hit && !p.exact && p.d < std::min(report_mm_, least_[pair])) kept_.push_back({pairs_[pair], p.t, p.d, q});
 }
 
 // Earliest contact of the pair in (l.t, r.t]: l is free; r.hit says whether r collides. True
@@ -100,6 +100,19 @@ bool ContinuousChecker::solve(std::size_t pair, const Point& l, const Point& r, 
   if ((r.hit ? width <= tol_ : width <= std::min(tol_, kGrazeS)) || !(m_t > l.t && m_t < r.t)) {
     const ContinuousContact here{.found = true, .graze = !r.hit, .pair = pair, .t_free = l.t, .t_hit = r.t, .q_free = l.q, .q_hit = r.q};
     if (!r.hit) {
+      // Ends known only by bounds (lazy probes: the hulls' bound, loose a hair from a face): their
+      // exact distances may prove the window after all, before it is taken for a graze.
+      if (!l.exact || !r.exact) {
+        Point le = l, re = r;
+        for (Point* e : {&le, &re}) {
+          if (e->exact) continue;
+          path.pose(e->q, e->t);
+          posed_t_ = e->t;
+          measure(pair, *e, mu + 2 * c, true);
+          if (e->hit) return solve(pair, l, *e, path, out);  // (cannot happen at l: it is free)
+        }
+        if ((le.d - c) + (re.d - c) > mu) return false;
+      }
       if (!graze_) graze_ = here;
       return false;
     }
@@ -123,7 +136,10 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
   posed_t_ = t_b;
   pairs_ = path.pairs ? *path.pairs : engine_.enabled_pairs();
   const std::size_t n = pairs_.size();
-  least_.resize(n, std::numeric_limits<double>::infinity());
+  if (!std::equal(pairs_.begin(), pairs_.end(), least_pairs_.begin(), least_pairs_.end())) {
+    least_.assign(n, std::numeric_limits<double>::infinity());  // another list: its indices name other pairs
+    least_pairs_.assign(pairs_.begin(), pairs_.end());
+  }
   if (anchors_.size() != n) anchors_.assign(n, {});
   const double c = clearance_;
   const bool cached = cache_t_ == t_a && cache_d_.size() == n;
@@ -134,6 +150,7 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
     const double d = cached ? cache_d_[i] : 0.0;
     return have_a && known.lower_a[i] > d ? known.lower_a[i] : d;
   };
+  least_before_.assign(least_.begin(), least_.end());
   mu_.resize(n);
   end_d_.resize(n);  // every entry is written below (as end_flags_)
   end_flags_.resize(n);
@@ -221,6 +238,35 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
       best.q_free = found.q_free;
     }
   }
+  // The report's minimum: every pair's window to b (to the contact, if any) whose bounds leave
+  // room below its least (lazy: kept for flush(); eager: refined now). After a contact the
+  // distances measured past it (at b) never happened: the leasts before the window are kept.
+  const double until = best.found ? best.t_hit : t_b;
+  if (best.found) least_.swap(least_before_);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (best.found && i == best.pair) continue;  // its least is the contact
+    Point a, b;
+    a.t = t_a;
+    a.q = q_a;
+    a.d = at_a(i);
+    a.exact = cached && (cache_flags_[i] & kExact) && a.d == cache_d_[i];
+    b.t = t_b;
+    b.q = q_b;
+    b.d = (end_flags_[i] & kHit) ? 0.0 : end_d_[i];
+    b.exact = (end_flags_[i] & kExact) != 0;
+    double m = mu_[i];
+    if (until < t_b) {  // clipped at the contact: d there from both ends' bounds
+      const robots::JointVector q_u = best.q_hit;
+      const double m_a = path.motion(i, t_a, q_a, until, q_u);
+      b.d = std::max(less(a.d, m_a), less(b.d, path.motion(i, until, q_u, t_b, q_b)));
+      b.t = until;
+      b.q = q_u;
+      b.exact = false;
+      m = m_a;
+    }
+    keep_window(i, a, b, m, path);
+  }
+  if (!lazy_ && !windows_.empty() && refine(path, until)) posed_t_ = -1;
   // The distances at b are the next window's start (unless a contact ends the motion here); a
   // pair in contact has d 0 there (measure).
   cache_t_ = t_b;
@@ -235,8 +281,9 @@ ContinuousContact ContinuousChecker::verify(double t_a, const robots::JointVecto
 }
 
 bool ContinuousChecker::flush(const ContinuousPath& path, double until_s) {
-  if (kept_.empty() || !path.pose) {
+  if (!path.pose) {
     kept_.clear();
+    windows_.clear();
     return false;
   }
   // Nearest bound first: the first measured sets the pair's least, and every pose whose bound
@@ -244,18 +291,24 @@ bool ContinuousChecker::flush(const ContinuousPath& path, double until_s) {
   std::stable_sort(kept_.begin(), kept_.end(), [](const Kept& x, const Kept& y) { return x.bound < y.bound; });
   bool posed = false;
   for (Kept& k : kept_) {
-    if (k.t > until_s || k.pair >= pairs_.size()) continue;
-    const double report = std::min(report_mm_, least_[k.pair]);
+    if (k.t > until_s) continue;
+    double least = least_of(k.pair);
+    const double report = std::min(report_mm_, least);
     if (!(k.bound < report)) continue;
     path.pose(k.q, k.t);
     posed = true;
     Point p;
     p.t = k.t;
     p.q = k.q;
-    measure(k.pair, p, report, false);
+    measure_bodies(k.pair, p, report, false, least);
+    if (p.exact) flushed_.push_back({k.pair, k.t, p.hit ? 0.0 : p.d});
   }
   kept_.clear();
-  return posed;
+  // Then the windows between, with the leasts the kept poses gave (and their distances: a
+  // window's end measured just now is not measured again).
+  const bool refined = refine(path, until_s);
+  flushed_.clear();
+  return refined || posed;
 }
 
 }  // namespace asimov::motion

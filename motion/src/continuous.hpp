@@ -14,10 +14,12 @@
 #pragma once
 #include "asimov/collision/engine.hpp"
 #include "asimov/motion/sampler.hpp"
+#include "asimov/motion/walk_observer.hpp"
 #include "asimov/robots/configuration.hpp"
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <limits>
 #include <optional>
 #include <span>
@@ -46,7 +48,21 @@ struct ContinuousPath {
   std::function<void(const robots::JointVector& q, double t)> pose;  // at time t (parts move with it)
   // The pairs checked (pair indices refer to it); nullopt: Engine::enabled_pairs().
   std::optional<std::span<const collision::BodyPair>> pairs;
+  // Optional: `at` and `motion` of pair `pair` as they are for the window being verified, kept
+  // for later: the clearance report's minimum is refined at the end of the walk (lazy report) in
+  // windows the walk has left (which stretch of a line, which part of a blended motion). Empty:
+  // the current `at` and `motion` hold for any time of the walk.
+  struct Frozen {
+    std::function<robots::JointVector(double t, const robots::JointVector& seed)> at;
+    std::function<double(double t1, const robots::JointVector& q1, double t2, const robots::JointVector& q2)> motion;
+  };
+  std::function<Frozen(std::size_t pair)> freeze;
 };
+
+// Distance queries one refinement of one pair may spend (a pair sliding at a constant distance
+// would need one per 2e-3 mm of relative motion to prove its minimum to kMinimumToleranceMm);
+// past it the report keeps the certified lower bound (ContinuousChecker::on_bound).
+constexpr std::size_t kMinimumBudget = 4096;
 
 struct ContinuousContact {
   bool found = false;
@@ -92,15 +108,28 @@ class ContinuousChecker {
   // Returns whether it posed anything.
   bool flush(const ContinuousPath& path, double until_s = std::numeric_limits<double>::infinity());
   void set_report_mm(double report_mm) { report_mm_ = report_mm; }
-  // Told of every distance measured: the pair (index into Engine::enabled_pairs()), the time,
-  // whether at a probe (a pose between checked poses) and the cpu_ticks() it took.
-  std::function<void(std::size_t pair, const collision::DistanceResult&, double t, bool probe, std::uint64_t ticks)>
+  // Told of every distance measured: the pair (engine ids), the time, whether at a probe (a pose
+  // between checked poses, or one refining the report's minimum) and the cpu_ticks() it took.
+  std::function<void(const collision::BodyPair& pair, const collision::DistanceResult&, double t, bool probe,
+                     std::uint64_t ticks)>
       on_measure;
-  // Forget the cached distances (the bodies were posed elsewhere than the last checked pose).
+  // Told when a refinement of the report's minimum ran out of kMinimumBudget: the pair's distance
+  // over the windows refined is at least lower_mm (the least found may be above it by more than
+  // kMinimumToleranceMm).
+  std::function<void(const collision::BodyPair& pair, double lower_mm)> on_bound;
+  // Forget the cached distances (the bodies were posed elsewhere than the last checked pose, or
+  // the pairs changed). The poses and windows kept for the report name their pairs by bodies and
+  // stay (flush() measures them).
   void reset() {
     cache_t_ = -1;
     anchors_.clear();
-    kept_.clear();  // flushed at the end of every walk (Walker::walk) before this
+  }
+  // Whether the distance being told (on_measure) refines the report's minimum.
+  bool refining() const { return refining_; }
+  // Drops what the report kept (a new walk: the poses kept belong to the last one's path).
+  void discard() {
+    kept_.clear();
+    windows_.clear();
   }
 
   // What the walker already knows of a window, per pair (each span empty, or one per pair).
@@ -130,6 +159,16 @@ class ContinuousChecker {
   // Exact below exact_below (default: below upper), else a lower bound (Point::exact false).
   void measure(std::size_t pair, Point& p, double upper, bool probe,
                double exact_below = std::numeric_limits<double>::infinity());
+  // The same for a pair named by its bodies (kept poses and windows: the index may be stale);
+  // `least`: the pair's least so far, lowered by an exact distance below it.
+  void measure_bodies(const collision::BodyPair& pair, Point& p, double upper, bool probe, double& least,
+                      double exact_below = std::numeric_limits<double>::infinity());
+  // The report's minimum: a window [a, b] of a pair whose lower bound (d(a) + d(b) - mu) / 2 may
+  // be below the pair's least less kMinimumToleranceMm is kept (lazy: until flush(); eager: the
+  // window is refined at once), and refine() splits the kept windows of each pair nearest bound
+  // first until none may hold a distance below its least less the tolerance.
+  void keep_window(std::size_t pair, const Point& a, const Point& b, double mu, const ContinuousPath& path);
+  bool refine(const ContinuousPath& path, double until_s);
   void measure_probe(std::size_t pair, Point& p, double upper);
   void keep(std::size_t pair, const Point& p, const robots::JointVector& q);
   bool solve(std::size_t pair, const Point& l, const Point& r, const ContinuousPath& path, ContinuousContact& out);
@@ -144,6 +183,8 @@ class ContinuousChecker {
   std::vector<double> cache_d_; // per pair: lower bound at cache_t_
   std::vector<char> cache_flags_;  // per pair: its end_flags_ at cache_t_ (kExact: cache_d_ is the distance)
   std::vector<double> least_;   // per pair: least exact distance met (the report needs only nearer ones)
+  std::vector<collision::BodyPair> least_pairs_;  // the pairs least_ is of (a new list starts it again)
+  std::vector<double> least_before_;  // least_ at the start of the window being verified
   struct Anchor {  // the last checked pose a pair was measured at
     bool set = false;
     double t = 0, d = 0;  // d: its distance there (exact or a lower bound)
@@ -162,12 +203,30 @@ class ContinuousChecker {
   std::vector<char> end_flags_;
   std::optional<ContinuousContact> graze_;  // solve: the first unprovable window of the pair
   struct Kept {  // a checked pose the clearance report may still need (lazy_)
-    std::size_t pair;
+    collision::BodyPair pair;
     double t, bound;  // bound: a lower bound on the pair's distance there
     robots::JointVector q;
   };
   std::vector<Kept> kept_;
+  struct Window {  // a window the report's minimum may still need (keep_window)
+    collision::BodyPair pair;
+    double least;  // the pair's least when kept (the report threshold if none)
+    double ta, da, tb, db, mu;  // ends: times, lower bounds (exact where measured); mu over [ta, tb]
+    bool ea, eb;                // whether da, db are exact distances
+    robots::JointVector qa, qb;
+    std::shared_ptr<ContinuousPath::Frozen> path;  // null: the path's own at / motion (index `index`)
+    std::size_t index;
+  };
+  std::vector<Window> windows_;
+  struct Flushed {  // a kept pose flush() measured exactly: refine() takes its distance as known
+    collision::BodyPair pair;
+    double t, d;
+  };
+  std::vector<Flushed> flushed_;
+  // The least distance of a pair named by its bodies: least_ where the current pairs name it.
+  double least_of(const collision::BodyPair& pair) const;
   bool lazy_ = false;
+  bool refining_ = false;
   std::uint64_t probes_ = 0, queries_ = 0;
 };
 

@@ -21,7 +21,7 @@ void PartHistory::observe(const CellRuntime& runtime) {
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const PartState& p = parts[i];
     PartSegment s{static_cast<int>(i), p.anchor_s, p.holder, p.conveyor, p.anchor, p.velocity, p.end_s};
-    if (p.holder == Holder::carried) s.pose = runtime.grip(), s.velocity.setZero(), s.end_s = std::numeric_limits<double>::infinity();
+    if (p.holder == Holder::carried) s.pose = runtime.grip_of(i), s.velocity.setZero(), s.end_s = std::numeric_limits<double>::infinity();
     if (i < last_.size()) {
       PartSegment& l = segments[last_[i]];
       // The carried part's anchor follows the flange (DeviceClock::move_carried): not a change.
@@ -136,11 +136,27 @@ void ClearanceRecorder::commit(double until_s) {
     if (h.time_s > until_s) continue;  // after the contact: never reached
     const auto same = [&h](const ClearanceApproach& a) { return a.pair.a == h.pair.a && a.pair.b == h.pair.b; };
     auto it = std::find_if(pairs.begin(), pairs.end(), same);
-    if (it == pairs.end()) pairs.push_back(h);
+    if (it == pairs.end()) it = pairs.insert(pairs.end(), h);
     else if (h.distance_mm < it->distance_mm || (h.distance_mm == it->distance_mm && h.time_s < it->time_s))
       *it = h;  // ties: the earliest (a contact's instant)
+    else continue;
+    it->lower_bound_mm = std::max(0.0, std::min(it->distance_mm - kMinimumToleranceMm, bound_of(it->pair)));
   }
   held_.clear();
+}
+
+double ClearanceRecorder::bound_of(const collision::BodyPair& pair) const {
+  for (const auto& [p, lower] : bounds_)
+    if (p == pair) return lower;
+  return std::numeric_limits<double>::infinity();
+}
+
+void ClearanceRecorder::on_distance_bound(const collision::BodyPair& pair, double lower_mm) {
+  auto b = std::find_if(bounds_.begin(), bounds_.end(), [&](const auto& x) { return x.first == pair; });
+  if (b == bounds_.end()) bounds_.emplace_back(pair, lower_mm);
+  else b->second = std::min(b->second, lower_mm);
+  for (ClearanceApproach& a : pairs)
+    if (a.pair == pair) a.lower_bound_mm = std::max(0.0, std::min(a.lower_bound_mm, lower_mm));
 }
 
 std::vector<ClearanceApproach> ClearanceRecorder::nearest_first() const {

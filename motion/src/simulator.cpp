@@ -162,6 +162,7 @@ ArmSettings& Simulator::settings() { return impl_->settings; }
 const ArmSettings& Simulator::settings() const { return impl_->settings; }
 double Simulator::time_s() const { return impl_->state.time_s; }
 bool Simulator::motion_pending() const { return impl_->pending.has_value(); }
+void Simulator::add_observer(WalkObserver& observer) { impl_->walker.add_observer(observer); }
 Recorders& Simulator::recorders() { return impl_->rec; }
 const Recorders& Simulator::recorders() const { return impl_->rec; }
 bool Simulator::collision_engine_used() const { return impl_->world.engine() != nullptr; }

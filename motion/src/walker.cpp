@@ -102,7 +102,7 @@ struct Walker::Walk {
       w.world_.query({.clearance_mm = clearance,
                       .pairs = dwelling ? std::optional(checked_pairs()) : std::nullopt,
                       .gaps = want_gaps && !dwelling},
-                     w.result_);
+                     w.result_, true);
       const QueryCost cost{QueryKind::checked_pose, cpu_ticks() - k0, w.world_.grids_built(w.result_)};
       if (want_gaps) {
         w.gaps_next_.assign(w.result_.gaps.begin(), w.result_.gaps.end());
@@ -174,6 +174,7 @@ struct Walker::Walk {
       hit_pairs.clear();
       CollisionReport probe;
       w.probe_pairs_.assign(w.world_.pairs().begin(), w.world_.pairs().end());
+      w.probe_pairs_.insert(w.probe_pairs_.end(), w.world_.touching().begin(), w.world_.touching().end());
       for (const collision::BodyPair& pair : w.probe_pairs_) {
         w.world_.query({.clearance_mm = clearance, .pairs = std::span(&pair, 1)}, w.result_);
         if (record(w.result_, {QueryKind::probe}, report.joints, probe)) hit_pairs.push_back(pair);
@@ -209,11 +210,19 @@ struct Walker::Walk {
   // Continuous checking sees the trajectory through two facts only: its joints at time t and a
   // bound on each pair's relative motion over [t1, t2] (docs/collision.md §12), so any path
   // that can state both (blended segments too) is checked the same way.
-  JointVector joints_at(double t, const JointVector& seed) {
-    if (dwelling) return tr.to;
-    if (in_overlap) return blended_joints_at(tr, t);
+  // Where the walk is: its `at` and `motion` differ between the blended overlap, the segment's
+  // stretches (a line's between its checked samples) and a dwell (ContinuousPath::freeze).
+  struct Place {
+    bool overlap = false, dwell = false;
+    std::size_t line_i = 0, line_j = 0;
+  };
+  Place place() const { return {in_overlap, dwelling, line_i, line_j}; }
+  JointVector joints_at(double t, const JointVector& seed) { return joints_at(t, seed, place()); }
+  JointVector joints_at(double t, const JointVector& seed, const Place& at) {
+    if (at.dwell) return tr.to;
+    if (at.overlap) return blended_joints_at(tr, t);
     if (tr.kind != PathKind::line) return joint_path_at(tr, t);
-    const LinePoint lp = line_path_between(w.robot_, tr, line_i, line_j, t, &seed);
+    const LinePoint lp = line_path_between(w.robot_, tr, at.line_i, at.line_j, t, &seed);
     if (lp.ik_used) {
       const PoseError e = pose_error(robots::flange_pose(w.robot_, lp.joints), lp.flange);
       tell([&](WalkObserver& o) { o.on_ik(e, 1); });
@@ -230,15 +239,16 @@ struct Walker::Walk {
     JointVector q1, q2, travel;
   };
   mutable TravelMemo travel_memo{};
-  const JointVector& window_travel(double t1, const JointVector& q1, double t2, const JointVector& q2) const {
+  const JointVector& window_travel(double t1, const JointVector& q1, double t2, const JointVector& q2,
+                                   bool overlap) const {
     TravelMemo& m = travel_memo;
-    if (m.ok && m.overlap == in_overlap && m.t1 == t1 && m.t2 == t2 && m.q1 == q1 && m.q2 == q2) return m.travel;
+    if (m.ok && m.overlap == overlap && m.t1 == t1 && m.t2 == t2 && m.q1 == q1 && m.q2 == q2) return m.travel;
     // The overlap: each joint travels at most what both motions' joints travel (docs/blending.md).
-    if (in_overlap) m.travel = blended_travel(tr, t1, t2);
+    if (overlap) m.travel = blended_travel(tr, t1, t2);
     else if (tr.kind != PathKind::line) m.travel = (q2 - q1).cwiseAbs();
     else m.travel = line_travel(tr.line.samples, tr.profile.sigma(t1 - tr.t0), q1, tr.profile.sigma(t2 - tr.t0), q2);
     m.ok = true;
-    m.overlap = in_overlap;
+    m.overlap = overlap;
     m.t1 = t1;
     m.t2 = t2;
     m.q1 = q1;
@@ -246,10 +256,13 @@ struct Walker::Walk {
     return m.travel;
   }
   double motion_bound(std::size_t pair, double t1, const JointVector& q1, double t2, const JointVector& q2) const {
-    const GapPair& p = w.world_.gap_pairs()[world_pair(pair)];
+    return motion_bound(w.world_.gap_pairs()[world_pair(pair)], t1, q1, t2, q2, in_overlap);
+  }
+  double motion_bound(const GapPair& p, double t1, const JointVector& q1, double t2, const JointVector& q2,
+                      bool overlap) const {
     // Parts on a running conveyor (0 * inf would be NaN on a 1e308 s motion: no belt, no term).
     const double belt = p.speed_mm_s > 0 ? p.speed_mm_s * std::abs(t2 - t1) : 0.0;
-    return pair_displacement(w.world_.reach(), p, window_travel(t1, q1, t2, q2)) + belt;
+    return pair_displacement(w.world_.reach(), p, window_travel(t1, q1, t2, q2, overlap)) + belt;
   }
   void continuous_path() {
     path.at = [this](double t, const JointVector& seed) { return joints_at(t, seed); };
@@ -262,10 +275,23 @@ struct Walker::Walk {
       return joint_motion(w.world_.reach(), p, q1, q2) + belt;
     };
     path.pose = [this](const JointVector& q, double t) { w.world_.pose(q, t); };
-    checker->on_measure = [this](std::size_t pair, const collision::DistanceResult& r, double t, bool probe,
+    // The path as it is now, for the clearance report's refinement at the walk's end (the pair's
+    // bound by value: the pairs may change by then).
+    path.freeze = [this](std::size_t pair) {
+      const Place at = place();
+      const GapPair p = w.world_.gap_pairs()[world_pair(pair)];
+      return ContinuousPath::Frozen{
+          [this, at](double t, const JointVector& seed) { return joints_at(t, seed, at); },
+          [this, at, p](double t1, const JointVector& q1, double t2, const JointVector& q2) {
+            return motion_bound(p, t1, q1, t2, q2, at.overlap);
+          }};
+    };
+    checker->on_measure = [this](const collision::BodyPair& bp, const collision::DistanceResult& r, double t, bool probe,
                                  std::uint64_t ticks) {
-      const collision::BodyPair bp = w.world_.pairs()[world_pair(pair)];
-      tell([&](WalkObserver& o) { o.on_distance(bp, r, {t, probe, tr.step, ticks}); });
+      tell([&](WalkObserver& o) { o.on_distance(bp, r, {t, probe, tr.step, ticks, checker->refining()}); });
+    };
+    checker->on_bound = [this](const collision::BodyPair& bp, double lower_mm) {
+      tell([&](WalkObserver& o) { o.on_distance_bound(bp, lower_mm); });
     };
   }
 
@@ -287,7 +313,25 @@ struct Walker::Walk {
       known.mu = w.window_mu_;
     }
     mu.ok = false;
-    const ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, known);
+    ContinuousContact c = checker->verify(t_a, st.joints, t_b, q_b, path, known);
+    // A part coming to rest on an object or another part (docs/collision.md §15): that pair joins
+    // the resting contacts and the stretch is proven again without it.
+    while (c.found) {
+      const collision::BodyPair p = checked_pairs()[c.pair];
+      if (!w.world_.resting_pair(p)) break;
+      CollisionReport probe;
+      if (record(query(c.q_hit, c.t_hit, std::span(&p, 1)), {QueryKind::probe}, c.q_hit, probe)) break;
+      w.world_.rest(p, c.t_hit);
+      if (dwelling) moving_pairs();
+      checker->reset();
+      pairs_verified = w.world_.pairs_revision();
+      path.pairs = checked_pairs();
+      c = checker->verify(t_a, st.joints, t_b, q_b, path, {});
+      if (!c.found) {
+        w.world_.pose(q_b, t_b);
+        w.world_.confirm_resting();
+      }
+    }
     if (!c.found) return false;
     checker->reset();
     const collision::BodyPair pair = checked_pairs()[c.pair];
@@ -720,6 +764,7 @@ ContinuousChecker* Walker::checker(collision::Engine* engine) {
   // Posing at an earlier time moves only the arm when no part can move by itself.
   continuous_->set_lazy_report(!world_.has_parts());
   continuous_->reset();  // between walks the hand, the parts or the settings may have changed
+  continuous_->discard();
   return continuous_.get();
 }
 

@@ -1,6 +1,7 @@
 // The collision world of a cell (motion/README.md, collision scene).
 #include "asimov/motion/world.hpp"
 
+#include "asimov/motion/resting.hpp"
 #include "asimov/motion/scene.hpp"
 
 #include "broad_phase.hpp"
@@ -91,7 +92,7 @@ struct World::Broad {
 World::~World() = default;
 World::World(World&&) noexcept = default;
 
-World::World(const Cell& cell) : robot_(&cell.robot), base_(cell.base) {
+World::World(const Cell& cell) : cell_(&cell), robot_(&cell.robot), base_(cell.base) {
   const auto& robot = cell.robot;
   frames_.reserve(static_cast<std::size_t>(robot.joint_count()) + 1);
   for (const auto& b : robot.bodies) reach_.push_back(robots::body_reach(robot, b));  // fingers: both places
@@ -160,6 +161,8 @@ void World::build_engine(const Cell& cell) {
       for (int k = 1; k <= f.count; ++k) add_part(f.part, f.prefix + std::to_string(k));
     }
     const std::size_t first_object = scene.bodies.size() - cell.objects.size();
+    first_object_ = static_cast<collision::BodyId>(first_object);
+    part_at_.assign(slots_.size(), Location::Identity());
     for (const Conveyor& c : w.conveyors) {
       const auto it = std::find(object_names.begin(), object_names.end(), c.name);
       object_of_conveyor_.push_back(it == object_names.end() ? -1
@@ -331,7 +334,7 @@ void World::broad_build(double keep_mm, double room_mm, bool parts_tree) {
       b.in_tree[id] = rest;
       if (!rest) continue;
       b.rest_at[s] = clock.parts()[static_cast<std::size_t>(slot.clock)].pose_at(clock.time_s());
-      engine_->set_pose(id, b.rest_at[s]);
+      set_part_pose(id, b.rest_at[s]);
       resting.push_back(id);
     }
     b.parts_dirty = false;
@@ -500,10 +503,10 @@ void World::pose_parts(const DeviceClock& clock, double t, bool all) {
     const PartState& p = parts[i];
     const collision::BodyId id = part_body(p);
     if (p.holder == Holder::carried) {
-      engine_->set_pose(id, base_ * frames_[static_cast<std::size_t>(flange_)] * grip_);
+      set_part_pose(id, base_ * frames_[static_cast<std::size_t>(flange_)] * runtime_->grip_of(i));
     } else if (p.holder != Holder::removed && (all || !p.velocity.isZero())) {
       const Location at = p.pose_at(t);
-      engine_->set_pose(id, at);
+      set_part_pose(id, at);
       // A part of the broad phase's tree posed elsewhere (an earlier state, for bisection) is
       // no longer where the tree has it: all its pairs are kept until the tree is rebuilt.
       if (broad_ && broad_->in_tree[id] && !(at.matrix() == broad_->rest_at[id - first_part_].matrix())) {
@@ -545,14 +548,18 @@ void World::refresh(const DeviceClock& clock) {
     if (placed && p.holder == Holder::removed && s.holder != Holder::removed)
       std::erase_if(excused_, [id](const collision::BodyPair& x) { return x.a == id || x.b == id; });
     s.holder = p.holder;
-    if (p.holder == Holder::carried) carried_ = id;
   }
+  if (runtime_->carried()) carried_ = part_body(clock.parts()[*runtime_->carried()]);
   reach_.back() = robots::BodyReach{};
-  if (carried_ && runtime_->carried()) {
-    grip_ = runtime_->grip();
-    // The flange link's radii with the part's mesh in the flange frame: its reach from the flange.
-    collision::Polyhedron in_flange = clock.parts()[static_cast<std::size_t>(slots_[*carried_ - first_part_].clock)].def.mesh;
-    for (auto& v : in_flange.vertices) v = grip_ * v;
+  if (carried_) {
+    // The flange link's radii with the carried parts' meshes (the grasped one and those resting
+    // on it) in the flange frame: their reach from the flange.
+    collision::Polyhedron in_flange;
+    for (std::size_t i = 0; i < clock.parts().size(); ++i) {
+      if (clock.parts()[i].holder != Holder::carried) continue;
+      const Location g = runtime_->grip_of(i);
+      for (const auto& v : clock.parts()[i].def->mesh.vertices) in_flange.vertices.push_back(g * v);
+    }
     reach_.back() = robots::body_reach(*robot_, in_flange, flange_);
   }
   rebuild_pairs();
@@ -586,11 +593,16 @@ void World::rebuild_pairs() {
   const auto mover = [&](collision::BodyId id) -> std::pair<int, int> {
     if (id < arm_bodies_)
       return mounts_[id].frame >= 0 ? std::pair{static_cast<int>(id), mounts_[id].own_motion ? -1 : mounts_[id].frame} : std::pair{-1, 0};
-    if (carried_ && id == *carried_) return {slot, flange_};
+    if (part(id) && slots_[id - first_part_].holder == Holder::carried) return {slot, flange_};
     return {-1, 0};
   };
+  touching_live_.clear();
   const auto add = [&](collision::BodyId a, collision::BodyId b) {
     const collision::BodyPair p = ordered(a, b);
+    if (std::find(touching_.begin(), touching_.end(), p) != touching_.end()) {  // tested by classify()
+      touching_live_.push_back(p);
+      return;
+    }
     if (excused(p) || broad_skips(p.a, p.b)) return;
     const auto [ra, la] = mover(p.a);
     const auto [rb, lb] = mover(p.b);
@@ -616,10 +628,13 @@ void World::rebuild_pairs() {
       if (!present(q)) continue;
       const Slot& r = slots_[q - first_part_];
       const bool q_carried = r.holder == Holder::carried, q_belt = r.holder == Holder::conveyor;
-      // Resting parts keep their distance; parts on one conveyor move together.
+      // Resting parts keep their distance; parts on one conveyor move together, and so do the
+      // carried ones (the grasped part and those resting on it).
+      if (carried && q_carried) continue;
       if (carried || q_carried || (belt != q_belt) || (belt && q_belt && s.conveyor != r.conveyor)) add(p, q);
     }
   }
+  touching_.swap(touching_live_);
 }
 
 void World::excuse_touching(collision::BodyId id) {
@@ -629,8 +644,11 @@ void World::excuse_touching(collision::BodyId id) {
       ++i;
       continue;
     }
-    engine_->query({.clearance_mm = kTouchMm, .pairs = std::span(&p, 1)}, scratch_result_);
-    if (!scratch_result_.collided) {
+    // A part and an object or part: excused only when it sinks in already (a feeder refilling
+    // its spot while the grasped part is still there); a resting contact is tested as such.
+    const bool rests = resting_pair(p);
+    engine_->query({.clearance_mm = rests ? 0 : kTouchMm, .pairs = std::span(&p, 1)}, scratch_result_);
+    if (!scratch_result_.collided || (rests && classify(p, collision::Contact(scratch_result_.contact)) == Touch::resting)) {
       ++i;
       continue;
     }
@@ -652,6 +670,10 @@ void World::free_pose_seen() {
 }
 
 void World::query(const collision::QueryRequest& request, collision::QueryResult& out) {
+  query(request, out, !request.pairs && request.contact);
+}
+
+void World::query(const collision::QueryRequest& request, collision::QueryResult& out, bool with_touching) {
   if (broad_ && posed_q_.size() != 0) {
     // Any pose: the near lists are recomputed when a left-out pair may be nearer than keep now.
     const double keep = std::max(broad_->keep, request.clearance_mm);
@@ -674,6 +696,51 @@ void World::query(const collision::QueryRequest& request, collision::QueryResult
     r.pairs = std::span<const collision::BodyPair>(filtered_);
   }
   engine_->query(r, out);
+  // Resting contact (docs/collision.md §15): a part touching an object or another part without
+  // sinking in beyond its tolerance is no contact; the query goes on after that pair. Found by a
+  // query of the current pairs (a checked pose), the pair is kept as touching and leaves pairs().
+  const bool full = !request.pairs && request.contact && !any_absent_;
+  std::vector<collision::BodyPair> now_touching;
+  if (has_parts_ && request.contact) {
+    const std::span<const collision::BodyPair> list = *r.pairs;
+    std::size_t from = 0;
+    while (out.collided && resting_pair(ordered(out.contact.body_a, out.contact.body_b))) {
+      const collision::BodyPair hit = ordered(out.contact.body_a, out.contact.body_b);
+      if (out.contact.kind != collision::ContactKind::clearance && classify(hit, out.contact) == Touch::penetrating) break;
+      if (full) now_touching.push_back(hit);
+      std::size_t k = from;
+      while (k < list.size() && ordered(list[k].a, list[k].b) != hit) ++k;
+      from = k + 1;
+      const collision::StepCounts counts = out.counts;
+      out.collided = false;
+      out.contact = {};
+      if (from >= list.size()) break;
+      engine_->query({.clearance_mm = r.clearance_mm, .pairs = list.subspan(from), .contact = true}, scratch_result_);
+      out.collided = scratch_result_.collided;
+      out.contact = scratch_result_.contact;
+      out.counts = counts;
+      out.counts.pairs_enabled += scratch_result_.counts.pairs_enabled;
+      out.counts.pairs_after_minimax += scratch_result_.counts.pairs_after_minimax;
+      out.counts.pairs_after_voxels += scratch_result_.counts.pairs_after_voxels;
+      out.counts.voxel_pairs += scratch_result_.counts.voxel_pairs;
+      out.counts.face_pairs += scratch_result_.counts.face_pairs;
+    }
+  }
+  if (!now_touching.empty()) {
+    const bool with_gaps = out.gaps.size() == part_pairs_.size();
+    for (const collision::BodyPair& p : now_touching) {
+      const auto it = std::find(part_pairs_.begin(), part_pairs_.end(), p);
+      if (it == part_pairs_.end()) continue;
+      const auto k = it - part_pairs_.begin();
+      if (with_gaps) out.gaps.erase(out.gaps.begin() + k);
+      part_pairs_.erase(it);
+      part_gaps_.erase(part_gaps_.begin() + k);
+      begin_touching(p, posed_t_, !posed_earlier_ && runtime_ && posed_t_ >= runtime_->clock().time_s());
+    }
+    ++pairs_revision_;
+  }
+  if (with_touching && !out.collided && !touching_.empty()) test_touching(r.clearance_mm, out, full);
+  if (!unreported_.empty() && full && !out.collided) confirm_resting();
   // Every pair of the changed parts was tested here and found free: they may enter the tree.
   if (broad_ && broad_->any_untested && !request.pairs && request.contact && !out.collided && !any_absent_) {
     for (std::size_t s = 0; s < slots_.size(); ++s)
@@ -683,15 +750,144 @@ void World::query(const collision::QueryRequest& request, collision::QueryResult
   }
 }
 
+bool World::resting_pair(const collision::BodyPair& p) const {
+  return has_parts_ && p.a >= arm_bodies_ && p.b >= arm_bodies_ && (part(p.a) || part(p.b));
+}
+
+void World::set_part_pose(collision::BodyId id, const Location& pose) {
+  engine_->set_pose(id, pose);
+  part_at_[id - first_part_] = pose;
+}
+
+double World::resting_tolerance_of(const collision::BodyPair& p) const {
+  double tol = 0;
+  for (const collision::BodyId id : {p.a, p.b})
+    if (part(id) && slots_[id - first_part_].clock >= 0)
+      tol = std::max(tol, runtime_->clock().parts()[static_cast<std::size_t>(slots_[id - first_part_].clock)].tolerance_mm);
+  return tol;
+}
+
+// The outward normal of face f of body id at its current pose (unit; zero for a degenerate face).
+collision::Vec3 World::face_normal(collision::BodyId id, std::uint32_t f) const {
+  const collision::Polyhedron* mesh = nullptr;
+  Location pose = Location::Identity();
+  if (part(id)) {
+    const Slot& s = slots_[id - first_part_];
+    if (s.clock < 0) return collision::Vec3::Zero();
+    mesh = &runtime_->clock().parts()[static_cast<std::size_t>(s.clock)].def->mesh;
+    pose = part_at_[id - first_part_];
+  } else if (id >= first_object_ && id - first_object_ < cell_->objects.size()) {
+    mesh = &cell_->objects[id - first_object_].mesh;
+    pose = cell_->objects[id - first_object_].pose;
+  }
+  if (!mesh || f >= mesh->triangles.size()) return collision::Vec3::Zero();
+  const auto& t = mesh->triangles[f];
+  const collision::Vec3 n = pose.linear() * (mesh->vertices[t[1]] - mesh->vertices[t[0]]).cross(mesh->vertices[t[2]] - mesh->vertices[t[0]]);
+  const double len = n.norm();
+  return len > 0 ? collision::Vec3(n / len) : collision::Vec3::Zero();
+}
+
+// Resting or sinking in (docs/collision.md §15): a part touching an object or another part
+// rests when a translation by its tolerance separates them, along world up or a normal of the
+// faces that touch (each contact found adds its faces' normals, both signs); else it sinks in
+// deeper than the tolerance (or lies inside: containment) and that is a collision.
+World::Touch World::classify(const collision::BodyPair& pair, const collision::Contact& first) {
+  // The body moved for the test: a part, the moving one of two parts.
+  const auto moving = [&](collision::BodyId id) {
+    return part(id) && (slots_[id - first_part_].holder == Holder::carried || slots_[id - first_part_].speed_mm_s > 0);
+  };
+  const collision::BodyId p = part(pair.b) && (!part(pair.a) || (moving(pair.b) && !moving(pair.a))) ? pair.b : pair.a;
+  const auto normal = [this](collision::BodyId id, std::uint32_t f) { return face_normal(id, f); };
+  return resting_contact(*engine_, pair, p, part_at_[p - first_part_], resting_tolerance_of(pair), first, normal, scratch_result_)
+             ? Touch::resting
+             : Touch::penetrating;
+}
+
+void World::begin_touching(const collision::BodyPair& p, double t, bool event) {
+  touching_.push_back(p);
+  // An event when a checked pose (the clock's present) sees it resting; one found between two
+  // checked poses waits for the next checked pose to see it still resting, and takes the
+  // instant it began (so a touch that a collision follows at once is not one).
+  if (!runtime_) return;
+  if (!event) {
+    unreported_.push_back({p, t});
+    return;
+  }
+  touching_event(p, t);
+}
+
+// A pair of a part at the current poses: apart (farther than the resting tolerance), resting
+// (within it, not sinking in deeper), or penetrating (its contact in touch_contact_).
+World::Touch World::touch_state(const collision::BodyPair& p) {
+  engine_->query({.clearance_mm = 0, .pairs = std::span(&p, 1)}, scratch_result_);
+  if (scratch_result_.collided) {
+    touch_contact_ = scratch_result_.contact;
+    return classify(p, touch_contact_);
+  }
+  engine_->query({.clearance_mm = resting_tolerance_of(p), .pairs = std::span(&p, 1)}, scratch_result_);
+  return scratch_result_.collided ? Touch::resting : Touch::apart;
+}
+
+void World::confirm_resting() {
+  if (unreported_.empty() || posed_earlier_ || !runtime_ || posed_t_ < runtime_->clock().time_s()) return;
+  for (const auto& [p, t] : unreported_) {
+    if (std::find(touching_.begin(), touching_.end(), p) == touching_.end()) continue;
+    if (touch_state(p) == Touch::resting) touching_event(p, t);
+  }
+  unreported_.clear();
+}
+
+void World::touching_event(const collision::BodyPair& p, double t) {
+  const collision::BodyId part_id = part(p.b) && !part(p.a) ? p.b : (part(p.a) && slots_[p.a - first_part_].holder == Holder::carried) || !part(p.b) ? p.a : p.b;
+  const collision::BodyId other = part_id == p.a ? p.b : p.a;
+  const auto strip = [](const std::string& n) { return n.rfind("part:", 0) == 0 ? n.substr(5) : n; };
+  runtime_->clock().note({t, "resting", strip(engine_->body_name(part_id)), strip(engine_->body_name(other)), 0});
+}
+
+void World::rest(const collision::BodyPair& pair, double t) {
+  const collision::BodyPair p = ordered(pair.a, pair.b);
+  const auto it = std::find(part_pairs_.begin(), part_pairs_.end(), p);
+  if (it == part_pairs_.end()) return;
+  part_gaps_.erase(part_gaps_.begin() + (it - part_pairs_.begin()));
+  part_pairs_.erase(it);
+  begin_touching(p, t, false);
+  ++pairs_revision_;
+}
+
+// The pairs in resting contact, at the current poses: one sinking in deeper than its tolerance
+// is the query's contact; with `update`, pairs found apart are tested as any other again.
+void World::test_touching(double clearance_mm, collision::QueryResult& out, bool update) {
+  (void)clearance_mm;
+  bool apart = false;
+  for (std::size_t k = 0; k < touching_.size(); ++k) {
+    const collision::BodyPair p = touching_[k];
+    if (any_absent_ && ((part(p.a) && absent_[p.a - first_part_]) || (part(p.b) && absent_[p.b - first_part_]))) continue;
+    const Touch state = touch_state(p);
+    if (state == Touch::apart) {
+      if (update) touching_[k] = {~0u, ~0u}, apart = true;
+      continue;
+    }
+    if (state == Touch::penetrating) {
+      out.collided = true;
+      out.contact = touch_contact_;
+      break;
+    }
+  }
+  if (apart) {
+    std::erase(touching_, collision::BodyPair{~0u, ~0u});
+    rebuild_pairs();
+  }
+}
+
 std::string World::body_name(collision::BodyId id) const {
   const std::string& name = engine_->body_name(id);
-  return carried_ && id == *carried_ ? "carried " + name : name;
+  return part(id) && slots_[id - first_part_].holder == Holder::carried ? "carried " + name : name;
 }
 
 std::optional<CarriedPose> World::carried(const robots::JointVector& q) const {
   if (!runtime_ || !runtime_->carried()) return std::nullopt;
   const std::size_t i = *runtime_->carried();
-  return CarriedPose{runtime_->clock().parts()[i].def.name,
+  return CarriedPose{runtime_->clock().parts()[i].def->name,
                      base_ * robots::flange_pose(*robot_, q) * runtime_->grip()};
 }
 

@@ -222,3 +222,31 @@ TEST_CASE("collision.stepping: gap by default, fixed or gap, anything else is a 
   CHECK(e.message.find("fixed or gap") != std::string::npos);
   CHECK(e.line == 1);
 }
+
+TEST_CASE("sinks gated by a signal and edge, sensors with a sensing rule (#32)") {
+  const auto cell = load_cell_text(
+      "devices:\n"
+      "  - {sink: bin, box: [10, 10, 10], at: [0, 0, 0, 0, 0, 0]}\n"
+      "  - {sink: unload, box: [10, 10, 10], at: [100, 0, 0, 0, 0, 0], signal: 11, edge: falling}\n"
+      "  - {sink: up, box: [10, 10, 10], at: [200, 0, 0, 0, 0, 0], signal: 12}\n"
+      "  - {sensor: eye, signal: 1001, box: [10, 10, 10], at: [0, 100, 0, 0, 0, 0], sensing: overlap}\n"
+      "  - {sensor: dot, signal: 1001, box: [10, 10, 10], at: [0, 200, 0, 0, 0, 0]}\n",
+      "c.yaml");
+  REQUIRE(cell.workcell.sinks.size() == 3);
+  CHECK(cell.workcell.sinks[0].signal == 0);
+  CHECK(cell.workcell.sinks[1].signal == 11);
+  CHECK_FALSE(cell.workcell.sinks[1].on_rising);
+  CHECK(cell.workcell.sinks[2].signal == 12);
+  CHECK(cell.workcell.sinks[2].on_rising);
+  REQUIRE(cell.workcell.sensors.size() == 2);
+  CHECK(cell.workcell.sensors[0].sensing == motion::Sensing::overlap);
+  CHECK(cell.workcell.sensors[1].sensing == motion::Sensing::origin);
+
+  auto e = error_of("devices:\n  - {sink: s, box: [1, 1, 1], at: [0, 0, 0, 0, 0, 0], signal: 1, edge: sideways}\n");
+  CHECK(e.message.find("rising or falling") != std::string::npos);
+  CHECK(e.line == 2);
+  e = error_of("devices:\n  - {sink: s, box: [1, 1, 1], at: [0, 0, 0, 0, 0, 0], edge: rising}\n");
+  CHECK(e.message.find("needs its signal") != std::string::npos);
+  e = error_of("devices:\n  - {sensor: s, signal: 1001, box: [1, 1, 1], at: [0, 0, 0, 0, 0, 0], sensing: centre}\n");
+  CHECK(e.message.find("origin or overlap") != std::string::npos);
+}

@@ -264,7 +264,7 @@ TEST_CASE("far resting parts sleep through the motions without hiding or moving 
     REQUIRE(decoys.interp.cell_state());
     const auto& clock = decoys.interp.cell_state()->clock();
     for (std::size_t i = 0; i < clock.parts().size(); ++i)
-      if (clock.parts()[i].def.name.rfind("decoy", 0) == 0) CHECK(clock.parts()[i].holder == motion::Holder::world);
+      if (clock.parts()[i].def->name.rfind("decoy", 0) == 0) CHECK(clock.parts()[i].holder == motion::Holder::world);
   }
 }
 

@@ -107,7 +107,7 @@ TEST_CASE("continuous: a blade passing 0.001 mm beside the plate is proven free"
   ContinuousChecker checker(s.engine, 0, 1e-6, 10);
   collision::DistanceResult least;
   least.distance = std::numeric_limits<double>::infinity();
-  checker.on_measure = [&least](std::size_t, const collision::DistanceResult& r, double, bool, std::uint64_t) {
+  checker.on_measure = [&least](const collision::BodyPair&, const collision::DistanceResult& r, double, bool, std::uint64_t) {
     if (r.status != collision::DistanceStatus::beyond && r.distance < least.distance) least = r;
   };
   const ContinuousPath path = s.path();
@@ -281,7 +281,7 @@ TEST_CASE("continuous: the lazy clearance report finds the same least distance w
     ContinuousChecker checker(s.engine, 0, 1e-6, 10);
     checker.set_lazy_report(lazy);
     Least least;
-    checker.on_measure = [&least](std::size_t, const collision::DistanceResult& r, double t, bool probe, std::uint64_t) {
+    checker.on_measure = [&least](const collision::BodyPair&, const collision::DistanceResult& r, double t, bool probe, std::uint64_t) {
       if (r.status == collision::DistanceStatus::beyond || probe) return;
       ++least.exact;
       if (r.distance < least.d) least.d = r.distance, least.t = t, least.a = r.point_a;

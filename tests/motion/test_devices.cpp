@@ -133,9 +133,9 @@ TEST_CASE("a feeder with when_empty refills its spot up to its count") {
   REQUIRE(clock.parts().size() == 1);
   clock.advance_to(10);
   REQUIRE(clock.parts().size() == 3);  // the limit
-  CHECK(clock.parts()[0].def.name == "box1");
-  CHECK(clock.parts()[1].def.colour == "blue");
-  CHECK(clock.parts()[2].def.colour == "red");
+  CHECK(clock.parts()[0].def->name == "box1");
+  CHECK(clock.parts()[1].def->colour == "blue");
+  CHECK(clock.parts()[2].def->colour == "red");
   const auto* second = find(clock, "feeder", "box2");
   REQUIRE(second);
   CHECK(second->time_s == Approx(0.2).margin(1e-12));
@@ -333,4 +333,73 @@ TEST_CASE("rewind: back to an instant after the last change only") {
   CHECK(clock.rewind(4.76));  // after it: allowed
   CHECK(clock.part_pose(0).translation().x() == Approx(476).margin(1e-9));
   CHECK(clock.signal(1001));
+}
+
+TEST_CASE("two sensors on one input are wired in parallel (#32): on while either sees a part") {
+  Workcell w;
+  w.conveyors.push_back(belt());
+  w.parts.push_back(cube("p", 100));
+  w.sensors.push_back({"left", 1001, {at(300, 0, 10), {20, 200, 100}}, "", ""});
+  w.sensors.push_back({"right", 1001, {at(600, 0, 10), {20, 200, 100}}, "", ""});
+  DeviceClock clock(w);  // neither sees it: off, and no error
+  CHECK_FALSE(clock.signal(1001));
+  clock.set_signal(1, true);
+  clock.advance_to(2.0);  // origin at 300: under left
+  CHECK(clock.signal(1001));
+  clock.advance_to(3.0);  // at 400: between them
+  CHECK_FALSE(clock.signal(1001));
+  clock.advance_to(5.0);  // at 600: under right
+  CHECK(clock.signal(1001));
+  // The switch instants are exact: left from 1.9 to 2.1 s, right from 4.9 s.
+  std::vector<double> on;
+  for (const auto& e : clock.events())
+    if (e.kind == "signal" && e.subject == "1001") on.push_back(e.time_s);
+  REQUIRE(on.size() == 3);
+  CHECK(on[0] == Approx(1.9).margin(1e-9));
+  CHECK(on[1] == Approx(2.1).margin(1e-9));
+  CHECK(on[2] == Approx(4.9).margin(1e-9));
+}
+
+TEST_CASE("a sensor with overlap sensing switches when any part of the part enters (#32)") {
+  Workcell w;
+  w.conveyors.push_back(belt());
+  w.parts.push_back(cube("p", 100));  // faces at x = 90 and 110
+  w.sensors.push_back({"barrier", 1001, {at(300, 0, 10), {2, 200, 100}}, "", "", motion::Sensing::overlap});
+  w.sensors.push_back({"centre", 1002, {at(300, 0, 10), {2, 200, 100}}, "", ""});
+  DeviceClock clock(w);
+  clock.set_signal(1, true);
+  clock.advance_to(5.0);
+  const auto time_of = [&](const std::string& k, const std::string& d) {
+    for (const auto& e : clock.events())
+      if (e.kind == "signal" && e.subject == k && e.detail == d) return e.time_s;
+    return -1.0;
+  };
+  // The leading face (x + 10) reaches the barrier's near face (299) at 1.89 s; the trailing
+  // face (x - 10) leaves its far face (301) at 2.11 s. The origin: 1.99 s to 2.01 s.
+  CHECK(time_of("1001", "on") == Approx(1.89).margin(1e-9));
+  CHECK(time_of("1001", "off") == Approx(2.11).margin(1e-9));
+  CHECK(time_of("1002", "on") == Approx(1.99).margin(1e-9));
+  CHECK(time_of("1002", "off") == Approx(2.01).margin(1e-9));
+}
+
+TEST_CASE("a gated sink removes what lies in it at its edge, with the parts resting on them (#32)") {
+  Workcell w;
+  w.parts.push_back({"pallet", "", collision::make_box({100, 100, 20}), at(0, 0, 10)});
+  w.parts.push_back({"box", "", collision::make_box({20, 20, 20}), at(0, 0, 30)});  // on the pallet
+  w.parts.push_back({"spare", "", collision::make_box({20, 20, 20}), at(500, 0, 10)});
+  motion::Sink s;
+  s.name = "unload";
+  s.region = {at(0, 0, 0), {50, 50, 30}};  // z -15..15: the pallet's origin only
+  s.signal = 11;
+  s.on_rising = false;
+  w.sinks.push_back(s);
+  DeviceClock clock(w);
+  REQUIRE(clock.parts()[1].support == 0);  // the box rests on the pallet
+  clock.set_signal(11, true);
+  CHECK(clock.parts()[0].holder == Holder::world);  // rising edge: nothing
+  clock.advance_to(1);
+  clock.set_signal(11, false);
+  CHECK(clock.parts()[0].holder == Holder::removed);
+  CHECK(clock.parts()[1].holder == Holder::removed);  // rode on it
+  CHECK(clock.parts()[2].holder == Holder::world);
 }

@@ -51,7 +51,7 @@ struct Log final : WalkObserver {
     events += 'q';
   }
   void on_distance(const collision::BodyPair&, const collision::DistanceResult&, const DistanceCost& c) override {
-    bisection += c.probe;  // continuous checking's probes between checked poses
+    bisection += c.probe && !c.minimum;  // continuous checking's probes (not the report's minimum)
   }
   void on_ik(const PoseError&, std::uint64_t) override { events += 'i'; }
   void on_contact(const CollisionReport&, const JointVector&, double) override { events += 'c'; }

@@ -46,14 +46,20 @@ struct Conveyor {
   int signal = 0;
 };
 
-// An input signal that is on while a part's origin is inside `region` (a part whose name matches
-// `pattern` (* and ? wildcards; empty: any) and whose colour is `colour` (empty: any)).
+// What a sensor sees of a part (docs/cell-format.md "sensor"): its origin inside the box, or any
+// overlap of the part (its convex hull: exact for boxes, cylinders, spheres) with the box.
+enum class Sensing { origin, overlap };
+
+// An input signal that is on while a part is sensed in `region` (a part whose name matches
+// `pattern` (* and ? wildcards; empty: any) and whose colour is `colour` (empty: any)). Sensors on
+// one signal are wired in parallel: the signal is on while any of them senses a part.
 struct Sensor {
   std::string name;
   int signal = 0;  // 1001..1512 or a soft signal 2001..2512
   Region region;
   std::string pattern;
   std::string colour;
+  Sensing sensing = Sensing::origin;
 };
 
 // Places a new part at `at`: when `signal` turns on (0: never by signal), and/or whenever its spot
@@ -70,10 +76,14 @@ struct Feeder {
   Region spot;  // centred on the feed pose
 };
 
-// Removes every part whose origin enters `region`.
+// Removes parts whose origin lies in `region`: always-on (signal 0) every part whose origin enters
+// it; gated, every part whose origin is in it at an edge of `signal` (rising, or falling with
+// on_rising false). A part riding on a removed part goes with it.
 struct Sink {
   std::string name;
   Region region;
+  int signal = 0;
+  bool on_rising = true;
 };
 
 // A logic rule: when `when` changes to `is_on` (or, for `at_s >= 0`, at that simulated time),
@@ -102,6 +112,8 @@ struct Workcell {
   }
   // True when a device (sensor, logic rule) can set signal k; WAIT names the ones none drives.
   bool drives(int k) const;
+  // Parts that may exist in a run: declared plus every feeder's count.
+  std::size_t max_parts() const;
 };
 
 // Signal numbering (V+): outputs 1..512, inputs 1001..1512, soft signals 2001..2512.

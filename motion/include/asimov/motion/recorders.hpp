@@ -140,24 +140,30 @@ struct CountRecorder final : WalkObserver {
   void on_checked_pose(double, const robots::JointVector&, bool) override { ++poses; }
   void on_query(const collision::QueryResult& r, const QueryCost& cost) override;
   void on_distance(const collision::BodyPair&, const collision::DistanceResult&, const DistanceCost& cost) override {
-    bisection += cost.probe;
+    bisection += cost.probe && !cost.minimum;
+    minimum += cost.minimum;
     ++distances;
   }
   std::uint64_t poses = 0;
   std::uint64_t bisection = 0;  // contact-time bisection poses and continuous-checking probes
   std::uint64_t distances = 0;  // distance queries of continuous checking
+  std::uint64_t minimum = 0;    //   of which refining the clearance report's minimum
   collision::StepCounts counts;
 };
 
 // Clearance report (docs/collision.md §12): per enabled pair that came nearer than within_mm
-// (the cell's report_within_mm, or clearance_mm when larger), its least distance met by
-// continuous checking at checked poses and probes: when, in which motion, the two witnesses.
+// (the cell's report_within_mm, or clearance_mm when larger), its least distance along the run:
+// the minimum continuous checking refined to kMinimumToleranceMm (a distance measured at its
+// pose), when, in which motion, the two witnesses, and what is proven below it.
 struct ClearanceApproach {
   collision::BodyPair pair;  // engine ids (World: the scene order)
   double distance_mm = 0;    // 0: in contact
   double time_s = 0;
   int step = 0;              // program step of the motion
   collision::Vec3 point_a = collision::Vec3::Zero(), point_b = collision::Vec3::Zero();  // on pair.a, pair.b [mm]
+  // The pair's distance never went below this along the run: distance_mm - kMinimumToleranceMm,
+  // lower where a refinement ran out of budget (WalkObserver::on_distance_bound); 0 in contact.
+  double lower_bound_mm = 0;
 };
 
 // Distances of a stretch are measured before its contact (if any) is known, so they are held
@@ -170,6 +176,7 @@ struct ClearanceRecorder final : WalkObserver {
   // below it, which continuous checking measures.
   void on_contact(const CollisionReport& report, const robots::JointVector&, double) override;
   void on_walk_end() override { commit(std::numeric_limits<double>::infinity()); }
+  void on_distance_bound(const collision::BodyPair& pair, double lower_mm) override;
   double within_mm = 10;
   double clearance_mm = 0;  // the run's: a contact is a distance <= this
   std::vector<ClearanceApproach> pairs;  // in the order first met; per pair the least distance, earliest at ties
@@ -179,6 +186,8 @@ struct ClearanceRecorder final : WalkObserver {
  private:
   void commit(double until_s);  // keeps the held distances measured at or before until_s
   std::vector<ClearanceApproach> held_;
+  std::vector<std::pair<collision::BodyPair, double>> bounds_;  // on_distance_bound, least per pair
+  double bound_of(const collision::BodyPair& pair) const;
 };
 
 // Wall time per phase. A walk's checked-pose queries go to collision (or preprocessing when

@@ -130,6 +130,9 @@ class Simulator {
   // wall time per phase (the caller adds parse and cell-file time to timing.timing).
   Recorders& recorders();
   const Recorders& recorders() const;
+  // Another observer of the walks, told after the recorders (tests and tools: the executed path,
+  // what continuous checking measured). It must outlive the simulator's motions.
+  void add_observer(WalkObserver& observer);
   bool collision_engine_used() const;  // false when the cell has no enabled pair
   // Name of a collision body (ClearanceApproach::pair); empty without an engine.
   std::string body_name(std::uint32_t id) const;  // collision::BodyId

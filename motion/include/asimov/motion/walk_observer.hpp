@@ -27,6 +27,11 @@ inline std::uint64_t cpu_ticks() {
 }
 #endif
 
+// The clearance report's minimum [ours] (docs/collision.md §12): per pair, the least distance
+// along the motion to within this [mm] (continuous checking refines its windows until every
+// window's lower bound is at least the least found less this).
+constexpr double kMinimumToleranceMm = 1e-3;
+
 // The walk advancing from the last checked pose to the next one (before that one is checked).
 struct Stretch {
   double t_from = 0, t_to = 0;          // simulated times of the two poses [s]
@@ -54,6 +59,7 @@ struct DistanceCost {
   bool probe = false;       // a pose between two checked poses (else a checked pose)
   int step = 0;             // program step of the motion
   std::uint64_t ticks = 0;  // cpu_ticks() spent in the engine
+  bool minimum = false;     // refining the clearance report's minimum (not the contact search)
 };
 
 struct WalkObserver {
@@ -66,6 +72,9 @@ struct WalkObserver {
   // Continuous checking measured the distance of `pair` (engine ids; the result may be a lower
   // bound, status beyond, when the pair is farther than the cut-off the proof needed).
   virtual void on_distance(const collision::BodyPair& /*pair*/, const collision::DistanceResult&, const DistanceCost&) {}
+  // The clearance report's minimum of `pair` could not be refined to kMinimumToleranceMm within
+  // its budget: its distance is only proven to stay at or above lower_mm (docs/collision.md §12).
+  virtual void on_distance_bound(const collision::BodyPair& /*pair*/, double /*lower_mm*/) {}
   // IK solves (of the walk's exact straight-line path; the facade reports the planner's too).
   virtual void on_ik(const PoseError& /*residual*/, std::uint64_t /*solves*/) {}
   // The walk halts on a contact: the arm at `q_halt` (the pose of report.time_free_s);

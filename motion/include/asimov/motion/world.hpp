@@ -101,7 +101,21 @@ class World {
   void set_hand(bool closed);
   // The engine's query on pairs(): request.pairs nullopt means pairs(); a given list loses the
   // pairs of parts absent at the posed time.
+  // Resting contact (docs/collision.md §15): a contact of a part with an object or another part
+  // counts only when the part sinks in deeper than its resting tolerance (or lies inside); a
+  // touching pair found by a query of pairs() (a checked pose) leaves pairs() for touching(),
+  // whose pairs the query with `with_touching` (default: a query of pairs()) tests that way,
+  // returning those found apart to pairs().
   void query(const collision::QueryRequest& request, collision::QueryResult& out);
+  void query(const collision::QueryRequest& request, collision::QueryResult& out, bool with_touching);
+  std::span<const collision::BodyPair> touching() const { return touching_; }
+  // A pair of a part and an object or another part (its contacts may be resting ones).
+  bool resting_pair(const collision::BodyPair& p) const;
+  // A pair continuous checking found touching at time t (free by query()): it joins touching().
+  void rest(const collision::BodyPair& pair, double t);
+  // At a checked pose (the clock's present): the pairs rest() took that still touch here are
+  // reported (event `resting`, at the instant they began); the others are forgotten.
+  void confirm_resting();
   // After a pose found free: pairs excused at a grasp or release (touching then) that are
   // apart now are tested again (docs/cell-format.md "Gripping").
   void free_pose_seen();
@@ -133,6 +147,16 @@ class World {
   bool grids_built(const collision::QueryResult& r);
 
  private:
+  enum class Touch { apart, resting, penetrating };
+  Touch classify(const collision::BodyPair& pair, const collision::Contact& first);  // resting or penetrating
+  Touch touch_state(const collision::BodyPair& pair);
+  collision::Contact touch_contact_;
+  void test_touching(double clearance_mm, collision::QueryResult& out, bool update);
+  void begin_touching(const collision::BodyPair& p, double t, bool event);
+  void touching_event(const collision::BodyPair& p, double t);
+  void set_part_pose(collision::BodyId id, const Location& pose);
+  double resting_tolerance_of(const collision::BodyPair& p) const;
+  collision::Vec3 face_normal(collision::BodyId id, std::uint32_t face) const;
   struct Slot {  // one part body
     int clock = -1;  // index into the clock's parts; -1: not placed yet
     Holder holder = Holder::removed;
@@ -163,6 +187,7 @@ class World {
   robots::JointVector posed_q_;   // the joints and time of the last pose()
   double posed_t_ = 0;
 
+  const Cell* cell_;
   const robots::Robot* robot_;
   collision::Pose base_;
   std::vector<BodyMount> mounts_;  // per BodyId, once the engine is built
@@ -193,9 +218,12 @@ class World {
   std::vector<char> absent_;                     // per slot, at a pose earlier than the clock
   std::vector<char> to_excuse_;                  // per slot: grasped or released since the last pose
   bool any_absent_ = false;
-  std::optional<collision::BodyId> carried_;
+  std::optional<collision::BodyId> carried_;  // the grasped part (others may rest on it)
+  std::vector<collision::BodyPair> touching_, touching_live_;  // resting contacts (not in pairs())
+  std::vector<std::pair<collision::BodyPair, double>> unreported_;  // resting since t, no checked pose saw it yet
+  std::vector<Location> part_at_;                 // per slot: its pose in the engine
+  collision::BodyId first_object_ = 0;            // the cell's objects: BodyIds from here
   bool posed_earlier_ = false;  // the last pose() was at a state before the clock's (bisection)
-  Location grip_ = Location::Identity();
   std::uint64_t seen_revision_ = ~std::uint64_t{0};
   std::uint64_t pairs_revision_ = 0;
   std::optional<DeviceClock> saved_, scratch_;   // the clock before the last advance; a copy at t
