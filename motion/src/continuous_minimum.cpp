@@ -122,30 +122,24 @@ bool ContinuousChecker::refine(const ContinuousPath& path, double until_s) {
         heap.push(std::move(p));
         continue;
       }
-      if (!p.ea && p.da < need) {
+      const auto measure_end = [&](double t, const auto& q, double& d, bool& exact) {
         Point e;
-        e.t = p.ta;
-        e.q = p.qa;
+        e.t = t;
+        e.q = q;
         path.pose(e.q, e.t);
         posed = true;
         measure_bodies(pair, e, need + 0.5 * p.mu, false, least, need);
-        p.da = std::max(p.da, e.d);
-        p.ea = true;
+        d = std::max(d, e.d);
+        exact = true;
         p.bound = window_bound(p.da, p.db, p.mu);
         heap.push(std::move(p));
+      };
+      if (!p.ea && p.da < need) {
+        measure_end(p.ta, p.qa, p.da, p.ea);
         continue;
       }
       if (!p.eb && p.db < need) {
-        Point e;
-        e.t = p.tb;
-        e.q = p.qb;
-        path.pose(e.q, e.t);
-        posed = true;
-        measure_bodies(pair, e, need + 0.5 * p.mu, false, least, need);
-        p.db = std::max(p.db, e.d);
-        p.eb = true;
-        p.bound = window_bound(p.da, p.db, p.mu);
-        heap.push(std::move(p));
+        measure_end(p.tb, p.qb, p.db, p.eb);
         continue;
       }
       Point m;
