@@ -113,7 +113,7 @@ TEST_CASE("robot: a URDF file relative to the cell file") {
   CHECK(robots::first_limit_violation(cell.robot, cell.start_joints) == -1);
 }
 
-TEST_CASE("robot: built-in Adept arms by name; a packaged URDF by package:// through packages:") {
+TEST_CASE("robot: built-in Adept arms by name, a packaged URDF by package:// through packages:") {
   CHECK(load_cell_text("robot: viper_s650\n", "v.yaml").robot.name == "viper_s650");
   CHECK(load_cell_text("robot: cobra_s600\n", "c.yaml").robot.joint_count() == 4);
   const std::string cells = std::string(ASIMOV_SOURCE_DIR) + "/programs/cells";

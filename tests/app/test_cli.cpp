@@ -38,7 +38,7 @@ TEST_CASE("pick_place demo completes with exit 0 and a completed report") {
   CHECK(doc["collision_engine"]["used"] == true);
 }
 
-TEST_CASE("crash demo halts with exit 3; the contact point lies on both bodies") {
+TEST_CASE("crash demo halts with exit 3, the contact point lies on both bodies") {
   const auto report = test::scratch_dir() / "crash.json";
   const auto r = run_cli("run " + source_path("programs/demo/crash.v2") + " --report " + report.string());
   INFO(r.out << r.err);
@@ -129,7 +129,7 @@ TEST_CASE("run: a location out of reach is a program error, exit 2") {
   CHECK(doc["line"] == 3);
 }
 
-TEST_CASE("run: the main option selects the program; names are case-insensitive") {
+TEST_CASE("run: the main option selects the program, names are case-insensitive") {
   const auto file = write_file("two.v2",
                                ".PROGRAM first()\n    TYPE \"first\"\n.END\n.PROGRAM Second()\n    TYPE \"second\"\n.END\n");
   CHECK(run_cli("run " + file.string()).out == "first\n");
@@ -214,7 +214,7 @@ TEST_CASE("run: PAUSE ends a batch run with exit 0 and status paused") {
   CHECK(read_json(report)["status"] == "paused");
 }
 
-TEST_CASE("run: PROMPT reads standard input; bad input when not at a terminal is an error") {
+TEST_CASE("run: PROMPT reads standard input, bad input when not at a terminal is an error") {
   const auto file = write_file("prompt.v2", ".PROGRAM p()\n    PROMPT \"n? \", n\n    TYPE \"twice: \", 2 * n\n.END\n");
   const auto ok = run_cli("run " + file.string(), "21\n");
   CHECK(ok.exit_code == 0);

@@ -96,7 +96,7 @@ TEST_CASE("default pairs: self-pairs touching at the start joints are not tested
             .collision.start_contacts.empty());
 }
 
-TEST_CASE("default pairs: the run starts and the pair is DEFAULT in `asimov pairs`; the others still halt") {
+TEST_CASE("default pairs: the run starts and the pair is DEFAULT in `asimov pairs`, the others still halt") {
   write(dir() / "wave.v2", ".PROGRAM wave()\n    MOVE #PPOINT(30, 0, 20)\n    MOVE #PPOINT(-30, 0, -20)\n    TYPE \"done\"\n.END\n");
   const auto cell = cell_file("run.yaml", "");
   const auto r = test::run_cli("run " + (dir() / "wave.v2").string() + " --cell " + cell.string());
@@ -114,7 +114,7 @@ TEST_CASE("default pairs: the run starts and the pair is DEFAULT in `asimov pair
   CHECK(hit.err.find("*Collision*  link_3 / post") != std::string::npos);
 }
 
-TEST_CASE("srdf: disable_collisions become SRDF pairs; groups and end effectors are reported; the tip") {
+TEST_CASE("srdf: disable_collisions become SRDF pairs, groups and end effectors are reported, the tip") {
   const auto cell = load(cell_file("srdf.yaml", "srdf: touchy.srdf\n"));
   CHECK(has_pair(cell.collision.srdf_disabled, "camera", "link_2"));
   CHECK(has_pair(cell.collision.srdf_disabled, "base", "link_3"));
@@ -227,7 +227,7 @@ fs::path gripper_cell(const std::string& name, const std::string& extra) {
 }
 }  // namespace
 
-TEST_CASE("fingers: OPEN / CLOSE drive the prismatic fingers and their follower; the cell can set the travel") {
+TEST_CASE("fingers: OPEN / CLOSE drive the prismatic fingers and their follower, the cell can set the travel") {
   write(dir() / "closed.v2", ".PROGRAM closed()\n    CLOSE\n    MOVE #PPOINT(0, -5)\n    TYPE \"done\"\n.END\n");
   write(dir() / "open.v2", ".PROGRAM open()\n    MOVE #PPOINT(0, -5)\n    TYPE \"done\"\n.END\n");
   const auto cell = gripper_cell("grip.yaml", "");

@@ -126,7 +126,7 @@ TEST_CASE("aliases that multiply (billion laughs) stay shared and end at once", 
   CHECK(seconds(t0) < 5);
 }
 
-TEST_CASE("20,000 objects load in seconds; more than 100,000 are refused", "[cell][hostile]") {
+TEST_CASE("20,000 objects load in seconds, more than 100,000 are refused", "[cell][hostile]") {
   std::string yaml = "objects:\n";
   for (int i = 0; i < 20000; ++i)
     yaml += "  - {name: o" + std::to_string(i) + ", box: [1, 1, 1], at: [" + std::to_string(i % 100 * 3 + 400) + ", " +

@@ -81,7 +81,7 @@ TEST_CASE("asimov test programs --shard k/3 --list: the three shards partition t
   CHECK(std::vector<std::string>(union_of_shards.begin(), union_of_shards.end()) == every);  // each once
 }
 
-TEST_CASE("asimov test --shard runs only its cases; the shards' JUnit files merge into the whole suite") {
+TEST_CASE("asimov test --shard runs only its cases, the shards' JUnit files merge into the whole suite") {
   const fs::path dir = small_suite("merge", 9);
   std::vector<fs::path> files;
   std::size_t ran = 0;

@@ -87,7 +87,7 @@ TEST_CASE("report matcher: subsets, ranges and the JSON path of a mismatch") {
   CHECK(d[0] == "report.status: expected a number in [-inf, 1], got \"collision\"");
 }
 
-TEST_CASE("first differing line of an output; the wall times of a STATUS line are not compared") {
+TEST_CASE("first differing line of an output, the wall times of a STATUS line are not compared") {
   CHECK_FALSE(suite::first_line_difference("stdout", "a\nb\n", "a\nb\n"));
   CHECK(suite::first_line_difference("stdout", "a\nb\nc\n", "a\nx\nc\n") ==
         std::string("stdout line 2: expected \"b\", got \"x\""));
@@ -207,7 +207,7 @@ TEST_CASE("the expected file: problems name the file") {
         std::vector<std::string>{"monitor", "--cell", fs::absolute(dir / "c.yaml").string(), "--strict", "a.v2"});
 }
 
-TEST_CASE("discovery: cases under folders and named files; programs without an expected file skipped") {
+TEST_CASE("discovery: cases under folders and named files, programs without an expected file skipped") {
   const fs::path dir = suite_dir("discover");
   fs::create_directories(dir / "sub");
   fs::create_directories(dir / ".hidden");
@@ -336,7 +336,7 @@ TEST_CASE("asimov test: a wrong expectation of each kind FAILs with its differen
   }
 }
 
-TEST_CASE("asimov test: unusable expected files FAIL and the others still run; JUnit; -j keeps the order") {
+TEST_CASE("asimov test: unusable expected files FAIL and the others still run, JUnit, -j keeps the order") {
   const fs::path dir = suite_dir("fail");
   write(dir / "hello.v2", kHello);
   write(dir / "hello.expect.json", R"({"exit": 3, "stdout": "hi\n41\n"})");

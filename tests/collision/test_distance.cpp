@@ -167,7 +167,7 @@ TEST_CASE("distance is exactly zero at touching and positive one ulp away", "[di
   }
 }
 
-TEST_CASE("distance: a body inside another is in contact; in a cavity it has a distance", "[distance]") {
+TEST_CASE("distance: a body inside another is in contact, in a cavity it has a distance", "[distance]") {
   Polyhedron cavity = make_box(Vec3(50, 50, 50));
   for (Triangle& tri : cavity.triangles) std::swap(tri[1], tri[2]);
   const Polyhedron hollow = merged(make_box(Vec3(90, 90, 90)), cavity);
@@ -184,7 +184,7 @@ TEST_CASE("distance: a body inside another is in contact; in a cavity it has a d
   CHECK(cav.distance == Approx(20).margin(1e-12));  // cavity wall at 25, small box at 5
 }
 
-TEST_CASE("distance of a body without faces is beyond any cut-off; bad ids are refused", "[distance]") {
+TEST_CASE("distance of a body without faces is beyond any cut-off, bad ids are refused", "[distance]") {
   Engine e;
   Polyhedron empty;
   empty.vertices = {Vec3(0, 0, 0)};

@@ -12,7 +12,7 @@
 
 using namespace asimov::collision;
 
-TEST_CASE("participation: pairs set out of order read back sorted; growth keeps every flag", "[participation][hostile]") {
+TEST_CASE("participation: pairs set out of order read back sorted, growth keeps every flag", "[participation][hostile]") {
   Participation p;
   p.resize(3);
   p.set(1, 2, true);
@@ -41,7 +41,7 @@ TEST_CASE("participation: pairs set out of order read back sorted; growth keeps 
   CHECK(p.pairs() == std::vector<BodyPair>{{0, 1}, {1, 2}, {5, 39}});
 }
 
-TEST_CASE("a moving body added after the static ones pairs with all of them; groups never pair", "[engine][hostile]") {
+TEST_CASE("a moving body added after the static ones pairs with all of them, groups never pair", "[engine][hostile]") {
   Engine e;
   const Polyhedron box = make_box({1, 1, 1});
   const auto s1 = e.add_body({.name = "s1", .mesh = box, .is_static = true});

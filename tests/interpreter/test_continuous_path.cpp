@@ -32,7 +32,7 @@ std::vector<interpreter::MotionTime> times_with(const std::string& between, doub
 
 }  // namespace
 
-TEST_CASE("CP: consecutive motions blend; the run is the overlap shorter", "[interpreter][blend]") {
+TEST_CASE("CP: consecutive motions blend, the run is the overlap shorter", "[interpreter][blend]") {
   double blended_end = 0, stopped_end = 0;
   const auto blended = times_with("", &blended_end);
   const auto stopped = times_with("  BREAK\n", &stopped_end);
@@ -131,7 +131,7 @@ TEST_CASE("CP: a contact is reported at the motion whose path met it, not the on
   CHECK(r.collision.joints[0] < 10);  // on the way to the box, before the blend
 }
 
-TEST_CASE("ACCEL: acceleration and deceleration percentages lengthen the motion; omitted values are kept",
+TEST_CASE("ACCEL: acceleration and deceleration percentages lengthen the motion, omitted values are kept",
           "[interpreter][blend][accel]") {
   auto duration = [](const std::string& accel) {
     InterpreterFixture f;
@@ -218,7 +218,7 @@ TEST_CASE("CP with tasks: the robot task blends while a logic task runs, the sam
   CHECK(a.out == std::to_string(ticks) + " " + std::to_string(ticks) + " -1\n");
 }
 
-TEST_CASE("#PDEST: the joints the pending motion ends at; at rest the arm's joints", "[interpreter][blend][pdest]") {
+TEST_CASE("#PDEST: the joints the pending motion ends at, at rest the arm's joints", "[interpreter][blend][pdest]") {
   InterpreterFixture f;
   const std::string text = std::string(".PROGRAM main()\n  SET #s = #PDEST\n  MOVE ") + kA +
                            "\n  SET #a = #pdest\n  MOVE " + kB + "\n  SET #b = #PDEST\n  BREAK\n  SET #r = #PDEST\n"

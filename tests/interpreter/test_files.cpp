@@ -73,7 +73,7 @@ TEST_CASE("a program writes a file and reads its values back", "[files]") {
   CHECK(d.read("points.txt") == "10,0.25 -1\r\n20,0.5 -2\r\n30,0.75 -3\r\nlast line\r\n");
 }
 
-TEST_CASE("records end at LF, CR LF, CR CR LF or CR; GETC reads bytes", "[files]") {
+TEST_CASE("records end at LF, CR LF, CR CR LF or CR, GETC reads bytes", "[files]") {
   Folder d;
   d.write("in.txt", "a\nb\r\nc\r\r\nd\re");
   CHECK(outcome(d, "ATTACH (5) \"DISK\"\nFOPENR (5) \"in.txt\"\nDO\n  READ (5) $s\n  IF IOSTAT(5) == 1 THEN\n    TYPE $s, \"|\", /S\n"
@@ -137,7 +137,7 @@ TEST_CASE("writes replace the file atomically when it is closed, also when the r
   CHECK(d.read("b.txt") == "x\r\n");
 }
 
-TEST_CASE("units used wrongly stop the program; network devices stop with a hint", "[files]") {
+TEST_CASE("units used wrongly stop the program, network devices stop with a hint", "[files]") {
   Folder d;
   CHECK(outcome(d, "READ (5) $s") == "ERROR *Illegal value* READ: logical unit 5 is not attached");
   CHECK(outcome(d, "ATTACH (5)\nREAD (5) $s") == "ERROR *Illegal value* READ: logical unit 5 has no file open for reading");
@@ -155,7 +155,7 @@ TEST_CASE("units used wrongly stop the program; network devices stop with a hint
   CHECK_FALSE(f.load(program("FOPENR \"x\"")).empty());       // the unit
 }
 
-TEST_CASE("V+ file names become relative names; absolute ones and drives are refused", "[files]") {
+TEST_CASE("V+ file names become relative names, absolute ones and drives are refused", "[files]") {
   std::string why;
   CHECK(asimov::interpreter::relative_name(" a\\b.txt ", why) == "a/b.txt");
   CHECK_FALSE(asimov::interpreter::relative_name("  ", why));

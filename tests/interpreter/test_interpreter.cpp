@@ -203,7 +203,7 @@ TEST_CASE("a stopped execution keeps its call stack and speed", "[interpreter][r
   CHECK(f.out.str() == "3\n4\nback\n");
 }
 
-TEST_CASE("an interrupt stops the run between steps; PROCEED runs the next step", "[interpreter][resume]") {
+TEST_CASE("an interrupt stops the run between steps, PROCEED runs the next step", "[interpreter][resume]") {
   InterpreterFixture f;
   std::atomic<bool> interrupt{false};
   f.interp.limits().interrupt = &interrupt;

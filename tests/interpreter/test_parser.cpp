@@ -155,7 +155,7 @@ TEST_CASE("names are lower case and 15 characters", "[parser]") {
   CHECK(normalize_name("#a234567890123456789") == "#a23456789012345");
 }
 
-TEST_CASE("the reserved words of instructions.def never parse as variables; instruction keywords may", "[parser]") {
+TEST_CASE("the reserved words of instructions.def never parse as variables, instruction keywords may", "[parser]") {
   // Operators, the words inside statements and the functions without parentheses (dialect §1).
   for (const char* w : {"and", "or", "xor", "not", "mod", "band", "bor", "bxor", "to", "step", "then", "else",
                         "end", "do", "always", "monitor", "by", "of", "value", "any", "pi", "true", "false",
@@ -179,7 +179,7 @@ TEST_CASE("the reserved words of instructions.def never parse as variables; inst
   }
 }
 
-TEST_CASE("lines end at LF, CR LF, CR CR LF or CR; the last needs no newline", "[parser]") {
+TEST_CASE("lines end at LF, CR LF, CR CR LF or CR, the last needs no newline", "[parser]") {
   for (const std::string eol : {"\n", "\r\n", "\r\r\n", "\r"}) {
     INFO(int(eol.size()));
     const auto p = parse_source(".PROGRAM p()" + eol + eol + "  x = 1" + eol + ".END", "t.v2");

@@ -80,7 +80,7 @@ TEST_CASE("the carried part, not the arm, hits the post: the report names it, th
   }
 }
 
-TEST_CASE("a part carried into a resting part; the arm into a resting part") {
+TEST_CASE("a part carried into a resting part, the arm into a resting part") {
   SECTION("carried into another part") {
     motion::Cell cell = plate_cell(true);
     cell.objects.pop_back();  // no post: a block lying in its place
@@ -106,7 +106,7 @@ TEST_CASE("a part carried into a resting part; the arm into a resting part") {
   }
 }
 
-TEST_CASE("the trace holds the carried part's pose; a grasp and a release leave the support free") {
+TEST_CASE("the trace holds the carried part's pose, a grasp and a release leave the support free") {
   motion::Cell cell = plate_cell(true);
   cell.objects.pop_back();  // no post: the slide completes
   Run r(std::move(cell));

@@ -28,7 +28,7 @@ std::string outcome(const std::string& body, const std::string& input = "", bool
 
 }  // namespace
 
-TEST_CASE("PAUSE stops with a paused status; PROCEED continues with the next step", "[statements]") {
+TEST_CASE("PAUSE stops with a paused status, PROCEED continues with the next step", "[statements]") {
   InterpreterFixture f;
   auto r = f.run(".PROGRAM main()\n  TYPE \"a\"\n  CALL sub()\n  TYPE \"c\"\n.END\n"
                  ".PROGRAM sub()\n  PAUSE\n  TYPE \"b\"\n.END\n");
@@ -45,7 +45,7 @@ TEST_CASE("PAUSE stops with a paused status; PROCEED continues with the next ste
   CHECK_FALSE(f.interp.can_resume());
 }
 
-TEST_CASE("PAUSE waits for the motion; RETRY after PAUSE does not run PAUSE again", "[statements]") {
+TEST_CASE("PAUSE waits for the motion, RETRY after PAUSE does not run PAUSE again", "[statements]") {
   InterpreterFixture f;
   auto r = f.run(program("  MOVE #PPOINT(10, -80, 100, 0, 20, 30)\n  PAUSE\n  TYPE \"after\""));
   REQUIRE(r.status == RunStatus::paused);
@@ -74,7 +74,7 @@ TEST_CASE("STOP ends the execution from inside a CALL", "[statements]") {
   CHECK(f.out.str() == "s\n");
 }
 
-TEST_CASE("WAIT advances the clock tick by tick; WAIT.EVENT , t waits t seconds", "[statements]") {
+TEST_CASE("WAIT advances the clock tick by tick, WAIT.EVENT , t waits t seconds", "[statements]") {
   CHECK(outcome("TIMER 1 = 0\nWAIT TIMER(1) >= 0.5\nTYPE TIMER(1) >= 0.5, TIMER(1) < 0.5161") == "-1 -1\n");
   CHECK(outcome("TIMER 2 = 10\nWAIT\nTYPE TIMER(2)") == "10.016\n");
   CHECK(outcome("TIMER 3 = 0\nWAIT.EVENT , 1.5\nTYPE TIMER(3)") == "1.5\n");
@@ -200,7 +200,7 @@ TEST_CASE("the settings persist between runs", "[statements]") {
   CHECK(f.out.str() == "0 1\n");
 }
 
-TEST_CASE("OPEN, CLOSE, RELAX wait for the next motion; OPENI ... act at once", "[statements]") {
+TEST_CASE("OPEN, CLOSE, RELAX wait for the next motion, OPENI ... act at once", "[statements]") {
   using asimov::motion::HandState;
   InterpreterFixture f;
   auto r = f.run(program("CLOSE"));
@@ -268,7 +268,7 @@ TEST_CASE("instruction keywords are variables in `name =` lines and expressions"
   }
 }
 
-TEST_CASE("DISABLE COLLISION lets a colliding motion through; the clearance widens contact", "[statements][collision]") {
+TEST_CASE("DISABLE COLLISION lets a colliding motion through, the clearance widens contact", "[statements][collision]") {
   using namespace asimov;
   // A box at the tool point halfway through a J1 sweep (as in test_motion_programs).
   motion::Location work;

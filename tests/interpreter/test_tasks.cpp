@@ -36,7 +36,7 @@ TEST_CASE("tasks run by their wake times on the simulated clock", "[tasks]") {
   CHECK(r.tasks[1].state == "completed");
 }
 
-TEST_CASE("LOCAL variables belong to the task, GLOBALs are shared; RELEASE gives way", "[tasks]") {
+TEST_CASE("LOCAL variables belong to the task, GLOBALs are shared, RELEASE gives way", "[tasks]") {
   CHECK(outcome(".PROGRAM main()\n  shared = 0\n  EXECUTE 1 count(1)\n  EXECUTE 2 count(2)\n  CYCLE.END 1\n"
                 "  CYCLE.END 2\n  TYPE shared\n.END\n"
                 ".PROGRAM count(id)\n  LOCAL mine, i\n  mine = 0\n  FOR i = 1 TO 5\n    mine = mine + id\n"
@@ -54,7 +54,7 @@ TEST_CASE("only the robot task moves the arm", "[tasks]") {
         == "moved\n-1\n");
 }
 
-TEST_CASE("other tasks run while the arm moves; the robot task waits for its motion", "[tasks][motion]") {
+TEST_CASE("other tasks run while the arm moves, the robot task waits for its motion", "[tasks][motion]") {
   InterpreterFixture f;
   const std::string out = outcome(".PROGRAM main()\n  moving = 1\n  n = 0\n  seen = 0\n  EXECUTE 2 watch()\n"
                                   "  MOVE #PPOINT(60, -90, 90, 0, 0, 0)\n  BREAK\n  moving = 0\n  CYCLE.END 2\n"
@@ -68,7 +68,7 @@ TEST_CASE("other tasks run while the arm moves; the robot task waits for its mot
   CHECK(out == std::to_string(ticks) + " " + std::to_string(ticks) + "\n");
 }
 
-TEST_CASE("ABORT ends a task; TASK(1, n) says whether it executes", "[tasks]") {
+TEST_CASE("ABORT ends a task, TASK(1, n) says whether it executes", "[tasks]") {
   InterpreterFixture f;
   CHECK(outcome(".PROGRAM main()\n  EXECUTE 1 forever()\n  WAIT.EVENT , 0.1\n  TYPE TASK(1, 1)\n  ABORT 1\n"
                 "  TYPE TASK(1, 1), TASK(1, 3)\n.END\n.PROGRAM forever()\n  WHILE TRUE DO\n    WAIT\n  END\n.END\n", f)

@@ -77,7 +77,7 @@ TEST_CASE("a WAIT no device can satisfy names the undriven signal") {
   CHECK(r.error.detail == "still false after 0.5 s; no device in the cell drives signal 1002");
 }
 
-TEST_CASE("CLOSEI grasps the part in the zone, OPENI puts it on the table; HAND.TIME passes") {
+TEST_CASE("CLOSEI grasps the part in the zone, OPENI puts it on the table, HAND.TIME passes") {
   CellFixture f;
   const auto r = f.run(".PROGRAM main()\n  PARAMETER HAND.TIME = 0.25\n  CLOSEI\n  DRIVE 1, 20, 50\n  OPENI\n.END\n");
   REQUIRE(r.status == interpreter::RunStatus::completed);
@@ -99,7 +99,7 @@ TEST_CASE("CLOSEI grasps the part in the zone, OPENI puts it on the table; HAND.
   CHECK(f.sim.time_s() > 0.5);  // two hand times and the drive
 }
 
-TEST_CASE("CLOSEI on air is reported, or an error when the cell says so; OPENI over nothing stops") {
+TEST_CASE("CLOSEI on air is reported, or an error when the cell says so, OPENI over nothing stops") {
   SECTION("reported") {
     CellFixture f;
     REQUIRE(f.run(".PROGRAM main()\n  DRIVE 1, 90, 50\n  CLOSEI\n.END\n").status == interpreter::RunStatus::completed);

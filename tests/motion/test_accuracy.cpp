@@ -133,7 +133,7 @@ TEST_CASE("accuracy: the contact bracket is within toc_tolerance_s", "[simulator
   }
 }
 
-TEST_CASE("timing: every phase of a run is measured; the caller adds the parse time", "[simulator][accuracy]") {
+TEST_CASE("timing: every phase of a run is measured, the caller adds the parse time", "[simulator][accuracy]") {
   Simulator sim(puma_cell());
   const RunTiming& t = sim.recorders().timing.timing;
   CHECK(t.preprocess_s > 0);  // the engine was built in the constructor

@@ -67,7 +67,7 @@ TEST_CASE("release: a cylinder onto a sloped wedge mesh") {
   CHECK(*motion::drop_distance(post, at(0, 0, 100), below) == Approx(100 - 5 - 52.5).margin(1e-9));
 }
 
-TEST_CASE("cell runtime: grasp, carry, release onto a moving conveyor; no support is an error") {
+TEST_CASE("cell runtime: grasp, carry, release onto a moving conveyor, no support is an error") {
   motion::Cell cell;
   cell.objects.push_back({"table", collision::make_box({400, 400, 40}), at(0, 0, -20)});  // top z = 0
   auto& w = cell.workcell;

@@ -108,7 +108,7 @@ TEST_CASE("planner + walker: the facade's walk, bit for bit, observers in data-f
   CHECK(std::count(log.events.begin(), log.events.end(), 's') + 1 == static_cast<long>(log.poses));
 }
 
-TEST_CASE("planner: refusals carry the VAL error and no trajectory; nothing moves", "[walker]") {
+TEST_CASE("planner: refusals carry the VAL error and no trajectory, nothing moves", "[walker]") {
   const Cell cell = wall_cell();
   World world(cell);
   const WalkState st{.joints = start_joints(cell)};

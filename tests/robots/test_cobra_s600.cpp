@@ -142,7 +142,7 @@ TEST_CASE("cobra_s600 IK round trips, 10^6 poses per elbow", "[.cobra_million]")
                              << ", max position " << rt.max_p << " mm, rotation " << rt.max_r);
 }
 
-TEST_CASE("cobra_s600 configuration: RIGHTY iff J2 >= 0; the words that do not apply change nothing", "[cobra_s600]") {
+TEST_CASE("cobra_s600 configuration: RIGHTY iff J2 >= 0, the words that do not apply change nothing", "[cobra_s600]") {
   const Robot r = cobra_s600();
   CHECK(configuration_of(r, jv({0, 30, 0, 0})).righty);
   CHECK_FALSE(configuration_of(r, jv({0, -30, 0, 0})).righty);

@@ -78,7 +78,7 @@ Vec3 centre(const LinkBody& b, const Pose& offset = Pose::Identity()) {
 }
 }  // namespace
 
-TEST_CASE("branches: two independent fingers without a tip are ambiguous; the error lists the candidate leaves") {
+TEST_CASE("branches: two independent fingers without a tip are ambiguous, the error lists the candidate leaves") {
   // A finger and its follower: the follower is no independent joint, so the finger would be J3
   // and its follower follows an arm joint: an error saying to give the tip.
   const std::string e = error(gripper_arm());
@@ -135,7 +135,7 @@ TEST_CASE("branches: with the tip, prismatic fingers and mimic followers are han
   CHECK(changed.hand[1].open == Approx(12));
 }
 
-TEST_CASE("branches: the SRDF-style tip on the hand link; a link past the tip with a finger on a finger") {
+TEST_CASE("branches: the SRDF-style tip on the hand link, a link past the tip with a finger on a finger") {
   const Robot r = load(gripper_arm(link("pad", "0.06 0 0", "0.005 0.005 0.005") +
                                    joint("pad_joint", "prismatic", "finger_left", "pad", "0 0 0",
                                          "<axis xyz=\"1 0 0\"/><limit lower=\"-0.01\" upper=\"0\" velocity=\"0.1\"/>")),
@@ -228,7 +228,7 @@ TEST_CASE("branches: a follower of an arm joint moves with that joint (a paralle
   CHECK((tip - Vec3(0, 0, 500)).norm() < 1e-9);  // turned -90 deg about Y: straight up from (0, 0, 200)
 }
 
-TEST_CASE("branches: one finger without a tip stays the last axis, with a warning saying so; fixed branches are rigid") {
+TEST_CASE("branches: one finger without a tip stays the last axis, with a warning saying so, fixed branches are rigid") {
   std::string one = gripper_arm();
   one.replace(one.find("<joint name=\"finger_right_joint\""), std::string::npos, "</robot>\n");
   one.replace(one.find(link("finger_right", "0.05 -0.015 0", "0.02 0.01 0.02")), link("finger_right", "0.05 -0.015 0", "0.02 0.01 0.02").size(), "");

@@ -104,7 +104,7 @@ TEST_CASE("packages are found by the name in their package.xml, not by their fol
   CHECK(q.find("deep_pkg"));
 }
 
-TEST_CASE("resolve_uri: package://, file://, relative; the errors name what is missing", "[urdf][packages]") {
+TEST_CASE("resolve_uri: package://, file://, relative, the errors name what is missing", "[urdf][packages]") {
   PackagePath p;
   p.add_root(kWorkspace);
   std::string err;
