@@ -1,5 +1,6 @@
 #include "asimov/motion/sampler.hpp"
 
+#include "asimov/robots/ik.hpp"
 #include "asimov/robots/ik_redundant.hpp"
 
 #include <algorithm>
@@ -23,16 +24,6 @@ struct LineContext {
   double limit;  // kLineSafety * step_mm
 };
 
-// Shoulder (r - d3) and elbow reach margins [mm] of a wrist-centre position (docs/kinematics.md §7).
-void margins(const robots::Robot& r, const collision::Vec3& p, double& shoulder, double& elbow) {
-  const double a2 = r.dh[1].a, d3 = r.dh[2].d, a3 = r.dh[2].a, d4 = r.dh[3].d;
-  const double rr = std::hypot(p.x(), p.y());
-  shoulder = rr - d3;
-  const double rho = std::sqrt(std::max(0.0, rr * rr - d3 * d3) + p.z() * p.z());
-  const double L = std::hypot(a3, d4);
-  elbow = std::min(a2 + L - rho, rho - std::abs(a2 - L));
-}
-
 LineStatus fail(LinePlan& plan, LineStatus st, double s) {
   plan.status = st;
   plan.fail_fraction = s;
@@ -44,13 +35,13 @@ LineStatus singular(LinePlan& plan, SingularityKind kind, double s) {
   return fail(plan, LineStatus::singularity, s);
 }
 
-// Margins at the flange pose of sample s.
+// The arm family's position-singularity margins at the flange pose of sample s (arms without
+// them: joint jumps only).
 LineStatus check_margins(const LineContext& c, const Location& flange, double s, LinePlan& plan) {
-  if (!robots::is_puma_type(c.robot)) return LineStatus::ok;  // other arms: joint jumps only
-  double sh, el;
-  margins(c.robot, flange.translation(), sh, el);
-  if (sh < kShoulderMarginMm) return singular(plan, SingularityKind::shoulder, s);
-  if (el < kElbowMarginMm) return singular(plan, SingularityKind::elbow, s);
+  const std::optional<robots::ReachMargins> m = robots::reach_margins(c.robot, flange.translation());
+  if (!m) return LineStatus::ok;
+  if (m->shoulder_mm < kShoulderMarginMm) return singular(plan, SingularityKind::shoulder, s);
+  if (m->elbow_mm < kElbowMarginMm) return singular(plan, SingularityKind::elbow, s);
   return LineStatus::ok;
 }
 

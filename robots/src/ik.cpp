@@ -102,6 +102,12 @@ const IkFamily* ik_family_of(const Robot& robot) {
   return nullptr;
 }
 
+std::optional<ReachMargins> reach_margins(const Robot& robot, const Vec3& flange_position) {
+  const IkFamily* f = ik_family_of(robot);
+  if (f == nullptr || f->margins == nullptr) return std::nullopt;
+  return f->margins(robot, flange_position);
+}
+
 int last_revolute_joint(const Robot& robot) {
   for (int i = robot.joint_count() - 1; i >= 0; --i)
     if (!robot.prismatic(i)) return i;

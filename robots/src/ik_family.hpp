@@ -3,6 +3,7 @@
 // configuration_of and configuration_word_applies dispatch through ik_family_of.
 #pragma once
 #include "asimov/robots/configuration.hpp"
+#include "asimov/robots/ik.hpp"
 #include "asimov/robots/ik_puma.hpp"
 #include "asimov/robots/robot.hpp"
 
@@ -19,6 +20,9 @@ struct IkFamily {
                     bool single);
   Configuration (*configuration)(const Robot& robot, const JointVector& display);
   bool (*word_applies)(ConfigurationWord word);
+  // Position-singularity margins of a flange position (reach_margins, ik.hpp); null when the
+  // family has no closed-form test (its lines get the joint-jump test only).
+  std::optional<ReachMargins> (*margins)(const Robot& robot, const Vec3& flange_position) = nullptr;
 };
 
 #define ASIMOV_IK_FAMILY(NAME) extern const IkFamily NAME##_family;

@@ -189,8 +189,18 @@ Configuration puma_configuration(const Robot& robot, const JointVector& display)
   c.noflip = display[4] >= 0;
   return c;
 }
+
+// Shoulder (r - d3) and elbow reach margins of a wrist-centre position (docs/kinematics.md §7);
+// the PUMA's flange is at its wrist centre (d6 = 0 in these formulas).
+std::optional<ReachMargins> puma_margins(const Robot& r, const Vec3& p) {
+  const double a2 = r.dh[1].a, d3 = r.dh[2].d, a3 = r.dh[2].a, d4 = r.dh[3].d;
+  const double rr = std::hypot(p.x(), p.y());
+  const double rho = std::sqrt(std::max(0.0, rr * rr - d3 * d3) + p.z() * p.z());
+  const double L = std::hypot(a3, d4);
+  return ReachMargins{rr - d3, std::min(a2 + L - rho, rho - std::abs(a2 - L))};
+}
 }  // namespace
 
-const IkFamily puma_family{"puma", is_puma_type, solve_puma, puma_configuration, every_word_applies};
+const IkFamily puma_family{"puma", is_puma_type, solve_puma, puma_configuration, every_word_applies, puma_margins};
 
 }  // namespace asimov::robots

@@ -1,8 +1,11 @@
 // Closed-form PUMA IK (docs/kinematics.md §4-§6): the 8 listed solutions, random round trips,
 // configuration selection, singular cases, reach and limit errors.
+#include "asimov/robots/cobra_s600.hpp"
 #include "asimov/robots/configuration.hpp"
+#include "asimov/robots/ik.hpp"
 #include "asimov/robots/ik_puma.hpp"
 #include "asimov/robots/puma560.hpp"
+#include "asimov/robots/viper_s650.hpp"
 
 #include "support/joints.hpp"
 
@@ -299,4 +302,28 @@ TEST_CASE("joint limits and J6 SINGLE / MULTIPLE", "[ik][limits]") {
   const IkResult r1 = solve_puma(r, flange_pose(r, jv({-155, -90, 180, 0, 30, 0})), c1, configuration_of(r, c1), true);
   REQUIRE(r1.status == IkStatus::ok);
   CHECK(r1.joints[0] == Approx(-155));
+}
+
+TEST_CASE("reach margins: the PUMA family's shoulder and elbow distances, none for other families", "[ik][singular]") {
+  // The straight-line sampler stops at these (docs/kinematics.md §7); they come from the arm's
+  // IK family, so a PUMA has them and a Viper or SCARA does not (joint jumps only).
+  const Robot r = puma560();
+  const double a2 = r.dh[1].a, d3 = r.dh[2].d, a3 = r.dh[2].a, d4 = r.dh[3].d;
+  const double L = std::hypot(a3, d4);
+  // On the J1 axis: r = 0, the shoulder margin is -d3 (inside the singular cylinder).
+  const auto on_axis = reach_margins(r, Vec3(0, 0, 300));
+  REQUIRE(on_axis);
+  CHECK(on_axis->shoulder_mm == Approx(-d3));
+  // Stretched out along x at the height of the shoulder, d3 to the side: the elbow margin is 0.
+  const double reach = a2 + L;
+  const auto stretched = reach_margins(r, Vec3(reach, d3, 0));
+  REQUIRE(stretched);
+  CHECK(stretched->shoulder_mm == Approx(std::hypot(reach, d3) - d3));
+  CHECK(stretched->elbow_mm == Approx(0).margin(1e-9));
+  // 10 mm short of full reach: 10 mm of elbow margin.
+  const auto short_of = reach_margins(r, Vec3(std::sqrt((reach - 10) * (reach - 10) + d3 * d3), 0, 0));
+  REQUIRE(short_of);
+  CHECK(short_of->elbow_mm == Approx(10).margin(1e-9));
+  CHECK_FALSE(reach_margins(viper_s650(), Vec3(0, 0, 300)));
+  CHECK_FALSE(reach_margins(cobra_s600(), Vec3(300, 0, 0)));
 }

@@ -8,6 +8,8 @@
 #include "asimov/robots/ik_numeric.hpp"
 #include "asimov/robots/ik_puma.hpp"
 
+#include <optional>
+
 namespace asimov::robots {
 
 // PUMA-type: solve_puma(robot, flange, current, want, single). Spherical-wrist chains: the
@@ -20,6 +22,16 @@ namespace asimov::robots {
 // the first joint outside, value as found) from out_of_reach.
 IkResult solve_ik(const Robot& robot, const Pose& flange, const JointVector& current, const Configuration& want,
                   bool single, const NumericIkOptions& options = {});
+
+// Distances [mm] of a flange position (in the base frame) from the arm's position singularities,
+// for the families that know theirs (docs/kinematics.md §7): the shoulder's (the wrist centre
+// reaching the J1 axis) and the elbow's (arm stretched or folded). Empty for other arms, whose
+// straight lines are checked for joint jumps only.
+struct ReachMargins {
+  double shoulder_mm;
+  double elbow_mm;
+};
+std::optional<ReachMargins> reach_margins(const Robot& robot, const Vec3& flange_position);
 
 // Index of the last revolute joint (the one SINGLE / MULTIPLE govern), -1 if there is none.
 int last_revolute_joint(const Robot& robot);
