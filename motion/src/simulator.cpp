@@ -59,7 +59,7 @@ struct Simulator::Impl {
     settings.base = cell.base;
     settings.tool = cell.tool;
     dest = here();
-    rec.clearance.within_mm = std::max(cell.collision.report_within_mm, cell.collision.clearance_mm);
+    rec.clearance.within_mm = report_distance_mm(cell.collision);
     rec.clearance.clearance_mm = cell.collision.clearance_mm;
     if (!cell.workcell.empty()) {
       runtime.emplace(cell);
@@ -263,11 +263,12 @@ void Simulator::set_collision_enabled(bool on) {
   if (on) impl_->world.build_engine(impl_->cell);
 }
 
-// The one copy of the clearance: every query carries it (the engine keeps none).
+// The one copy of the clearance: every query carries it (the engine keeps none). The report's
+// distance follows it both ways (raised and lowered), by the one rule.
 void Simulator::set_clearance(double clearance_mm) {
   impl_->cell.collision.clearance_mm = clearance_mm;
   ClearanceRecorder& r = impl_->rec.clearance;
-  r.within_mm = std::max(r.within_mm, clearance_mm);  // on_clearance warn lists the pairs within it
+  r.within_mm = report_distance_mm(impl_->cell.collision);
   r.clearance_mm = clearance_mm;
 }
 

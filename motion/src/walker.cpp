@@ -124,7 +124,7 @@ struct Walker::Walk {
   // body's motion over the stretch within its room (docs/collision.md §14).
   void broad() {
     if (engine && w.world_.broad_phase())
-      w.world_.broad_refresh(std::max(w.settings_.report_within_mm, w.settings_.clearance_mm), step_mm(w.settings_));
+      w.world_.broad_refresh(report_distance_mm(w.settings_), step_mm(w.settings_));
   }
 
   Tag tag(double t) const { return {true, t, w.world_.pairs_revision()}; }
@@ -760,7 +760,7 @@ ContinuousChecker* Walker::checker(collision::Engine* engine) {
   if (!engine || !settings_.continuous) return nullptr;
   if (!continuous_) continuous_ = std::make_unique<ContinuousChecker>(*engine, 0, toc_tolerance(settings_), 0);
   continuous_->set_clearance(halting_clearance(settings_));
-  continuous_->set_report_mm(std::max(settings_.report_within_mm, settings_.clearance_mm));
+  continuous_->set_report_mm(report_distance_mm(settings_));
   // Posing at an earlier time moves only the arm when no part can move by itself.
   continuous_->set_lazy_report(!world_.has_parts());
   continuous_->reset();  // between walks the hand, the parts or the settings may have changed

@@ -209,7 +209,7 @@ void World::build_engine(const Cell& cell) {
     b->untested.assign(slots_.size(), 0);
     for (const collision::BodyId o : objects) b->in_tree[o] = 1;
     b->objects.build(*engine_, objects);
-    b->keep = std::max(cell.collision.report_within_mm, cell.collision.clearance_mm);
+    b->keep = report_distance_mm(cell.collision);
     b->room.assign(reach_.size(), INFINITY);
     for (const collision::BodyPair& p : cell_pairs)
       if (!((b->mover_of[p.a] >= 0 && b->in_tree[p.b]) || (b->mover_of[p.b] >= 0 && b->in_tree[p.a]))) b->fixed_pairs.push_back(p);

@@ -254,3 +254,18 @@ TEST_CASE("simulator: configuration requests and INRANGE", "[simulator]") {
   sim.settings().request.noflip = 0;
   CHECK(sim.inrange(sim.here()) == 0);
 }
+
+TEST_CASE("clearance set at run time: the report's distance follows it down as well as up", "[simulator][clearance]") {
+  // COLLISION.CLEARANCE raised to 50 mm widens the clearance report to 50 mm; lowered to 0 it
+  // returns to report_within_mm (10 mm) by the same rule the cell's own settings use.
+  Cell cell = basic_cell();
+  cell.collision.report_within_mm = 10;
+  Simulator sim(cell);
+  CHECK(sim.recorders().clearance.within_mm == 10);
+  sim.set_clearance(50);
+  CHECK(sim.recorders().clearance.within_mm == 50);
+  CHECK(sim.recorders().clearance.clearance_mm == 50);
+  sim.set_clearance(0);
+  CHECK(sim.recorders().clearance.within_mm == 10);
+  CHECK(report_distance_mm(sim.cell().collision) == 10);
+}

@@ -4,6 +4,7 @@
 #include "asimov/motion/devices.hpp"
 #include "asimov/motion/location.hpp"
 #include "asimov/robots/robot.hpp"
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <utility>
@@ -61,6 +62,11 @@ struct CollisionSettings {
   // every checked pose (the reference the tests compare with; not a cell-file key).
   bool broad_phase = true;
 };
+
+// The distance within which pairs are watched and reported (the clearance report, the broad
+// phase's kept pairs, continuous checking's report windows): report_within_mm, never below the
+// clearance (a pair that halts is always reported). The one rule; every layer asks it.
+inline double report_distance_mm(const CollisionSettings& s) { return std::max(s.report_within_mm, s.clearance_mm); }
 
 struct Cell {
   robots::Robot robot;
