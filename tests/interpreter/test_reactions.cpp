@@ -119,13 +119,17 @@ TEST_CASE("REACTE calls the trap program instead of stopping; its RETURN goes on
 
 TEST_CASE("REACTI stops the pending motion where the arm is and calls its program", "[reactions][motion]") {
   InterpreterFixture f;
-  CHECK(outcome(".PROGRAM main()\n  REACTI 2001, handler\n  MOVE #PPOINT(60, -90, 90, 0, 0, 0)\n  SIGNAL 2001\n"
-                "  BREAK\n  TYPE \"after\"\n  MOVE #PPOINT(30, -90, 90, 0, 0, 0)\n.END\n" + kHandler,
-                f)
-        == "reacted at priority 1\nafter\n");
-  const auto r = f.interp.run("main");
+  const auto r = f.run(".PROGRAM main()\n  REACTI 2001, handler\n  MOVE #PPOINT(60, -90, 90, 0, 0, 0)\n  SIGNAL 2001\n"
+                       "  BREAK\n  TYPE \"after\"\n  MOVE #PPOINT(30, -90, 90, 0, 0, 0)\n.END\n" + kHandler);
+  REQUIRE(f.loaded);
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "reacted at priority 1\nafter\n");
   REQUIRE(r.reaction_stops.size() == 1);
   CHECK(r.reaction_stops[0].signal == 2001);
+  CHECK(r.reaction_stops[0].task == 0);
+  CHECK(r.reaction_stops[0].at.step == 2);
   CHECK(r.reaction_stops[0].at.path_fraction == 0);
+  CHECK(r.reaction_stops[0].at.time_s == 0);
   CHECK(f.sim.joints()[0] == Approx(30));  // the next motion went on from where the arm stopped
+  CHECK(r.motion_times.size() == 2);
 }
