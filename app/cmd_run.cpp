@@ -188,9 +188,8 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
     err << fmt::format("*Undefined program or variable name*  {}\n", main);
     return kExitUsage;
   }
-  if (const auto blocked = interp.not_executable_from(main)) {
-    err << fmt::format("*Program not executable*  {}{}\n", *blocked,
-                       *blocked == main ? "" : fmt::format(" (reached from {})", main));
+  if (const auto blocked = interp.not_executable_from(main)) {  // main's own errors say why
+    if (*blocked != main) err << fmt::format("*Program not executable*  {} (reached from {})\n", *blocked, main);
     return load_failed();
   }
 

@@ -203,6 +203,7 @@ TEST_CASE("a control character is named", "[parser]") {
   CHECK(e[0].detail == "control character 0x0C (form feed)");
   CHECK(e[0].column == 6);
   CHECK(errors_of("x = 1 \x01")[0].detail == "control character 0x01 (Ctrl-A)");
+  CHECK(errors_of("x = 1 \x1a")[0].detail == "control character 0x1A (Ctrl-Z)");  // inside a statement
   CHECK(errors_of("x = \x1b")[0].detail == "control character 0x1B (escape)");
   CHECK(errors_of(std::string("x = 1", 5) + std::string(1, '\0'))[0].detail == "control character 0x00 (NUL)");
   CHECK(errors_of("$s = \"a\x7f\"")[0].detail == "control character 0x7F (delete)");
@@ -227,6 +228,7 @@ TEST_CASE("a module as the controller stores it loads: form feeds, Ctrl-Z, NUL p
   // Trailing NULs without Ctrl-Z; a form feed among leading blanks; an .END in other spellings.
   CHECK(parse_source(".PROGRAM a()\n \f TYPE 1\n.end  ; done\n" + std::string(512, '\0'), "m.v2").errors.empty());
   CHECK(parse_source(".PROGRAM a()\n  TYPE 1\n  .End\t\f\n", "m.v2").errors.empty());
+  CHECK(parse_source(".PROGRAM a()\r\n  TYPE 1\r\n.END\x1a\xff\xfe garbage", "m.v2").errors.empty());  // right after .END
   // A NUL that is not padding at the end keeps its error.
   const auto nul = parse_source(std::string(".PROGRAM a()\n x = 1\0\n.END\n", 26), "m.v2");
   REQUIRE(nul.errors.size() == 1);
