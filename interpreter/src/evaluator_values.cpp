@@ -155,6 +155,7 @@ Value Evaluator::function(const Node& n) {
     raise(Message::not_supported, name);
   }
   if (n.func == Func::pdest) return planned_destination();
+  if (n.func == Func::priority) return static_cast<double>(reactions().priority());
   if (n.func == Func::state) return state(to_index(to_real(eval(n.kids[0]), "STATE selector")));
   if (n.func == Func::speed) return speed_factor(to_index(to_real(eval(n.kids[0]), "SPEED selector")));
   if (n.func == Func::time_s) {  // $TIME(): the controller's clock; $TIME(date, time): packed values
