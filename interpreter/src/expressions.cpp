@@ -104,7 +104,12 @@ Node ExpressionCompiler::operand(const ast::Operand& o) {
   return boost::apply_visitor(Visitor{*this}, o);
 }
 
-Node ExpressionCompiler::variable(const ast::VarRef& v, bool whole_array_ok) {
+void ExpressionCompiler::note_shape(const std::string& name, bool array) {
+  const auto [it, added] = shapes_.emplace(name, array);
+  if (!added && it->second != array) error(fmt::format("{} is used both as a scalar and as an array", name));
+}
+
+Node ExpressionCompiler::variable(const ast::VarRef& v, bool whole_array_ok, bool shape_use) {
   Node n;
   n.kind = NodeKind::variable;
   n.text = normalize_name(v.name);
@@ -117,6 +122,7 @@ Node ExpressionCompiler::variable(const ast::VarRef& v, bool whole_array_ok) {
       for (const ast::Expr& e : v.subscript) n.kids.push_back(expression(e));
     }
   }
+  if (shape_use) note_shape(n.text, n.subscripted);
   // Lookup: parameters and AUTO, then LOCAL, then GLOBAL (dialect §2).
   for (std::size_t i = 0; i < prog_.params.size(); ++i)
     if (prog_.params[i].name == n.text) {
@@ -171,12 +177,21 @@ Node ExpressionCompiler::function(const ast::Call& call) {
       n.kids.push_back(setting_name(*v));
       const std::string& setting = n.kids.back().text;  // what would fail when it runs is said now
       if (*f == Func::select && setting != "ROBOT") error("SELECT() knows ROBOT only");
-      if (*f == Func::parameter && !known_parameter(setting)) error(fmt::format("unknown parameter {}", setting));
-      if (*f == Func::switch_ && !known_switch(setting)) error(fmt::format("unknown switch {}", setting));
+      if (*f == Func::parameter && !known_parameter(setting) && !vplus_setting(setting, false))
+        error(fmt::format("unknown parameter {}", setting));
+      if (*f == Func::switch_ && !known_switch(setting) && !vplus_setting(setting, true))
+        error(fmt::format("unknown switch {}", setting));
     } else if (*f == Func::tas && i == 0) {  // TAS(variable, value): test and set
       const ast::VarRef* v = plain_variable(*call.args[i], true);
       if (!v || v->name[0] == '$' || v->name[0] == '#' || ast::is_whole_array(*v)) {
         error("TAS needs a real variable");
+        return n;
+      }
+      n.kids.push_back(variable(*v, false));
+    } else if (*f == Func::decode_s && i == 0) {  // $DECODE(var, ...): takes the front of var
+      const ast::VarRef* v = plain_variable(*call.args[i], true);
+      if (!v || v->name[0] != '$' || ast::is_whole_array(*v)) {
+        error("$DECODE needs a string variable");
         return n;
       }
       n.kids.push_back(variable(*v, false));
@@ -186,7 +201,7 @@ Node ExpressionCompiler::function(const ast::Call& call) {
         error(*f == Func::last ? "LAST needs an array a[]" : "DEFINED needs a variable");
         return n;
       }
-      n.kids.push_back(variable(*v, *f == Func::last));
+      n.kids.push_back(variable(*v, *f == Func::last, *f == Func::last));
     } else {
       n.kids.push_back(expression(*call.args[i]));
     }

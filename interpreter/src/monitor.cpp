@@ -1,4 +1,5 @@
 #include "asimov/interpreter/monitor.hpp"
+#include "vplus_words.hpp"
 
 #include "evaluator.hpp"
 #include "limits.hpp"
@@ -259,6 +260,13 @@ CommandStatus Monitor::execute(const std::string& line) {
   while (end < text.size() && std::isalpha(static_cast<unsigned char>(text[end]))) ++end;
   const std::string word = text.substr(0, end);
   const CommandMatch m = match_command(word);
+  if (m.match == Match::unknown || m.match == Match::ambiguous) {
+    // A V+ command the monitor does not simulate is refused by name, saying why (dialect §13).
+    std::size_t full = end;
+    while (full < text.size() && (std::isalnum(static_cast<unsigned char>(text[full])) || text[full] == '.')) ++full;
+    if (const VplusWord* w = vplus_word(text.substr(0, full), WordKind::monitor))
+      return fail("*Not supported in simulation*", vplus_refusal(*w));
+  }
   if (m.match == Match::unknown) return fail("*Unknown command*", word.empty() ? text : word);
   if (m.match == Match::ambiguous) return fail("*Ambiguous command*", word);
   return dispatch(m.command, trim(std::string_view(text).substr(end)));
@@ -579,10 +587,10 @@ CommandStatus Monitor::cmd_load(Args rest) {
     out_ << (d.warning ? "Warning: " : "") << format_diagnostic(d);
     error = error || !d.warning;
   }
-  if (error) return CommandStatus::failed;  // nothing was loaded
+  // With errors the programs that had none are loaded all the same (dialect §8): still a failure.
   for (std::size_t i = 0; i < before.size() && i < m.programs.size(); ++i)
     if (before[i] && m.programs[i] != before[i]) out_ << "Program replaced: " << m.symbols.programs[i] << '\n';
-  return CommandStatus::ok;
+  return error ? CommandStatus::failed : CommandStatus::ok;
 }
 
 CommandStatus Monitor::cmd_store(Args rest, bool locations_only) {
