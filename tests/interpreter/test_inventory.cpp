@@ -142,7 +142,7 @@ TEST_CASE("every word of the inventory is implemented, accepted without effect, 
   }
 }
 
-TEST_CASE("a word V+ does not have keeps its syntax error; a V+ word is refused by name", "[inventory]") {
+TEST_CASE("a word V+ does not have keeps its syntax error, a V+ word is refused by name", "[inventory]") {
   InterpreterFixture f;
   auto d = f.load(program("FROBNICATE 3"));
   REQUIRE(d.size() == 1);

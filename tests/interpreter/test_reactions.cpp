@@ -44,7 +44,7 @@ TEST_CASE("a negative signal number reacts to the falling edge", "[reactions]") 
         == "a\nreacted at priority 7\nb\n");
 }
 
-TEST_CASE("IGNORE ends a reaction; REACT again replaces one on the same signal", "[reactions]") {
+TEST_CASE("IGNORE ends a reaction, REACT again replaces one on the same signal", "[reactions]") {
   CHECK(outcome(".PROGRAM main()\n  REACT 2001, handler\n  IGNORE 2001\n  SIGNAL 2001\n  TYPE \"a\"\n"
                 "  SIGNAL -2001\n  REACT 2001, handler\n  REACT 2001, other, 9\n  SIGNAL 2001\n  TYPE \"b\"\n.END\n"
                 + kHandler + ".PROGRAM other()\n  TYPE \"other \", PRIORITY()\n.END\n")
@@ -111,7 +111,7 @@ TEST_CASE("REACT checks its arguments", "[reactions]") {
   CHECK(diags[2].detail == "REACTI expects a program name");
 }
 
-TEST_CASE("REACTE calls the trap program instead of stopping; its RETURN goes on after the step", "[reactions]") {
+TEST_CASE("REACTE calls the trap program instead of stopping, its RETURN goes on after the step", "[reactions]") {
   CHECK(outcome(".PROGRAM main()\n  REACTE trap\n  TYPE \"a\"\n  x = undefined_one + 1\n  TYPE \"b \", PRIORITY()\n"
                 "  REACTE\n  y = undefined_two\n  TYPE \"not reached\"\n.END\n"
                 ".PROGRAM trap()\n  TYPE \"trapped \", ERROR(-1), \" at priority \", PRIORITY()\n.END\n")
