@@ -1,4 +1,5 @@
 #include "checker.hpp"
+#include "vplus_words.hpp"
 
 #include "data_section.hpp"
 #include "expressions.hpp"
@@ -400,8 +401,13 @@ class Checker {
     for (char c : u.rest.substr(0, u.rest.find(';')))
       if (c != ' ' && c != '\t') rest += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     const std::string& k = in.target.text;
-    in.always = ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0)
-        || (k == "SELECT" && rest == "ROBOT=1");
+    const bool select_robot = k == "SELECT" && rest == "ROBOT=1";
+    in.always = ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0) || select_robot;
+    // A word of the inventory (dialect §13) says why; one with no effect only warns.
+    if (const VplusWord* w = vplus_word(k, WordKind::instruction); w && !select_robot) {
+      in.always = in.always || w->support == Support::no_effect;
+      in.target.text = vplus_refusal(*w);
+    }
   }
 
   // Dialect §7a. Robot ATTACH () / DETACH () (§7b); FOPEN and FCMND (network) stop with a hint.
@@ -517,7 +523,8 @@ class Checker {
         error("PARAMETER expects a parameter name");
       Instr& in = emit(Code::parameter);
       in.target = setting_name(b.target);
-      if (!known_parameter(in.target.text)) error(fmt::format("unknown parameter {}", in.target.text));
+      if (!known_parameter(in.target.text) && !vplus_setting(in.target.text, false))
+        error(fmt::format("unknown parameter {}", in.target.text));
       in.args.push_back(expression(b.value));
       return;
     }
@@ -759,7 +766,8 @@ class Checker {
         return;
       }
       in.args.push_back(setting_name(*v));
-      if (!known_switch(in.args.back().text)) error(fmt::format("unknown switch {}", in.args.back().text));
+      if (!known_switch(in.args.back().text) && !vplus_setting(in.args.back().text, true))
+        error(fmt::format("unknown switch {}", in.args.back().text));
     }
     if (in.args.empty()) error("a switch name is missing");
   }

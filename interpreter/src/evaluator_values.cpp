@@ -10,6 +10,7 @@
 #include "operators.hpp"
 #include "terminal.hpp"
 #include "time_decode.hpp"
+#include "vplus_words.hpp"
 
 #include <fmt/format.h>
 
@@ -149,10 +150,9 @@ Value Evaluator::function(const Node& n) {
   }
   if (n.func == Func::parameter) return parameter_value(n.kids[0].text, memory_.settings, sim_);
   if (n.func == Func::switch_) return truth(switch_value(n.kids[0].text, memory_.settings, sim_));
-  if (n.func == Func::vplus) {
-    std::string name;
-    for (char c : n.text) name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    raise(Message::not_supported, name);
+  if (n.func == Func::vplus) {  // dialect §13: the word and why
+    const VplusWord* w = vplus_word(n.text, WordKind::function);
+    raise(Message::not_supported, w ? vplus_refusal(*w) : n.text);
   }
   if (n.func == Func::pdest) return planned_destination();
   if (n.func == Func::priority) return static_cast<double>(reactions().priority());

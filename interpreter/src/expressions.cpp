@@ -177,8 +177,10 @@ Node ExpressionCompiler::function(const ast::Call& call) {
       n.kids.push_back(setting_name(*v));
       const std::string& setting = n.kids.back().text;  // what would fail when it runs is said now
       if (*f == Func::select && setting != "ROBOT") error("SELECT() knows ROBOT only");
-      if (*f == Func::parameter && !known_parameter(setting)) error(fmt::format("unknown parameter {}", setting));
-      if (*f == Func::switch_ && !known_switch(setting)) error(fmt::format("unknown switch {}", setting));
+      if (*f == Func::parameter && !known_parameter(setting) && !vplus_setting(setting, false))
+        error(fmt::format("unknown parameter {}", setting));
+      if (*f == Func::switch_ && !known_switch(setting) && !vplus_setting(setting, true))
+        error(fmt::format("unknown switch {}", setting));
     } else if (*f == Func::tas && i == 0) {  // TAS(variable, value): test and set
       const ast::VarRef* v = plain_variable(*call.args[i], true);
       if (!v || v->name[0] == '$' || v->name[0] == '#' || ast::is_whole_array(*v)) {

@@ -1,6 +1,7 @@
 #include "functions.hpp"
 
 #include "errors.hpp"
+#include "vplus_words.hpp"
 
 #include <fmt/format.h>
 
@@ -37,8 +38,6 @@ constexpr std::array<FunctionInfo, 69> kFunctions = {{
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
-// Dialect §7: functions that load, and stop the program with *Not supported in simulation*.
-constexpr std::array<std::string_view, 0> kVplusFunctions{};
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
@@ -99,10 +98,10 @@ const FunctionInfo& function_info(Func f) { return kFunctions[static_cast<std::s
 
 std::optional<Func> find_function(std::string_view name) {
   if (name == "ppoint") name = "#ppoint";  // [ext]
-  for (std::string_view v : kVplusFunctions)
-    if (v == name) return Func::vplus;
   for (std::size_t i = 0; i < kFunctions.size(); ++i)
     if (kFunctions[i].name == name) return static_cast<Func>(i);
+  // Dialect §13: a V+ function asimov does not simulate loads, and stops the program when it runs.
+  if (vplus_word(name, WordKind::function)) return Func::vplus;
   return std::nullopt;
 }
 

@@ -1,4 +1,5 @@
 #include "asimov/interpreter/monitor.hpp"
+#include "vplus_words.hpp"
 
 #include "evaluator.hpp"
 #include "limits.hpp"
@@ -267,6 +268,13 @@ CommandStatus Monitor::execute(const std::string& line) {
   while (end < text.size() && std::isalpha(static_cast<unsigned char>(text[end]))) ++end;
   const std::string word = text.substr(0, end);
   const CommandMatch m = match_command(word);
+  if (m.match == Match::unknown || m.match == Match::ambiguous) {
+    // A V+ command the monitor does not simulate is refused by name, saying why (dialect §13).
+    std::size_t full = end;
+    while (full < text.size() && (std::isalnum(static_cast<unsigned char>(text[full])) || text[full] == '.')) ++full;
+    if (const VplusWord* w = vplus_word(text.substr(0, full), WordKind::monitor))
+      return fail("*Not supported in simulation*", vplus_refusal(*w));
+  }
   if (m.match == Match::unknown) return fail("*Unknown command*", word.empty() ? text : word);
   if (m.match == Match::ambiguous) return fail("*Ambiguous command*", word);
   return dispatch(m.command, trim(std::string_view(text).substr(end)));

@@ -6,6 +6,7 @@
 #include "instructions.hpp"
 #include "limits.hpp"
 #include "module_format.hpp"
+#include "vplus_words.hpp"
 
 #include <fmt/format.h>
 #include <boost/fusion/include/adapt_struct.hpp>
@@ -133,13 +134,16 @@ struct type_word_table : x3::symbols<x3::unused_type> {
   type_word_table() { add("real")("double")("loc"); }
 } const type_words;
 
-// Dialect §7: V+ constructs that load but stop the program (or warn) when they run.
+// Dialect §7, §13: the V+ instructions asimov does not simulate (vplus_words.cpp) load, and stop
+// the program (or warn) when they run.
 struct unsupported_table : x3::symbols<x3::unused_type> {
   unsupported_table() {
-    for (const char* w : {"select",
-                          "set.event", "clear.event",
-                          "teach", "calibrate"})
-      add(w);
+    for (const VplusWord& w : vplus_words())
+      if (w.kind == WordKind::instruction) {
+        std::string lower(w.name);
+        for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        add(lower);
+      }
   }
 } const unsupported_words;
 

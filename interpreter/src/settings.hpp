@@ -22,6 +22,9 @@ void set_parameter(const std::string& name, double value, Settings& s, motion::S
 // LOAD): HAND.TIME, COLLISION.CLEARANCE; CP, COLLISION, POWER, DRY.RUN, SCALE.ACCEL.
 bool known_parameter(const std::string& name);
 bool known_switch(const std::string& name);
+// A switch (or parameter) of V+ that asimov does not simulate (dialect §13): it loads; reading
+// it stops the program saying why, setting it stops or, for the terminal's, warns.
+bool vplus_setting(const std::string& name, bool is_switch);
 
 bool switch_value(const std::string& name, const Settings& s, const motion::Simulator& sim);
 // False for the switches V+ has and the simulation ignores with a warning (SCALE.ACCEL, §7;
