@@ -244,6 +244,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
 RunStatus Evaluator::loop() {
   const std::atomic<bool>* interrupt = limits_.interrupt;
   const std::uint64_t max_statements = limits_.max_statements;
+  const bool hooked = static_cast<bool>(step_hook_);  // the debugger's, tested once per instruction
   while (!stack_.empty()) {
     Frame& f = stack_.back();  // valid until a CALL, RETURN or STOP changes the stack
     const Program& program = *f.program;
@@ -266,6 +267,8 @@ RunStatus Evaluator::loop() {
       current_line_ = in.line;
       // Ctrl-C: stop before this step, which PROCEED and RETRY then run.
       if (interrupt && interrupt->load(std::memory_order_relaxed)) return stop(fault(Message::interrupted));
+      if (hooked) [[unlikely]]
+        if (const RunStatus s = at_step(in, f); s != RunStatus::completed) return s;
       ++f.pc;
       if (++statements_ > budget_) {  // this execution's steps (a run or a resumption)
         if (budget_ >= max_statements)

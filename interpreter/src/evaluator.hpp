@@ -6,6 +6,7 @@
 #include "files.hpp"
 #include "errors.hpp"
 #include "asimov/interpreter/interpreter.hpp"
+#include "asimov/interpreter/step_hook.hpp"
 #include "reactions.hpp"
 #include "settings.hpp"
 #include "asimov/interpreter/values.hpp"
@@ -52,6 +53,8 @@ class Evaluator {
   void set_monitor_speed(double percent) { speed_monitor_ = percent; }
   double program_speed() const { return speed_always_; }
   std::optional<double> next_speed() const { return speed_next_; }
+  // Called before every instruction while set (step_hook.hpp; evaluator_step.cpp).
+  void set_step_hook(StepHook hook) { step_hook_ = std::move(hook); }
   // PROMPT's input (null: std::cin).
   void set_input(std::istream* in, bool interactive) { in_ = in, interactive_ = interactive; }
   // The reacting cell's parts and devices, advanced to the arm's clock (evaluator_cell.cpp);
@@ -165,6 +168,9 @@ class Evaluator {
   RunStatus execute(const Instr& in);  // the statements that can end a run, else statement()
   void statement(const Instr& in);
   RunStatus loop();  // runs stack_ until it is empty, or until its task gives way
+  // The step hook before `in` (frame `f`, pc at `in`): RunStatus::paused when it asks for a
+  // pause (the motions started before it carried out first), else completed (evaluator_step.cpp).
+  RunStatus at_step(const Instr& in, Frame& f);
   // --- tasks (dialect §7b) ---
   RunStatus run_tasks();              // runs stack_, and every task EXECUTE starts, to their end
   Task* next_task() const;
@@ -303,6 +309,7 @@ class Evaluator {
   std::uint64_t statements_ = 0;              // executed in this execution
   std::uint64_t budget_ = 0;                  // at this count the task yields, or the run stops
   std::set<int> waited_;                      // signals SIG() read during the current WAIT
+  StepHook step_hook_;                        // the debugger's (unset: not called)
   Reactions reactions0_;                      // task 0's until EXECUTE makes it a Task
   int brake_signal_ = 0;                      // a REACTI seen between steps: stop the pending motion
   std::vector<ReactionStop> reaction_stops_;  // RunResult::reaction_stops

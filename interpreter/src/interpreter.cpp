@@ -254,6 +254,8 @@ RunResult Interpreter::run_detached(const std::string& name) {
   return impl_->eval().run(slot, false);
 }
 
+void Interpreter::set_step_hook(StepHook hook) { impl_->eval().set_step_hook(std::move(hook)); }
+
 double Interpreter::monitor_speed() const { return impl_->evaluator ? impl_->evaluator->monitor_speed() : 100.0; }
 
 void Interpreter::set_monitor_speed(double percent) { impl_->eval().set_monitor_speed(percent); }

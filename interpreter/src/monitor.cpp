@@ -20,9 +20,11 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<CommandInfo, 23> kCommands = {{
+constexpr std::array<CommandInfo, 28> kCommands = {{
     {"ABORT", "", "ends a stopped execution"},
+    {"BPT", "[[prog,] step]", "sets a breakpoint before a step, or lists them"},
     {"CALIBRATE", "", "does nothing in simulation"},
+    {"DEBUG", "[prog[(args)]]", "starts a program stopped before its first step"},
     {"DELETE", "name, ...", "deletes programs or globals (x, $s, #p, a[])"},
     {"DIRECTORY", "", "lists the programs in memory"},
     {"DO", "instruction", "runs one instruction with global names"},
@@ -34,15 +36,18 @@ constexpr std::array<CommandInfo, 23> kCommands = {{
     {"LISTR", "[name, ...]", "lists reals"},
     {"LISTS", "[name, ...]", "lists strings"},
     {"LOAD", "file", "loads programs and data from file (.v2 by default)"},
+    {"NOBPT", "[prog[, step]]", "clears a breakpoint, a program's, or all"},
     {"POINT", "name [= location]", "sets a location as SET does, and lists it"},
     {"PROCEED", "", "continues a stopped execution"},
     {"QUIT", "", "leaves the monitor"},
     {"RETRY", "", "re-runs the failing step of a stopped execution"},
     {"SPEED", "[n]", "sets or shows the monitor speed (0 < n <= 100)"},
+    {"SSTEP", "", "runs the next step of a stopped program (a CALL whole)"},
     {"STATUS", "", "shows program, state, speeds, configuration, hand, tool, base"},
     {"STORE", "file [prog, ...]", "writes programs and globals to file"},
     {"STOREL", "file", "writes the locations to file"},
     {"WHERE", "", "shows the tool's world pose and the joints"},
+    {"XSTEP", "", "runs the next step of a stopped program (into a CALL)"},
     {"ZERO", "", "clears programs, variables and execution state"},
 }};
 static_assert(kCommands.size() == static_cast<std::size_t>(Command::count));
@@ -239,7 +244,10 @@ std::string format_location_table(const std::vector<GlobalEntry>& entries) {
 // --- the monitor -------------------------------------------------------------------------------
 
 Monitor::Monitor(Interpreter& interp, motion::Simulator& sim, std::ostream& out)
-    : interp_(interp), sim_(sim), out_(out) {}
+    : interp_(interp), sim_(sim), out_(out) {
+  debugger_.hide(kExecProgram);
+  debugger_.hide(kDoProgram);
+}
 
 CommandStatus Monitor::execute(const std::string& line) {
   const std::string text = trim(line);
@@ -285,7 +293,12 @@ CommandStatus Monitor::dispatch(Command c, Args rest) {
     case Command::delete_: return cmd_delete(rest);
     case Command::directory: return cmd_directory();
     case Command::do_: return cmd_do(rest);
-    case Command::execute: return cmd_execute(rest);
+    case Command::execute: return cmd_execute(rest, false);
+    case Command::debug: return cmd_execute(rest, true);
+    case Command::bpt: return cmd_bpt(rest, true);
+    case Command::nobpt: return cmd_bpt(rest, false);
+    case Command::sstep: return cmd_step(DebugMode::over);
+    case Command::xstep: return cmd_step(DebugMode::into);
     case Command::help: return cmd_help(rest);
     case Command::here:
       if (rest.empty()) return fail("*Syntax error*", "HERE needs a variable name");
@@ -441,7 +454,7 @@ CommandStatus Monitor::cmd_do(Args rest) {
   return run_instruction(rest);
 }
 
-CommandStatus Monitor::cmd_execute(Args rest) {
+CommandStatus Monitor::cmd_execute(Args rest, bool debug) {
   std::string name = rest, args;
   if (const auto open = rest.find('('); open != std::string::npos) {
     if (rest.back() != ')') return fail("*Syntax error*", "expected \")\"");
@@ -455,14 +468,21 @@ CommandStatus Monitor::cmd_execute(Args rest) {
     return fail("*Undefined program or variable name*", name);
   last_program_ = name;
   interp_.abort();  // a stopped execution is discarded
-  if (trim(args).empty()) return report(interp_.run(name), name, true);
+  // DEBUG stops before the first step; EXECUTE at a breakpoint, if one is set.
+  const DebugMode mode = debug ? DebugMode::into : DebugMode::run;
+  if (trim(args).empty())
+    return report_driven(debugger_.drive(mode, false, [&] { return interp_.run(name); }), name);
   // Arguments by value: each one in parentheses, CALLed from a one-line program.
   std::string call = "CALL " + name + "(";
   const auto parts = split_list(args);
   for (std::size_t i = 0; i < parts.size(); ++i) call += (i ? ", " : "") + (parts[i].empty() ? "" : "(" + parts[i] + ")");
-  const TemporaryRun t = run_temporary(kExecProgram, call + ")");
-  if (t.error) return fail(t.error->message, t.error->detail);
-  return report(t.result, name, true);
+  std::optional<TemporaryRun> t;
+  const RunResult r = debugger_.drive(mode, false, [&] {
+    t = run_temporary(kExecProgram, call + ")");
+    return t->result;
+  });
+  if (t->error) return fail(t->error->message, t->error->detail);
+  return report_driven(r, name);
 }
 
 CommandStatus Monitor::cmd_point(Args rest) {
@@ -737,7 +757,83 @@ CommandStatus Monitor::cmd_status() {
 
 CommandStatus Monitor::cmd_resume(bool retry) {
   if (!interp_.can_resume()) return fail("*No program to resume*");
-  return report(retry ? interp_.retry() : interp_.proceed(), last_program_, true);
+  return report_driven(debugger_.drive(DebugMode::run, true, [&] { return retry ? interp_.retry() : interp_.proceed(); }),
+                       last_program_);
+}
+
+// --- the program debugger --------------------------------------------------------------------
+
+CommandStatus Monitor::report_driven(const RunResult& r, const std::string& shown_name) {
+  if (debugger_.last_stop() == DebugStop::none) return report(r, shown_name, true);
+  for (const Diagnostic& w : r.warnings) out_ << "Warning: " << format_diagnostic(w);
+  remember(r);
+  const StepPlace& p = debugger_.place();
+  if (debugger_.last_stop() == DebugStop::breakpoint) out_ << fmt::format("Breakpoint at {}, step {}\n", p.program, p.step);
+  out_ << format_step(p) << '\n';
+  return CommandStatus::ok;
+}
+
+CommandStatus Monitor::cmd_step(DebugMode mode) {
+  if (!interp_.can_resume()) return fail("*No program to resume*", "DEBUG or EXECUTE a program first");
+  return report_driven(debugger_.drive(mode, true, [&] { return interp_.proceed(); }), last_program_);
+}
+
+// BPT [[prog,] step] and NOBPT [prog[, step]]. A step alone is in the program stopped (else the
+// last one executed); it must hold an instruction, or the breakpoint could never be reached.
+CommandStatus Monitor::cmd_bpt(Args rest, bool set) {
+  const Memory& m = interp_.memory();
+  auto program_of = [&](const std::string& name) -> const Program* {
+    const auto it = m.symbols.program_slots.find(name);
+    if (it == m.symbols.program_slots.end() || static_cast<std::size_t>(it->second) >= m.programs.size()) return nullptr;
+    return m.programs[static_cast<std::size_t>(it->second)].get();
+  };
+  auto place = [&](const Breakpoint& b) {
+    StepPlace s{b.program, b.step, 0, {}, {}, 0};
+    if (const Program* p = program_of(b.program)) {
+      Diagnostic d;
+      locate_at(d, *p, p->line + b.step);
+      s.text = trim(d.source_line);
+    }
+    return s;
+  };
+  if (rest.empty()) {
+    if (!set) {
+      debugger_.clear_breakpoints();
+      return CommandStatus::ok;
+    }
+    for (const Breakpoint& b : debugger_.breakpoints()) out_ << format_step(place(b)) << '\n';
+    return CommandStatus::ok;
+  }
+  const auto parts = split_list(rest);
+  if (parts.size() > 2) return fail("*Syntax error*", fmt::format("{} takes a program and a step", set ? "BPT" : "NOBPT"));
+  auto number = [](const std::string& t, int& out) {
+    char* end = nullptr;
+    const long v = std::strtol(t.c_str(), &end, 10);
+    if (t.empty() || *end != '\0' || v < 0 || v > 1000000) return false;
+    out = static_cast<int>(v);
+    return true;
+  };
+  int step = 0;
+  std::string name;
+  if (parts.size() == 1 && number(parts[0], step)) {
+    name = interp_.can_resume() && !state_program_.empty() ? state_program_ : last_program_;
+    if (name.empty()) return fail("*Undefined program or variable name*", "no program executed yet; name one");
+  } else {
+    name = normalize_name(parts[0]);
+    if (parts.size() == 2 && !number(parts[1], step)) return fail("*Syntax error*", "a step number expected");
+  }
+  const Program* p = name == kDoProgram || name == kExecProgram ? nullptr : program_of(name);
+  if (!p) return fail("*Undefined program or variable name*", name);
+  if (parts.size() == 1 && step == 0) {  // NOBPT prog: all of its breakpoints
+    if (set) return fail("*Syntax error*", "BPT needs a step number");
+    debugger_.clear_breakpoints(name);
+    return CommandStatus::ok;
+  }
+  const bool has_code = std::any_of(p->code.begin(), p->code.end(), [&](const Instr& in) { return in.line == p->line + step; });
+  if (set && !has_code) return fail("*Illegal value*", fmt::format("no instruction at step {} of {}", step, name));
+  if (set) debugger_.set_breakpoint({name, step});
+  else if (!debugger_.clear_breakpoint({name, step})) return fail("*Illegal value*", fmt::format("no breakpoint at step {} of {}", step, name));
+  return CommandStatus::ok;
 }
 
 CommandStatus Monitor::cmd_zero() {

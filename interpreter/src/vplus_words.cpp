@@ -164,12 +164,10 @@ constexpr VplusWord kWords[] = {
     {"VSTATUS", function, refused, kVision},
     {"WINDOW", function, refused, kBelt},
     // --- monitor commands ------------------------------------------------------------------
-    {"BPT", monitor, refused, "the program debugger is not simulated"},
     {"CD", monitor, refused, kDisk},
     {"COMMANDS", monitor, refused, "command programs are not simulated"},
     {"COPY", monitor, refused, kEditor},
     {"CYCLE.END", monitor, refused, "tasks run from programs only (EXECUTE n)"},
-    {"DEBUG", monitor, refused, "the program debugger is not simulated"},
     {"DEFAULT", monitor, refused, kDisk},
     {"DELETEL", monitor, refused, "DELETEL is not simulated: use DELETE"},
     {"DELETEM", monitor, refused, "modules are not simulated"},
@@ -203,7 +201,6 @@ constexpr VplusWord kWords[] = {
     {"SIGNAL", monitor, refused, "signals are set from programs in simulation"},
     {"SRV.NET", monitor, refused, kNetwork},
     {"SRV.RESET", monitor, refused, kNetwork},
-    {"SSTEP", monitor, refused, "the program debugger is not simulated"},
     {"STACK", monitor, refused, kSystem},
     {"STOREM", monitor, refused, "modules are not simulated: use STORE"},
     {"STOREP", monitor, refused, "STOREP is not simulated: use STORE"},
@@ -216,7 +213,6 @@ constexpr VplusWord kWords[] = {
     {"TOOL", monitor, refused, "TOOL is set from programs in simulation"},
     {"WAIT", monitor, refused, "WAIT is a program instruction in simulation"},
     {"WATCH", monitor, refused, "the program debugger is not simulated"},
-    {"XSTEP", monitor, refused, "the program debugger is not simulated"},
     // --- system switches -------------------------------------------------------------------
     {"AUTO.POWER.OFF", switch_, refused, kHardware},
     {"BELT", switch_, refused, kBelt},

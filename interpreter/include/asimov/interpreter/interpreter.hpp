@@ -3,6 +3,7 @@
 #pragma once
 #include "asimov/motion/cell_runtime.hpp"
 #include "asimov/motion/simulator.hpp"
+#include "asimov/interpreter/step_hook.hpp"
 #include <atomic>
 #include <iosfwd>
 #include <memory>
@@ -174,6 +175,10 @@ class Interpreter {
   // Runs `name` for a monitor DO: a stop there is not resumable, and the execution stopped
   // before (if any) stays resumable.
   RunResult run_detached(const std::string& name);
+  // Called before every instruction of the runs and resumptions that follow, until reset with
+  // an empty hook (step_hook.hpp: the program debugger). A pause it asks for ends the run with
+  // RunStatus::paused, resumable by proceed() at that instruction.
+  void set_step_hook(StepHook hook);
   // Speeds (dialect §5): the monitor speed, and the program speeds (ALWAYS, and the one-shot
   // SPEED still pending) as the last execution left them.
   double monitor_speed() const;

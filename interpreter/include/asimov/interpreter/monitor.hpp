@@ -2,6 +2,7 @@
 // commands themselves over one Interpreter and its Simulator. app/cmd_monitor.cpp reads the
 // lines (libedit or a pipe); everything the monitor prints goes to one stream, in order.
 #pragma once
+#include "asimov/interpreter/debugger.hpp"
 #include "asimov/interpreter/interpreter.hpp"
 #include "asimov/interpreter/storage.hpp"
 #include <atomic>
@@ -16,8 +17,8 @@ namespace asimov::interpreter {
 
 // ORDER: kCommands in monitor.cpp (alphabetical, tied by static_assert).
 enum class Command : int {
-  abort, calibrate, delete_, directory, do_, execute, help, here, listl, listp, listr, lists, load,
-  point, proceed, quit, retry, speed, status, store, storel, where, zero, count
+  abort, bpt, calibrate, debug, delete_, directory, do_, execute, help, here, listl, listp, listr, lists,
+  load, nobpt, point, proceed, quit, retry, speed, sstep, status, store, storel, where, xstep, zero, count
 };
 
 struct CommandInfo {
@@ -63,6 +64,9 @@ class Monitor {
   // A run made outside the monitor (Python's Session.run): STATUS reports it as an EXECUTE's.
   void record_run(const RunResult& r, const std::string& main);
 
+  // The program debugger behind DEBUG, SSTEP, XSTEP, BPT, NOBPT (and PROCEED's breakpoints).
+  Debugger& debugger() { return debugger_; }
+
   // Asked before replacing a file or ZERO; unset (scripted mode): the answer is yes.
   std::function<bool(const std::string& question)> confirm;
 
@@ -84,7 +88,11 @@ class Monitor {
   CommandStatus run_instruction(const std::string& instruction);
   CommandStatus finish_entry();
 
-  CommandStatus cmd_execute(Args rest);
+  CommandStatus cmd_execute(Args rest, bool debug);
+  CommandStatus cmd_bpt(Args rest, bool set);
+  CommandStatus cmd_step(DebugMode mode);
+  // A driven run's outcome: where the debugger stopped it, else as report() prints it.
+  CommandStatus report_driven(const RunResult& r, const std::string& shown_name);
   CommandStatus cmd_do(Args rest);
   CommandStatus cmd_point(Args rest);
   CommandStatus cmd_list(Args rest, Command which);
@@ -114,6 +122,7 @@ class Monitor {
   std::optional<motion::InterruptReport> halted_;  // the motion Ctrl-C halted in it
   std::optional<RunResult> last_run_;
   std::uint64_t run_count_ = 0;
+  Debugger debugger_{interp_};
   void remember(const RunResult& r);
 };
 
