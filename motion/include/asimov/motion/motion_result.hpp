@@ -41,6 +41,7 @@ struct InterruptReport {
   double path_fraction = 0;  // path parameter there: 0 = start, 1 = target
   robots::JointVector joints;  // display [deg]
   int step = 0;               // program step of the motion instruction
+  bool waiting = false;       // stopped in a wait (the arm at rest): no motion to resume
 };
 
 // When a motion runs on the simulated clock (the report's per-motion durations): start and
