@@ -36,7 +36,7 @@ std::string crash_copy(const fs::path& dir) {
   return p.string();
 }
 
-bool is_fifo(const fs::path& p) {
+bool is_fifo_node(const fs::path& p) {
   struct stat st {};
   return ::lstat(p.c_str(), &st) == 0 && S_ISFIFO(st.st_mode);
 }
@@ -91,7 +91,7 @@ TEST_CASE("a FIFO, a device or a link to one is never replaced", "[cli][outputs]
     r = run_cli("run " + program + " " + opt + " " + (dir / "to-fifo").string());
     CHECK(r.exit_code == 1);
     CHECK(r.err.find("is a FIFO, not a regular file (the link leads to") != std::string::npos);
-    CHECK(is_fifo(fifo));
+    CHECK(is_fifo_node(fifo));
     CHECK(fs::is_symlink(dir / "to-fifo"));
     r = run_cli("run " + program + " " + opt + " /dev/null");
     CHECK(r.exit_code == 1);
@@ -101,13 +101,13 @@ TEST_CASE("a FIFO, a device or a link to one is never replaced", "[cli][outputs]
   auto r = run_cli("pairs --samples 20 --cache " + fifo.string());
   CHECK(r.exit_code == 1);  // refused before anything is computed (reading a FIFO would block)
   CHECK(r.err.find("is a FIFO") != std::string::npos);
-  CHECK(is_fifo(fifo));
+  CHECK(is_fifo_node(fifo));
   r = run_cli("test " + source_path("programs/demo/pick_place.v2") + " --junit " + fifo.string());
   CHECK(r.exit_code == 1);
   CHECK(r.err.find("is a FIFO") != std::string::npos);
   r = run_cli("monitor", "LOAD " + program + "\nSTORE " + fifo.string() + "\nQUIT\n");
   CHECK(r.out.find("is a FIFO") != std::string::npos);
-  CHECK(is_fifo(fifo));
+  CHECK(is_fifo_node(fifo));
 }
 
 TEST_CASE("an output through a link replaces the file it names and keeps the link", "[cli][outputs]") {
