@@ -262,7 +262,7 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       written = false;
     }
   out.flush();
-  if (!out) {  // TYPE output to a full disk or a closed pipe is not lost silently
+  if (!out && opt.report != "-" && opt.trace != "-") {  // TYPE output to a full disk or a closed pipe is not lost silently
     err << "*Cannot write file*  standard output: the program's output was not all written\n";
     written = false;
   }
