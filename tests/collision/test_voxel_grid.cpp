@@ -283,7 +283,8 @@ TEST_CASE("every slab of the halvings tree holds the faces below it", "[voxel_gr
     // The points of each face below the node that lie in its voxels' content boxes (the parts
     // step 4 looks at; a face may reach far beyond): vertices, and 66 points spread over it.
     int checked = 0;
-    const auto holds = [&](std::uint32_t ref, const Vec3& n, double mid, double radius) {
+    // Captured by name: clang before 16 cannot capture a structured binding.
+    const auto holds = [&, &mesh = mesh, m = m](std::uint32_t ref, const Vec3& n, double mid, double radius) {
       std::vector<std::uint32_t> below;
       tree_leaves(g, ref, below);
       for (const std::uint32_t v : below)
