@@ -99,7 +99,26 @@ std::optional<Misplaced> first_misplaced_part(const motion::Cell& cell) {
     if (!r.collided) continue;
     double tol = motion::resting_tolerance(*bodies[p].mesh);
     if (bodies[o].part) tol = std::max(tol, motion::resting_tolerance(*bodies[o].mesh));
-    if (motion::resting_contact(engine, pair, id[p], bodies[p].pose, tol, r.contact, normal, scratch)) continue;
+    // Touching side by side (a row of parts, a part against a fence): coplanar faces may be the
+    // only contacts found, whose normals do not separate the pair, so the axes of the world and
+    // of the part are tried first, then the contacts' normals as at run time.
+    bool apart = false;
+    if (r.contact.kind != collision::ContactKind::containment)
+      for (int axis = 0; axis < 6 && !apart; ++axis)
+        for (const double sign : {1.0, -1.0}) {
+          const collision::Vec3 d = sign * (axis < 3 ? collision::Vec3(collision::Vec3::Unit(axis))
+                                                     : collision::Vec3(bodies[p].pose.linear().col(axis - 3)));
+          collision::Pose shifted = bodies[p].pose;
+          shifted.translation() += tol * d;
+          engine.set_pose(id[p], shifted);
+          engine.query({.clearance_mm = 0, .pairs = std::span(&pair, 1)}, scratch);
+          if (!scratch.collided) {
+            apart = true;
+            break;
+          }
+        }
+    engine.set_pose(id[p], bodies[p].pose);
+    if (apart || motion::resting_contact(engine, pair, id[p], bodies[p].pose, tol, r.contact, normal, scratch)) continue;
     if (r.contact.kind == collision::ContactKind::containment)
       return Misplaced{bodies[p].index, fmt::format("{} and {} lie one inside the other at the start; place the part on or "
                                                     "beside it", bodies[p].what, bodies[o].what)};

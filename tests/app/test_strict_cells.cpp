@@ -34,7 +34,7 @@ TEST_CASE("duplicate keys at any depth are load errors", "[cell][strict]") {
   const Case cases[] = {
       {"collision: {halvings: 9}\ncollision: {halvings: 5}\n", "collision", 2, 1},
       {"robot: puma560\nrobot: puma560\n", "robot", 2, 1},
-      {"objects:\n  - {name: b, box: [1, 1, 1], box: [500, 500, 500]}\n", "box", 2, 32},
+      {"objects:\n  - {name: b, box: [1, 1, 1], box: [500, 500, 500]}\n", "box", 2, 31},
       {"objects:\n  - name: b\n    box: [1, 1, 1]\n    at: [0, 0, -900, 0, 0, 0]\n    name: c\n", "name", 5, 5},
       {"collision:\n  halvings: 9\n  step_mm: 1\n  halvings: 4\n", "halvings", 4, 3},
   };
