@@ -155,12 +155,15 @@ int interactive(interpreter::Monitor& monitor, bool strict) {
       std::cout << '\n';
       // While a program is typed, Ctrl-D ends it (as .END) and the monitor goes on; at the
       // ". " prompt it ends the session.
-      const bool entering = monitor.entering_program();
-      if (monitor.end_of_input() == interpreter::CommandStatus::failed && strict) {
-        rc = kExitProgramError;
-        break;
+      if (monitor.entering_program()) {
+        if (monitor.execute(".END") == interpreter::CommandStatus::failed && strict) {
+          rc = kExitProgramError;
+          break;
+        }
+        std::cout << std::flush;
+        continue;
       }
-      if (entering) continue;
+      if (monitor.end_of_input() == interpreter::CommandStatus::failed && strict) rc = kExitProgramError;
       break;
     }
     std::string line(got);
