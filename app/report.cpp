@@ -74,6 +74,13 @@ nlohmann::json run_report(const RunSummary& s) {
     doc["interrupt"] = {{"time_s", r.interrupt->time_s},
                         {"path_fraction", r.interrupt->path_fraction},
                         {"joints_deg", joints(r.interrupt->joints)}};
+  if (!r.reaction_stops.empty()) {  // motions a REACTI stopped (docs/val2-dialect.md §7c)
+    auto stops = nlohmann::json::array();
+    for (const auto& st : r.reaction_stops)
+      stops.push_back({{"signal", st.signal}, {"task", st.task}, {"step", st.at.step}, {"time_s", st.at.time_s},
+                       {"path_fraction", st.at.path_fraction}, {"joints_deg", joints(st.at.joints)}});
+    doc["reaction_stops"] = std::move(stops);
+  }
   if (!r.motion_times.empty()) {  // per-motion durations (docs/blending.md)
     auto motions = nlohmann::json::array();
     for (const auto& m : r.motion_times)

@@ -694,9 +694,36 @@ class Checker {
         emit(Code::jump);
         return;
       }
+      case Kw::react: case Kw::reacti: case Kw::reacte: return reaction(i);
       case Kw::dot_end: expect_args(i, 0, 0, ".END"); return end_program();
       default: error("unexpected statement"); return;
     }
+  }
+
+  // REACT signal, program [, priority]; REACTI signal [, program [, priority]]; REACTE [program]
+  // (dialect §7c): the program name resolved to its slot as CALL's, the numbers as expressions.
+  void reaction(const ast::Instruction& i) {
+    const bool trap = i.kw == Kw::reacte;
+    const char* what = trap ? "REACTE" : i.kw == Kw::react ? "REACT" : "REACTI";
+    const std::size_t lo = trap ? 0 : i.kw == Kw::react ? 2 : 1, hi = trap ? 1 : 3;
+    const std::size_t at = trap ? 0 : 1;  // the program's argument
+    const bool named = i.args.size() > at && !ast::is_omitted(i.args[at]);
+    if (i.args.size() < lo || i.args.size() > hi || (i.kw == Kw::react && !named)) {
+      error(fmt::format("{} expects {}", what, trap ? "a program name or nothing" : "a signal, a program and a priority"));
+      return;
+    }
+    Instr& in = emit(trap ? Code::reacte : Code::react);
+    in.word = i.kw;
+    if (!trap) in.args.push_back(expression(i.args[0]));
+    if (named) {
+      const ast::VarRef* v = plain_variable(i.args[at], false);
+      if (!v || v->name[0] == '$' || v->name[0] == '#') {
+        error(fmt::format("{} expects a program name", what));
+        return;
+      }
+      in.program = symbols_.program(normalize_name(v->name));
+    }
+    if (!trap) in.args.push_back(i.args.size() > 2 && !ast::is_omitted(i.args[2]) ? expression(i.args[2]) : Node{});
   }
 
   // ENABLE / DISABLE sw, ...: switch names, known ones only (dialect §6).

@@ -36,6 +36,7 @@ RunResult Evaluator::run(int slot, bool resumable) {
   current_line_ = 0;
   motion_program_ = nullptr;
   last_motion_.reset();
+  reactions0_ = Reactions{};  // reactions, priority and trap are the execution's (dialect §7c)
   RunResult r = protected_run(memory_.symbols.programs[static_cast<std::size_t>(slot)], [&] {
     const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
     if (!program) return stop(fault(Message::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]));
@@ -103,12 +104,19 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
   motion_times_.clear();
   motion_times_omitted_ = 0;
   halt_.reset();
-  // The simulator reads the Ctrl-C flag while this run goes on, and only then.
+  reaction_stops_.clear();
+  brake_signal_ = 0;
+  // The simulator reads the Ctrl-C flag and asks the REACTI stop condition while this run goes
+  // on, and only then.
   struct InterruptWiring {
     motion::Simulator& sim;
-    ~InterruptWiring() { sim.set_interrupt(nullptr); }
+    ~InterruptWiring() {
+      sim.set_interrupt(nullptr);
+      sim.set_stop_condition(nullptr);
+    }
   } wiring{sim_};
   sim_.set_interrupt(limits_.interrupt);
+  sim_.set_stop_condition([this](double t, const robots::JointVector&) { return brake_now(t); });
   sim_.settings().continuous_path = memory_.settings.cp;  // ENABLE / DISABLE CP (docs/blending.md)
   files_.set_root(limits_.files_root);
   files_.set_limits({limits_.max_record_bytes, limits_.max_file_bytes});
@@ -149,13 +157,22 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
       e.running_ = nullptr;
     }
   } task_reset{*this};
-  RunStatus status = RunStatus::completed;
-  try {
-    status = setup();
-    if (status == RunStatus::completed) status = run_tasks();
-    if (status == RunStatus::completed) status = finish_motion();  // the last motion completes at the end
-  } catch (Fault& e) {  // raise(): a VAL error found while evaluating a statement
-    status = stop(std::move(e));
+  const auto guarded = [this](const std::function<RunStatus()>& part) {
+    try {
+      return part();
+    } catch (Fault& e) {  // raise(): a VAL error found while evaluating a statement
+      return stop(std::move(e));
+    } catch (const Braked&) {  // a REACTI stopped the motion outside a step: the run goes on
+      return RunStatus::completed;
+    }
+  };
+  RunStatus status = guarded(setup);
+  // An error that a REACTE traps calls the trap program and the run goes on (dialect §7c).
+  for (bool again = status == RunStatus::completed; again;) {
+    status = guarded([this] { return run_tasks(); });
+    if (status == RunStatus::completed)
+      status = guarded([this] { return finish_motion(); });  // the last motion completes at the end
+    again = status == RunStatus::error && trap_error();
   }
   if (status == RunStatus::error || status == RunStatus::interrupted) {
     result.status = status;
@@ -168,7 +185,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
       if (sim_.motion_pending()) {
         const motion::MotionResult r = sim_.finish_motion();
         if (r.status == motion::MotionStatus::collision) collided(r.collision);
-        if (r.status == motion::MotionStatus::interrupted) halt_ = r.interrupt;
+        if (r.status == motion::MotionStatus::interrupted && r.interrupt.by_condition) braked(r.interrupt);
+        else if (r.status == motion::MotionStatus::interrupted) halt_ = r.interrupt;
       }
     } catch (...) {
     }
@@ -199,6 +217,8 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
                        duration_always_, duration_next_, halt_.has_value(), memory_.programs};
   }
   result.interrupt = halt_;
+  result.reaction_stops = std::move(reaction_stops_);
+  reaction_stops_.clear();
   result.motion_times = std::move(motion_times_);
   result.motion_times_omitted = motion_times_omitted_;
   motion_times_.clear();
@@ -233,6 +253,12 @@ RunStatus Evaluator::loop() {
       if (f.pc >= size) {  // .END returns
         pop_frame();
         break;
+      }
+      // Reactions (dialect §7c) are looked at between steps: one due is called before this step.
+      if (!reactions().empty()) {
+        bool pushed = false;
+        if (const RunStatus s = react(pushed); s != RunStatus::completed) return s;
+        if (pushed) break;
       }
       const Instr& in = code[f.pc];
       current_line_ = in.line;
@@ -292,7 +318,14 @@ RunStatus Evaluator::loop() {
         }
         default: break;
       }
-      if (const RunStatus s = execute(in); s != RunStatus::completed) return s;
+      RunStatus s = RunStatus::completed;
+      try {
+        s = execute(in);
+      } catch (const Braked&) {  // a REACTI stopped the motion this step waited for
+        f.pc = static_cast<int>(&in - code);  // it runs again once the reaction is served
+        continue;
+      }
+      if (s != RunStatus::completed) return s;
       if (running_) {  // tasks (dialect §7b)
         // The robot task's statement carried the arm (or the hand) ahead in time: the other
         // tasks run meanwhile, it goes on at that time.
@@ -431,6 +464,7 @@ void Evaluator::statement(const Instr& in) {
     case Code::execute: return execute_task(in);
     case Code::task: return task_instruction(in);
     case Code::robot: return robot_attach(in.always);
+    case Code::react: case Code::reacte: case Code::ignore: case Code::lock: return reaction_instruction(in);
     case Code::prompt: return prompt(in);
     case Code::duration: {
       const double t = to_real(eval(in.args[0]), "DURATION");
@@ -573,6 +607,8 @@ void Evaluator::call(const Instr& in) {
 
 void Evaluator::pop_frame() {
   Frame& f = stack_.back();
+  if (f.restore_priority >= 0) reactions().set_priority(f.restore_priority);  // a reaction's RETURN
+  if (f.trap) reactions().trapping = false;
   f.program = nullptr;
   f.params.clear();
   for (Variable& v : f.owned) {  // emptied, kept for the next CALL
@@ -598,6 +634,10 @@ RunStatus Evaluator::check_motion(const motion::MotionResult& r) {
     case motion::MotionStatus::ok: return RunStatus::completed;
     case motion::MotionStatus::collision: contact_ = r.collision; return RunStatus::collision;
     case motion::MotionStatus::interrupted:
+      if (r.interrupt.by_condition) {  // a REACTI: the step waiting for the motion runs again later
+        braked(r.interrupt);
+        throw Braked{};
+      }
       // Ctrl-C halted the motion: reported at the motion instruction, as a contact is; the step
       // that was waiting for the motion (none at the run's end) runs again after its rest.
       halt_ = r.interrupt;
@@ -682,8 +722,6 @@ RunStatus Evaluator::motion(const Instr& in) {
   }
   MotionRequest m;
   m.speed = {speed_monitor_, speed_next_.value_or(speed_always_), -1, duration_next_.value_or(duration_always_)};
-  speed_next_.reset();
-  duration_next_.reset();
   m.straight = straight;
   m.program = current_program_;
   m.line = in.line;
@@ -694,7 +732,11 @@ RunStatus Evaluator::motion(const Instr& in) {
       raise(Message::illegal_value, fmt::format("location expected, not a {}", kind_name(kind_of(*target))));
     m.pose = as_pose(*target, sim_);
   }
-  return start_motion(m);
+  // Consumed once started: a REACTI stopping the motion before (Braked) runs this step again.
+  const RunStatus s = start_motion(m);
+  speed_next_.reset();
+  duration_next_.reset();
+  return s;
 }
 
 // PROCEED / RETRY after Ctrl-C halted a motion: the rest of it, from where the arm stopped;
@@ -797,6 +839,13 @@ RunStatus Evaluator::wait(const Instr& in) {
                         fmt::format("still false after {} s{}", format_number(limits_.max_wait_s), undriven_signals())));
     if (const RunStatus s = check_dwell(sim_.wait(limits_.tick_s, step_of(in.line)), in.line); s != RunStatus::completed)
       return s;
+    if (!reactions().empty()) {  // a reaction due interrupts the wait, which goes on after it
+      reactions().see([this](int k) { return signal_state(k); });
+      if (reactions().due()) {
+        --stack_.back().pc;
+        return RunStatus::completed;
+      }
+    }
   }
   return RunStatus::completed;
 }
@@ -852,7 +901,12 @@ RunStatus Evaluator::run_tasks() {
     std::swap(stack_, ran.stack);
     Task* next = next_task();
     if (!next) return RunStatus::completed;
-    if (const RunStatus s = advance_clock(next->wake_s); s != RunStatus::completed) return s;
+    try {
+      if (const RunStatus s = advance_clock(next->wake_s); s != RunStatus::completed) return s;
+    } catch (const Braked&) {  // a REACTI stopped the robot task's motion: it goes on from now
+      for (const auto& t : tasks_)
+        if (t->number == robot_task_) t->wake_s = std::min(t->wake_s, now_);
+    }
     switch_to(next);
   }
 }
@@ -962,6 +1016,8 @@ void Evaluator::execute_task(const Instr& in) {
     auto first = std::make_unique<Task>();
     first->program = run_program_;
     first->globals = globals_;
+    first->reactions = std::move(reactions0_);
+    reactions0_ = Reactions{};
     running_ = first.get();
     tasks_.push_back(std::move(first));
     now_ = sim_.time_s();

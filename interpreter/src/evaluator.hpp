@@ -6,6 +6,7 @@
 #include "files.hpp"
 #include "errors.hpp"
 #include "asimov/interpreter/interpreter.hpp"
+#include "reactions.hpp"
 #include "settings.hpp"
 #include "asimov/interpreter/values.hpp"
 #include <array>
@@ -68,6 +69,8 @@ class Evaluator {
     std::vector<Variable> owned;                   // by value, omitted, AUTO (reserved: stable)
     std::vector<double> temps;                     // FOR limits and steps
     int pc = 0;                                    // next instruction
+    int restore_priority = -1;                     // a reaction's frame: the priority its RETURN restores
+    bool trap = false;                             // the REACTE program's frame
   };
 
   // The call stack. Popped frames stay allocated and are reused by the next CALL, with their
@@ -87,6 +90,8 @@ class Evaluator {
       f.params.clear();
       f.temps.clear();
       f.pc = 0;
+      f.restore_priority = -1;
+      f.trap = false;
       return f;
     }
     void commit() { ++size_; }
@@ -145,6 +150,7 @@ class Evaluator {
     int at_line = 0;
     std::vector<Variable*> globals;   // globals_ with this task's LOCAL slots redirected
     std::deque<Variable> locals;      // its LOCAL variables (every task but the first)
+    Reactions reactions;              // its REACT / REACTI / REACTE, its priority (dialect §7c)
   };
 
   // The one protected boundary: runs `setup` then the loop and turns the status they return
@@ -169,6 +175,18 @@ class Evaluator {
   void execute_task(const Instr& in);
   void task_instruction(const Instr& in);
   void robot_attach(bool attach);
+  // --- reactions (evaluator_reactions.cpp, dialect §7c) ---
+  Reactions& reactions() { return running_ ? running_->reactions : reactions0_; }
+  void reaction_instruction(const Instr& in);  // REACT, REACTI, REACTE, IGNORE, LOCK
+  // Between steps: sees the running task's signals, stops the arm for a REACTI, and calls the
+  // reaction due, if any (`pushed`: a frame was pushed).
+  RunStatus react(bool& pushed);
+  Reactions* robot_reactions();
+  bool brake_now(double t);             // the simulator's stop condition: a REACTI transition by t
+  bool signal_at(int k, double t);      // signal k at time t of a motion being carried out
+  void braked(const motion::InterruptReport& at);  // a REACTI stopped the motion there
+  bool trap_error();                    // REACTE: the trap program called instead of stopping
+  void push_reaction_frame(int program, int priority, bool trap);
   void require_robot() const;         // only the robot task moves the arm, sets TOOL and BASE
   int task_number() const { return running_ ? running_->number : 0; }
   bool robot_task() const { return task_number() == robot_task_; }
@@ -234,6 +252,7 @@ class Evaluator {
   // The reacting cell (evaluator_cell.cpp).
   void set_signal(int k);                       // SIGNAL k (negative: off)
   bool signal_on(int k);                        // SIG(k), remembered for WAIT's message
+  bool signal_state(int k);                     // the same, not remembered (reactions)
   void hand_changed(motion::HandState h, int line);  // grasp / release at the flange now
   std::string undriven_signals() const;         // WAIT: the waited inputs no device drives
   void store_real(const Node& target, double x);
@@ -282,6 +301,13 @@ class Evaluator {
   std::uint64_t statements_ = 0;              // executed in this execution
   std::uint64_t budget_ = 0;                  // at this count the task yields, or the run stops
   std::set<int> waited_;                      // signals SIG() read during the current WAIT
+  Reactions reactions0_;                      // task 0's until EXECUTE makes it a Task
+  int brake_signal_ = 0;                      // a REACTI seen between steps: stop the pending motion
+  std::vector<ReactionStop> reaction_stops_;  // RunResult::reaction_stops
 };
+
+// A REACTI stopped the motion that the step in progress waited for (check_motion): the step
+// runs again once the reaction is served (loop()).
+struct Braked {};
 
 }  // namespace asimov::interpreter

@@ -37,6 +37,10 @@ void Evaluator::set_signal(int k) {
 
 bool Evaluator::signal_on(int k) {
   waited_.insert(k);
+  return signal_state(k);
+}
+
+bool Evaluator::signal_state(int k) {
   if (auto* c = cell_runtime()) {
     // Inputs and device-set soft signals come from the devices; the program's own from memory.
     if (c->clock().signal(k)) return true;

@@ -154,6 +154,7 @@ Value Evaluator::function(const Node& n) {
     raise(Message::not_supported, name);
   }
   if (n.func == Func::pdest) return planned_destination();
+  if (n.func == Func::priority) return static_cast<double>(reactions().priority());
   if (n.func == Func::state) return state(to_index(to_real(eval(n.kids[0]), "STATE selector")));
   if (n.func == Func::task) {  // TASK(): this task; TASK(1, n): 4 while task n executes, else 0
     if (n.kids.empty()) return static_cast<double>(task_number());

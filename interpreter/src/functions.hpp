@@ -16,6 +16,7 @@ enum class Func : int {
   distance, shift, tool, base, len, chr, asc, val, defined, sig, timer, mid, last, frame,
   parameter, switch_, inrange, state, task, error, error_text, select, status, getc, iostat, tas, pdest,
   lngb_s, lngb, intb_s, intb, fltb_s, fltb,  // binary records: $LNGB LNGB $INTB INTB $FLTB FLTB
+  priority,  // PRIORITY(): the program priority (dialect §7c)
   vplus,  // a V+ function that loads but is not simulated (dialect §7): $DECODE
   count
 };

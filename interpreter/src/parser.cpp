@@ -135,7 +135,7 @@ struct type_word_table : x3::symbols<x3::unused_type> {
 struct unsupported_table : x3::symbols<x3::unused_type> {
   unsupported_table() {
     for (const char* w : {"select",
-                          "set.event", "clear.event", "lock", "priority", "react", "reacti", "reacte", "ignore",
+                          "set.event", "clear.event",
                           "teach", "calls", "calibrate"})
       add(w);
   }

@@ -206,6 +206,9 @@ std::optional<MotionTiming> Simulator::pending_timing() const {
 }
 
 void Simulator::set_interrupt(const std::atomic<bool>* flag) { impl_->walker.set_interrupt(flag); }
+void Simulator::set_stop_condition(std::function<bool(double, const robots::JointVector&)> condition) {
+  impl_->walker.set_stop_condition(std::move(condition));
+}
 const std::optional<InterruptReport>& Simulator::halted_motion() const { return impl_->halted; }
 void Simulator::drop_halted_motion() { impl_->halted.reset(); }
 void Simulator::set_pose_hook(std::function<void(double, const robots::JointVector&)> hook) {

@@ -380,7 +380,13 @@ struct Walker::Walk {
     return collision_result(std::move(report), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
 
-  bool interrupt_requested() const { return w.interrupt_ && w.interrupt_->load(std::memory_order_relaxed); }
+  // Ctrl-C's flag, then the stop condition (a REACTI) at the current joints, of time t_prev.
+  bool interrupt_requested(double t_prev) {
+    if (w.interrupt_ && w.interrupt_->load(std::memory_order_relaxed)) return true;
+    by_condition = w.stop_condition_ && w.stop_condition_(t_prev, st.joints);
+    return by_condition;
+  }
+  bool by_condition = false;  // the last interrupt_requested() was the stop condition's
 
   // The checked pose q at t, reached from the current joints at t_prev: true (with `stopped`)
   // when a contact at it or on the stretch before it stops the walk; otherwise the arm is there.
@@ -409,7 +415,7 @@ struct Walker::Walk {
     st.time_s = t_halt;
     MotionResult r;
     r.status = MotionStatus::interrupted;
-    r.interrupt = InterruptReport{t_halt, fraction, st.joints, tr.step, false};
+    r.interrupt = InterruptReport{t_halt, fraction, st.joints, tr.step, by_condition, false};
     return r;
   }
 
@@ -467,7 +473,7 @@ struct Walker::Walk {
       while (last > i + 1 && samples[last - 1].s >= sigma_stop) --last;
     CollisionReport report;
     while (i < last) {
-      if (interrupt_requested()) return interrupt_halt(t_prev, sigma_prev);
+      if (interrupt_requested(t_prev)) return interrupt_halt(t_prev, sigma_prev);
       // Next checked sample j: the next one, or with gap stepping the farthest the gaps allow.
       std::size_t j = i + 1;
       double bound = samples[j].bound_mm;
@@ -559,7 +565,7 @@ struct Walker::Walk {
     JointVector q(st.joints.size());
     CollisionReport report;
     while (i < last) {
-      if (interrupt_requested()) return interrupt_halt(t_prev, sigma_from);
+      if (interrupt_requested(t_prev)) return interrupt_halt(t_prev, sigma_from);
       int k = 1;
       broad();
       if (gap) {
@@ -625,7 +631,7 @@ struct Walker::Walk {
     double t_prev = st.time_s, dt = stop - t_prev;
     CollisionReport report;
     while (t_prev < stop) {
-      if (interrupt_requested()) return interrupt_halt(t_prev, tr.profile.sigma(t_prev - tr.t0));
+      if (interrupt_requested(t_prev)) return interrupt_halt(t_prev, tr.profile.sigma(t_prev - tr.t0));
       broad();
       if (gap) update_gaps(t_prev);
       else if (checker) gaps_here(t_prev);
@@ -676,11 +682,11 @@ struct Walker::Walk {
     while (t_prev < stop) {
       // Ctrl-C (or SIGTERM) during a wait with parts moving: the clock stops where it is. No
       // motion was halted: the interpreter does not keep it as a motion to resume.
-      if (interrupt_requested()) {
+      if (w.interrupt_ && w.interrupt_->load(std::memory_order_relaxed)) {  // Ctrl-C's flag only
         st.time_s = t_prev;
         MotionResult r;
         r.status = MotionStatus::interrupted;
-        r.interrupt = InterruptReport{t_prev, 1, tr.to, tr.step, true};
+        r.interrupt = InterruptReport{t_prev, 1, tr.to, tr.step, false, true};
         return r;
       }
       const double change = std::min(stop, w.world_.next_part_change());

@@ -328,9 +328,8 @@ TEST_CASE("RETRY after an interrupt runs the interrupted step (also inside WAIT)
 }
 
 TEST_CASE("every V+ statement and function of dialect §7 loads and stops or warns", "[statements]") {
+  // (REACT, REACTI, REACTE, IGNORE, LOCK and PRIORITY() are simulated: test_reactions.cpp.)
   for (const char* line : {"SELECT TASK = 2", "SET.EVENT 1", "CLEAR.EVENT 1",
-                           "LOCK 1", "PRIORITY 5",
-                           "REACT 1001, handler", "REACTI 1001, handler", "REACTE handler", "IGNORE 1001",
                            "TEACH p", "CALLS $name", "CALIBRATE , status"}) {
     const std::string text = line;
     std::string keyword;

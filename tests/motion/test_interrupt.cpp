@@ -245,3 +245,33 @@ TEST_CASE("interrupt: the rest keeps what is left of DURATION and takes the moni
   };
   CHECK(rest_time(10.0) > 5 * rest_time(std::nullopt));
 }
+
+TEST_CASE("stop condition: the motion halts at the first checked pose it answers true for", "[simulator][interrupt]") {
+  const JointVector target = jv({60, -45, 150, 20, 40, 30});
+  Simulator sim(cell_with(Stepping::fixed));
+  double asked_first = -1, asked_last = -1;
+  // True from t = 0.4 s on: the halt is at the first checked pose at or after it.
+  sim.set_stop_condition([&](double t, const JointVector&) {
+    if (asked_first < 0) asked_first = t;
+    asked_last = t;
+    return t >= 0.4;
+  });
+  REQUIRE(sim.start_joint_move(target, {}, 7).status == MotionStatus::ok);
+  const MotionResult r = sim.finish_motion();
+  REQUIRE(r.status == MotionStatus::interrupted);
+  CHECK(r.interrupt.by_condition);
+  CHECK(r.interrupt.step == 7);
+  CHECK(asked_first == 0);
+  CHECK(r.interrupt.time_s == asked_last);
+  CHECK(r.interrupt.time_s >= 0.4);
+  CHECK(r.interrupt.time_s < 0.45);
+  CHECK(sim.time_s() == r.interrupt.time_s);
+  CHECK(r.interrupt.path_fraction > 0);
+  CHECK(r.interrupt.path_fraction < 1);
+  // The flag's interrupts are not the condition's; without a condition the motion completes.
+  sim.drop_halted_motion();
+  sim.set_stop_condition(nullptr);
+  REQUIRE(sim.start_joint_move(target, {}, 8).status == MotionStatus::ok);
+  CHECK(sim.finish_motion().status == MotionStatus::ok);
+  CHECK((sim.joints() - target).norm() < 1e-9);
+}

@@ -32,6 +32,7 @@ CASES = [  # (program, extra args, expected exit code)
     ("programs/cells/generic6_demo.v2", ["--cell", "programs/cells/generic6_cell.yaml"], None),
     ("programs/cells/belt_pick.v2", ["--cell", "programs/cells/belt_cell.yaml"], 0),  # parts, devices, signals
     ("programs/cells/carried_crash.v2", ["--cell", "programs/cells/carried_crash_cell.yaml"], 3),
+    ("programs/cells/reacti_sensor.v2", ["--cell", "programs/cells/reacti_sensor_cell.yaml"], 0),  # reaction_stops
 ]
 
 

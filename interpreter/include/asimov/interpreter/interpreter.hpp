@@ -81,6 +81,14 @@ constexpr std::size_t kMaxMotionTimes = 10000;  // per run; later motions are co
 // (PROCEED continues with the next step); halted: HALT (cannot be resumed).
 enum class RunStatus { completed, error, interrupted, collision, paused, halted };
 
+// A REACTI that stopped the arm inside a motion (docs/val2-dialect.md §7c): the signal whose
+// transition it saw (negative: the falling edge) and where the arm stopped.
+struct ReactionStop {
+  int signal = 0;
+  int task = 0;
+  motion::InterruptReport at;     // time, path fraction, joints, the motion's step
+};
+
 struct RunResult {
   RunStatus status = RunStatus::completed;
   std::string program;            // the program executing when the run ended
@@ -96,6 +104,7 @@ struct RunResult {
   std::vector<MotionTime> motion_times;   // every motion started, in order (at most kMaxMotionTimes)
   std::uint64_t motion_times_omitted = 0; // motions started beyond kMaxMotionTimes
   std::vector<TaskReport> tasks;      // every task when the run EXECUTEd others (dialect §7b); else empty
+  std::vector<ReactionStop> reaction_stops;  // every motion a REACTI stopped, in order
 };
 
 struct Limits {

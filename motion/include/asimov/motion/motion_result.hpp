@@ -41,6 +41,7 @@ struct InterruptReport {
   double path_fraction = 0;  // path parameter there: 0 = start, 1 = target
   robots::JointVector joints;  // display [deg]
   int step = 0;               // program step of the motion instruction
+  bool by_condition = false;  // the stop condition (a REACTI) stopped it, not Ctrl-C's flag
   bool waiting = false;       // stopped in a wait (the arm at rest): no motion to resume
 };
 

@@ -87,6 +87,10 @@ class Simulator {
   // finish_motion; when it is true the motion stops there (status interrupted). The caller owns
   // the flag and clears it; the simulator only reads it.
   void set_interrupt(const std::atomic<bool>* flag);
+  // A second cause of interruption (REACTI, docs/val2-dialect.md §7c): asked with the time and
+  // joints of each checked pose before the next one; true stops the motion there as the flag
+  // does (the report's by_condition set). Empty: none.
+  void set_stop_condition(std::function<bool(double time_s, const robots::JointVector& joints)> condition);
   // The interrupted motion whose rest is kept: where it stopped. Any new motion drops it.
   const std::optional<InterruptReport>& halted_motion() const;
   // Starts the rest of the halted motion from the current pose, accelerating from rest, with

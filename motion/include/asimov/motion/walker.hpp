@@ -10,6 +10,7 @@
 #include "asimov/motion/world.hpp"
 
 #include <atomic>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -41,6 +42,12 @@ class Walker {
   void add_observer(WalkObserver& observer);
   // Read (relaxed) before each checked pose; when true the walk stops there (interrupted).
   void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
+  // Asked with the time and joints of the last checked pose before each next one, after the
+  // flag; when it answers true the walk stops there as for the flag (interrupted, the report's
+  // by_condition set). Empty: never asked.
+  void set_stop_condition(std::function<bool(double time_s, const robots::JointVector& joints)> condition) {
+    stop_condition_ = std::move(condition);
+  }
 
   // Carries `tr` out from `state` (its joints and time: the path at state.time_s, which is
   // tr.t0, or inside the motion when a walk up to `until_s` left it there). ok: the arm at
@@ -62,6 +69,7 @@ class Walker {
   World& world_;
   const CollisionSettings& settings_;
   const std::atomic<bool>* interrupt_ = nullptr;
+  std::function<bool(double, const robots::JointVector&)> stop_condition_;
   std::vector<WalkObserver*> observers_;
   // Scratch, reused across walks (no allocation per checked pose).
   std::vector<double> pair_mm_;
