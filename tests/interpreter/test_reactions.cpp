@@ -2,10 +2,15 @@
 // steps, falling edges, IGNORE, LOCK and PRIORITY(), reactions per task, REACTI stopping the
 // arm, REACTE and its RETURN.
 #include "interpreter_fixture.hpp"
+#include "interpreter/src/reactions.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <set>
+
 using asimov::test::InterpreterFixture;
+using asimov::interpreter::Reaction;
+using asimov::interpreter::Reactions;
 using asimov::interpreter::RunStatus;
 
 namespace {
@@ -132,4 +137,40 @@ TEST_CASE("REACTI stops the pending motion where the arm is and calls its progra
   CHECK(r.reaction_stops[0].at.time_s == 0);
   CHECK(f.sim.joints()[0] == Approx(30));  // the next motion went on from where the arm stopped
   CHECK(r.motion_times.size() == 2);
+}
+
+TEST_CASE("the reaction table: edges, one shot, priorities, REACTI's signal", "[reactions]") {
+  Reactions t;
+  std::set<int> on{2002};
+  const auto look = [&] { return t.see([&](int k) { return on.count(k) > 0; }); };
+  t.arm({.signal = 2001, .falling = false, .program = 1, .priority = 2});
+  t.arm({.signal = 2002, .falling = true, .program = 2, .priority = 5, .stops_arm = true, .was_on = true});
+  CHECK(look() == 0);
+  CHECK_FALSE(t.due());
+  on.insert(2001);  // rising on 2001; 2002 still on
+  on.erase(2002);   // falling on 2002: a REACTI, its signal negative
+  CHECK(look() == -2002);
+  CHECK(look() == 0);  // seen once
+  t.set_priority(5);   // 2002's priority 5 is not above 5: only 2001 waits too
+  CHECK_FALSE(t.due());
+  t.set_priority(1);
+  REQUIRE(t.due());
+  CHECK(t.take_due()->program == 2);  // the higher priority first
+  CHECK(t.take_due()->program == 1);
+  CHECK(t.empty());
+  CHECK_FALSE(t.take_due());
+  // IGNORE removes a reaction that was triggered and still waits.
+  t.arm({.signal = 2003, .program = 3});
+  on.insert(2003);
+  look();
+  CHECK(t.ignore(2003));
+  CHECK_FALSE(t.due());
+  CHECK_FALSE(t.ignore(2003));
+  // A REACTI without a program is dropped once triggered.
+  t.arm({.signal = 2004, .program = -1, .stops_arm = true});
+  on.insert(2004);
+  CHECK(look() == 2004);
+  CHECK(t.due());
+  CHECK_FALSE(t.take_due());
+  CHECK(t.empty());
 }
