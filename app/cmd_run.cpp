@@ -182,10 +182,15 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   const Clock::time_point parse_start = Clock::now();
   const auto diags = interp.load_file(opt.file);
   sim.recorders().timing.timing.parse_s += since(parse_start);
-  if (print_diagnostics(diags, err)) {
+  // A program with an error is loaded marked not executable (dialect §8): the run goes on when
+  // the main program and every program it calls can run; otherwise it stops here, exit 2 (a
+  // report that could not be written is said, the code stays the program error's).
+  const bool load_errors = print_diagnostics(diags, err);
+  auto load_failed = [&] {
     write_report(opt.report, load_error_report(opt.file, *first_error(diags)), out, err);
     return kExitProgramError;
-  }
+  };
+  if (load_errors && interp.program_names().empty()) return load_failed();
 
   std::string main = opt.main;
   if (main.empty()) {
@@ -199,8 +204,13 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   // Names are case-insensitive and stored in lower case (dialect §1).
   std::transform(main.begin(), main.end(), main.begin(), [](unsigned char c) { return std::tolower(c); });
   if (!interp.has_program(main)) {
+    if (load_errors) return load_failed();
     err << fmt::format("*Undefined program or variable name*  {}\n", main);
     return kExitUsage;
+  }
+  if (const auto blocked = interp.not_executable_from(main)) {  // main's own errors say why
+    if (*blocked != main) err << fmt::format("*Program not executable*  {} (reached from {})\n", *blocked, main);
+    return load_failed();
   }
 
   // Ctrl-C stops the program where it is (the arm at its last checked pose) and the report and

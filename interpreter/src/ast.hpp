@@ -122,6 +122,12 @@ struct CallStmt {
   std::vector<boost::optional<Expr>> args;
 };
 
+// CALLS string [ "(" arguments ")" ]: calls the program the string names (V+).
+struct CallsStmt {
+  Operand program;                                    // a string variable or literal
+  std::vector<boost::optional<Expr>> args;
+};
+
 // A TYPE format specifier: /D /Fw.d /Iw /Xn /Cn /S.
 struct Format {
   char code = 'D';
@@ -191,7 +197,7 @@ struct ProgramHeader {
 
 struct Statement : x3::variant<Instruction, Binding, ForStmt, IfStmt, CallStmt, TypeStmt,
                                ProgramHeader, Declaration, TimerStmt, AccelStmt, Unsupported, IoStmt,
-                               ExecuteStmt> {
+                               ExecuteStmt, CallsStmt> {
   using base_type::base_type;
   using base_type::operator=;
 };

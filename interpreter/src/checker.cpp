@@ -222,6 +222,8 @@ class Checker {
         if (other.name == param.name) error(fmt::format("parameter {} twice", param.name));
       prog_.params.push_back(param);
     }
+    expr_.new_scope();
+    for (const Param& p : prog_.params) expr_.note_shape(p.name, p.array);
     for (const Program& other : out_.programs)
       if (other.name == prog_.name) error(fmt::format("program {} defined twice", prog_.name));
     in_program_ = true;
@@ -333,6 +335,7 @@ class Checker {
       bool clash = false;
       for (const Param& p : prog_.params) clash = clash || p.name == name;
       if (d.kw == Kw::auto_ && clash) error(fmt::format("{} is a parameter", name));
+      expr_.note_shape(name, !v.subscript.empty());  // AUTO a then AUTO a[5]: one name, two shapes
       auto declared = [&](const std::vector<std::string>& names) {
         return std::find(names.begin(), names.end(), name) != names.end();
       };
@@ -346,7 +349,9 @@ class Checker {
 
   // --- expressions (expressions.cpp) ------------------------------------------------------
   Node expression(const ast::Expr& e) { return expr_.expression(e); }
-  Node variable(const ast::VarRef& v, bool whole_array_ok) { return expr_.variable(v, whole_array_ok); }
+  Node variable(const ast::VarRef& v, bool whole_array_ok, bool shape_use = true) {
+    return expr_.variable(v, whole_array_ok, shape_use);
+  }
   void format_items(const ast::TypeStmt& t, std::vector<ast::Format>& formats, std::vector<Node>& values) {
     expr_.format_items(t, formats, values);
   }
@@ -364,6 +369,7 @@ class Checker {
       void operator()(const ast::ForStmt& f) const { c.for_statement(f); }
       void operator()(const ast::IfStmt& i) const { c.if_statement(i); }
       void operator()(const ast::CallStmt& call) const { c.call_statement(call); }
+      void operator()(const ast::CallsStmt& calls) const { c.calls_statement(calls); }
       void operator()(const ast::TypeStmt& t) const { c.type_statement(t); }
       void operator()(const ast::ProgramHeader&) const {}
       void operator()(const ast::Declaration& d) const { c.declaration(d); }
@@ -515,7 +521,9 @@ class Checker {
       in.args.push_back(expression(b.value));
       return;
     }
-    Node target = variable(b.target, false);
+    // DECOMPOSE a[] = ... fills a[0], a[1] ... (V+); a whole array is no other target.
+    Node target = variable(b.target, b.kw == Kw::decompose, b.kw != Kw::decompose);
+    if (b.kw == Kw::decompose) expr_.note_shape(target.text, true);  // DECOMPOSE x = ...: x[0] ...
     const Code code = b.kw == Kw::set ? Code::set : b.kw == Kw::decompose ? Code::decompose : Code::assign;
     Node value = expression(b.value);
     if (code == Code::set) {  // what fails on first execution is reported now
@@ -581,14 +589,29 @@ class Checker {
   void call_statement(const ast::CallStmt& call) {
     Instr& in = emit(Code::call);
     in.program = symbols_.program(normalize_name(call.name));
-    std::size_t count = call.args.size();
-    if (count == 1 && !call.args[0]) count = 0;
+    call_arguments(in, call.args);
+  }
+
+  // CALLS $name(args): the program is the string's value when the step runs; the arguments
+  // go as CALL's do.
+  void calls_statement(const ast::CallsStmt& calls) {
+    ast::Expr name;
+    name.first = calls.program;
+    Node program = expression(name);  // a string literal or variable (the parser takes no other)
+    Instr& in = emit(Code::calls);
+    in.target = std::move(program);
+    call_arguments(in, calls.args);
+  }
+
+  void call_arguments(Instr& in, const std::vector<boost::optional<ast::Expr>>& args) {
+    std::size_t count = args.size();
+    if (count == 1 && !args[0]) count = 0;
     for (std::size_t i = 0; i < count; ++i) {
-      const auto& a = call.args[i];
+      const auto& a = args[i];
       const ast::VarRef* v = a ? plain_variable(*a, true) : nullptr;
       // A plain variable or a whole array a[] goes by reference; anything else by value.
       if (v && (v->subscript.empty() || ast::is_whole_array(*v))) {
-        in.args.push_back(variable(*v, true));
+        in.args.push_back(variable(*v, true, !v->subscript.empty()));  // a plain name may be either
         in.by_ref.push_back(true);
       } else {
         in.args.push_back(a ? expression(*a) : Node{});

@@ -114,6 +114,8 @@ struct Program {
   std::vector<Instr> code;
   int temps = 0;                   // frame temporaries (FOR limits and steps)
   std::shared_ptr<const std::vector<std::string>> text;  // the file's lines, for reports
+  bool executable = true;          // false: LOAD reported an error in it (dialect §8); a CALL,
+                                   //   EXECUTE or run of it stops with *Program not executable*
 };
 
 // Fills the program, file, line, step and source line of `d` for `line` of `p`.

@@ -11,7 +11,7 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<std::string_view, 12> kMessageTexts = {
+constexpr std::array<std::string_view, 13> kMessageTexts = {
     "*Syntax error*",
     "*Undefined program or variable name*",
     "*Undefined value*",
@@ -24,6 +24,7 @@ constexpr std::array<std::string_view, 12> kMessageTexts = {
     "*Program interrupted*",  // Ctrl-C (Limits::interrupt) between two steps or in a motion
     "*Wait limit exceeded*",  // WAIT still false after Limits::max_wait_s simulated seconds
     "*Out of memory*",        // the program's data past kMaxDataBytes (limits.hpp)
+    "*Program not executable*",  // a program LOAD marked: it had an error (dialect §8)
 };
 static_assert(kMessageTexts.size() == static_cast<std::size_t>(Message::count));
 
@@ -42,6 +43,7 @@ constexpr ErrorCode kErrorCodes[] = {
     {-1300, "*Not supported in simulation*"},
     {-415, "*Program interrupted*"},
     {-416, "*Wait limit exceeded*"},
+    {-304, "*Program not executable*"},
     {-610, "*Location out of reach*"},
     {-611, "*Joint limit exceeded*"},
     {-612, "*Singularity on straight-line path*"},

@@ -13,7 +13,7 @@ namespace asimov::interpreter {
 // ORDER: kMessageTexts in errors.cpp.
 enum class Message : int {
   syntax, undefined_name, undefined_value, illegal_value, division_by_zero, too_many_calls,
-  too_many_statements, motion, not_supported, interrupted, wait_limit, out_of_memory, count
+  too_many_statements, motion, not_supported, interrupted, wait_limit, out_of_memory, not_executable, count
 };
 
 std::string_view message_text(Message kind);

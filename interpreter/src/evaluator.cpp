@@ -34,12 +34,14 @@ RunResult Evaluator::run(int slot, bool resumable) {
   duration_next_.reset();
   current_program_ = nullptr;
   current_line_ = 0;
+  bare_wait_end_ = -1;
   motion_program_ = nullptr;
   last_motion_.reset();
   reactions0_ = Reactions{};  // reactions, priority and trap are the execution's (dialect §7c)
   RunResult r = protected_run(memory_.symbols.programs[static_cast<std::size_t>(slot)], [&] {
     const auto& program = memory_.programs.at(static_cast<std::size_t>(slot));
     if (!program) return stop(fault(Message::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]));
+    if (!program->executable) return stop(fault(Message::not_executable, program->name));
     Frame& top = stack_.next();
     top.program = program.get();
     top.owned.clear();
@@ -332,7 +334,7 @@ RunStatus Evaluator::loop() {
         if (!yield_ && robot_task() && sim_.time_s() > now_) block_until(sim_.time_s());
         if (yield_) return RunStatus::completed;
       }
-      if (in.code == Code::call || in.code == Code::return_ || in.code == Code::stop) break;
+      if (in.code == Code::call || in.code == Code::calls || in.code == Code::return_ || in.code == Code::stop) break;
     }
   }
   return RunStatus::completed;
@@ -424,7 +426,8 @@ void Evaluator::statement(const Instr& in) {
         raise(Message::illegal_value, "DECOMPOSE needs a real array");
       Variable& var = variable(in.target);
       if (var.scalar) raise(Message::illegal_value, fmt::format("{} is not an array", in.target.text));
-      Index idx = in.target.subscripted ? index(in.target) : Index{0, 0, 0};
+      // a[] (no index): from a[0]; a[k]: from a[k] (the last index counts up).
+      Index idx = in.target.subscripted && !in.target.kids.empty() ? index(in.target) : Index{0, 0, 0};
       const std::size_t last = in.target.kids.empty() ? 0 : in.target.kids.size() - 1;
       for (double p : parts) {
         if (idx[last] > kMaxArrayIndex) raise(Message::illegal_value, "index above 65535");
@@ -557,15 +560,25 @@ void Evaluator::statement(const Instr& in) {
       if (step > 0 ? v <= to : v >= to) f.pc = in.jump;
       return;
     }
-    case Code::call: return call(in);
+    case Code::call: case Code::calls: return call(in);
     case Code::return_: pop_frame(); return;
     case Code::stop: stack_.clear(); return;
   }
 }
 
 void Evaluator::call(const Instr& in) {
-  const auto& program = memory_.programs[static_cast<std::size_t>(in.program)];
-  if (!program) raise(Message::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(in.program)]);
+  int slot = in.program;
+  if (in.code == Code::calls) {  // CALLS: the program the string names, looked up now
+    const std::string name = normalize_name(to_string_value(eval(in.target)));
+    const auto found = memory_.symbols.program_slots.find(name);
+    if (found == memory_.symbols.program_slots.end() || static_cast<std::size_t>(found->second) >= memory_.programs.size()
+        || !memory_.programs[static_cast<std::size_t>(found->second)])
+      raise(Message::undefined_name, name.empty() ? "\"\" (CALLS)" : name);
+    slot = found->second;
+  }
+  const auto& program = memory_.programs[static_cast<std::size_t>(slot)];
+  if (!program) raise(Message::undefined_name, memory_.symbols.programs[static_cast<std::size_t>(slot)]);
+  if (!program->executable) raise(Message::not_executable, program->name);
   if (static_cast<int>(stack_.size()) >= limits_.max_call_depth)
     raise(Message::too_many_calls, fmt::format("{} levels", stack_.size()));
   if (in.args.size() > program->params.size())
@@ -826,7 +839,19 @@ RunStatus Evaluator::wait(const Instr& in) {
     if (!(t >= 0)) raise(Message::illegal_value, fmt::format("WAIT.EVENT {}", format_number(t)));
     return check_dwell(sim_.wait(t, step_of(in.line)), in.line);
   }
-  if (in.args.empty()) return check_dwell(sim_.wait(limits_.tick_s, step_of(in.line)), in.line);
+  if (in.args.empty()) {
+    // One tick. Bare WAITs one after another with no time passing in between (a polling loop
+    // `10 IF NOT SIG(1001) THEN` / `WAIT` / `GOTO 10`) are one wait: past Limits::max_wait_s it
+    // stops as WAIT condition does, with the same hint (dialect §6).
+    const double now = sim_.time_s();
+    if (now != bare_wait_end_) bare_wait_start_ = now;
+    if (now - bare_wait_start_ >= limits_.max_wait_s)
+      return stop(fault(Message::wait_limit, fmt::format("a loop of WAIT still waiting after {} s{}",
+                                                         format_number(limits_.max_wait_s), undriven_signals())));
+    const RunStatus s = check_dwell(sim_.wait(limits_.tick_s, step_of(in.line)), in.line);
+    bare_wait_end_ = sim_.time_s();
+    return s;
+  }
   const double give_up = sim_.time_s() + limits_.max_wait_s;
   waited_.clear();
   while (to_real(eval(in.args[0]), "WAIT condition") == 0) {
@@ -1010,6 +1035,7 @@ void Evaluator::execute_task(const Instr& in) {
   if (n < 0 || n > kMaxTask) raise(Message::illegal_value, fmt::format("task {}", n));
   const auto& program = memory_.programs[static_cast<std::size_t>(in.program)];
   if (!program) raise(Message::undefined_name, in.target.text);
+  if (!program->executable) raise(Message::not_executable, program->name);
   if (in.args.size() - 1 > program->params.size())
     raise(Message::illegal_value, fmt::format("{} takes {} arguments", program->name, program->params.size()));
   if (!running_) {  // the first EXECUTE: the running execution becomes task 0

@@ -218,6 +218,7 @@ class Evaluator {
   bool moving() const { return sim_.motion_pending() || (running_ && now_ < moving_until_); }
   double clock() const { return running_ ? now_ : sim_.time_s(); }  // the simulated clock (TIMER)
   robots::JointVector planned_destination() const;  // #PDEST
+  double speed_factor(int select) const;              // SPEED(select)
   int signal_number(const Node& n, bool output);
   Variable& variable(const Node& n) {
     if (n.ref.scope == Scope::global) return *ctx_.globals[n.ref.slot];
@@ -293,6 +294,7 @@ class Evaluator {
   bool yield_ = false;                        // the running task gave way (WAIT, motion, RELEASE ...)
   double now_ = 0;                            // the scheduler's simulated clock (tasks only)
   double moving_until_ = 0;                   // the arm's last motion, carried out, ends here
+  double bare_wait_start_ = 0, bare_wait_end_ = -1;  // a run of bare WAITs: its start, the last one's end
   // The joints the motion before the pending one ends at (where the pending one starts from):
   // with tasks, what #PDEST is for a task running before the pending motion's start.
   robots::JointVector earlier_destination_;

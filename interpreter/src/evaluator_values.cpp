@@ -9,6 +9,7 @@
 #include "limits.hpp"
 #include "operators.hpp"
 #include "terminal.hpp"
+#include "time_decode.hpp"
 
 #include <fmt/format.h>
 
@@ -156,6 +157,22 @@ Value Evaluator::function(const Node& n) {
   if (n.func == Func::pdest) return planned_destination();
   if (n.func == Func::priority) return static_cast<double>(reactions().priority());
   if (n.func == Func::state) return state(to_index(to_real(eval(n.kids[0]), "STATE selector")));
+  if (n.func == Func::speed) return speed_factor(to_index(to_real(eval(n.kids[0]), "SPEED selector")));
+  if (n.func == Func::time_s) {  // $TIME(): the controller's clock; $TIME(date, time): packed values
+    const bool given = !n.kids.empty() && n.kids[0].kind != NodeKind::absent;
+    if (!given) return time_text(std::time(nullptr));
+    std::optional<double> time;
+    if (n.kids.size() > 1 && n.kids[1].kind != NodeKind::absent) time = to_real(eval(n.kids[1]), "$TIME time");
+    return time_text(to_real(eval(n.kids[0]), "$TIME date"), time);
+  }
+  if (n.func == Func::decode_s) {  // $DECODE(var, breaks, mode): takes the front of var
+    const std::string breaks = to_string_value(eval(n.kids[1]));
+    const double mode = to_real(eval(n.kids[2]), "$DECODE mode");
+    std::string text = to_string_value(lookup(n.kids[0]));
+    std::string taken = decode(text, breaks, mode);
+    store(n.kids[0], Value(std::move(text)));
+    return taken;
+  }
   if (n.func == Func::task) {  // TASK(): this task; TASK(1, n): 4 while task n executes, else 0
     if (n.kids.empty()) return static_cast<double>(task_number());
     const int select = to_index(to_real(eval(n.kids[0]), "TASK selector"));
@@ -230,10 +247,23 @@ double Evaluator::state(int select) const {
   switch (select) {
     case 1: return 7;  // robot under program control
     case 2: return moving() ? 1 : motion_program_ ? 2 : 0;  // moving / at its target / no motion yet
+    case 3: return 5;  // the manual control mode: computer control enabled (no pendant)
     case 4: return 0;  // no front-panel or hardware flag (the E-stop bit 4 is clear)
     case 5: return 1;  // automatic mode
     case 9: return moving() ? 1 : 0;  // a motion under way
     default: raise(Message::not_supported, fmt::format("STATE({})", select));
+  }
+}
+
+// SPEED(select) [assumption: the selectors as recalled from the V+ reference, dialect §7]:
+// 1 the monitor speed, 2 the program speed set with ALWAYS, 3 the speed of the next motion (a
+// SPEED without ALWAYS not used yet, else 2's).
+double Evaluator::speed_factor(int select) const {
+  switch (select) {
+    case 1: return speed_monitor_;
+    case 2: return speed_always_;
+    case 3: return speed_next_.value_or(speed_always_);
+    default: raise(Message::not_supported, fmt::format("SPEED({})", select));
   }
 }
 

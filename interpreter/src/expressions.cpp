@@ -104,7 +104,12 @@ Node ExpressionCompiler::operand(const ast::Operand& o) {
   return boost::apply_visitor(Visitor{*this}, o);
 }
 
-Node ExpressionCompiler::variable(const ast::VarRef& v, bool whole_array_ok) {
+void ExpressionCompiler::note_shape(const std::string& name, bool array) {
+  const auto [it, added] = shapes_.emplace(name, array);
+  if (!added && it->second != array) error(fmt::format("{} is used both as a scalar and as an array", name));
+}
+
+Node ExpressionCompiler::variable(const ast::VarRef& v, bool whole_array_ok, bool shape_use) {
   Node n;
   n.kind = NodeKind::variable;
   n.text = normalize_name(v.name);
@@ -117,6 +122,7 @@ Node ExpressionCompiler::variable(const ast::VarRef& v, bool whole_array_ok) {
       for (const ast::Expr& e : v.subscript) n.kids.push_back(expression(e));
     }
   }
+  if (shape_use) note_shape(n.text, n.subscripted);
   // Lookup: parameters and AUTO, then LOCAL, then GLOBAL (dialect §2).
   for (std::size_t i = 0; i < prog_.params.size(); ++i)
     if (prog_.params[i].name == n.text) {
@@ -180,13 +186,20 @@ Node ExpressionCompiler::function(const ast::Call& call) {
         return n;
       }
       n.kids.push_back(variable(*v, false));
+    } else if (*f == Func::decode_s && i == 0) {  // $DECODE(var, ...): takes the front of var
+      const ast::VarRef* v = plain_variable(*call.args[i], true);
+      if (!v || v->name[0] != '$' || ast::is_whole_array(*v)) {
+        error("$DECODE needs a string variable");
+        return n;
+      }
+      n.kids.push_back(variable(*v, false));
     } else if (*f == Func::defined || *f == Func::last) {
       const ast::VarRef* v = plain_variable(*call.args[i], true);
       if (!v || (*f == Func::last && !ast::is_whole_array(*v))) {
         error(*f == Func::last ? "LAST needs an array a[]" : "DEFINED needs a variable");
         return n;
       }
-      n.kids.push_back(variable(*v, *f == Func::last));
+      n.kids.push_back(variable(*v, *f == Func::last, *f == Func::last));
     } else {
       n.kids.push_back(expression(*call.args[i]));
     }

@@ -7,6 +7,7 @@
 #include "code.hpp"
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace asimov::interpreter {
@@ -21,8 +22,13 @@ class ExpressionCompiler {
       : symbols_(symbols), prog_(program), error_(std::move(error)) {}
 
   Node expression(const ast::Expr& e);
-  // `whole_array_ok`: a[] is allowed (a CALL argument, LAST).
-  Node variable(const ast::VarRef& v, bool whole_array_ok);
+  // `whole_array_ok`: a[] is allowed (a CALL argument, LAST). `shape_use`: the reference says
+  // whether the name is a scalar or an array (false: DEFINED, a by-reference CALL argument).
+  Node variable(const ast::VarRef& v, bool whole_array_ok, bool shape_use = true);
+  // A program's names are each a scalar or an array (dialect §2): the first use or declaration
+  // of a name decides, a later one of the other shape is an error. new_scope() forgets them.
+  void note_shape(const std::string& name, bool array);
+  void new_scope() { shapes_.clear(); }
   // TYPE and $ENCODE items: a format (code in upper case) or an expression (code 0).
   void format_items(const ast::TypeStmt& t, std::vector<ast::Format>& formats, std::vector<Node>& values);
 
@@ -40,6 +46,7 @@ class ExpressionCompiler {
   Symbols& symbols_;
   const Program& prog_;
   ErrorSink error_;
+  std::unordered_map<std::string, bool> shapes_;  // name -> used as an array, in this program
   int depth_ = 0;  // nesting of expression(): only whole expressions are marked and compiled
 };
 

@@ -15,7 +15,7 @@
 namespace asimov::interpreter {
 namespace {
 
-constexpr std::array<FunctionInfo, 66> kFunctions = {{
+constexpr std::array<FunctionInfo, 69> kFunctions = {{
     {"sin", 1, 1},      {"cos", 1, 1},      {"tan", 1, 1},     {"asin", 1, 1},
     {"acos", 1, 1},     {"atan2", 2, 2},    {"sqrt", 1, 1},    {"sqr", 1, 1},
     {"abs", 1, 1},      {"int", 1, 1},      {"fract", 1, 1},   {"sign", 1, 1},
@@ -32,13 +32,13 @@ constexpr std::array<FunctionInfo, 66> kFunctions = {{
     {"select", 1, 1},   {"status", 1, 1},   {"getc", 1, 2},    {"iostat", 1, 2},
     {"tas", 2, 2},      {"#pdest", 0, 0},   {"$lngb", 1, 1},   {"lngb", 1, 2},
     {"$intb", 1, 1},    {"intb", 1, 2},     {"$fltb", 1, 1},   {"fltb", 1, 2},
-    {"priority", 0, 0},
+    {"speed", 1, 1},    {"$time", 0, 2},    {"$decode", 3, 3},  {"priority", 0, 0},
     {"", 0, -1},
 }};
 static_assert(kFunctions.size() == static_cast<std::size_t>(Func::count));
 
 // Dialect §7: functions that load, and stop the program with *Not supported in simulation*.
-constexpr std::string_view kVplusFunctions[] = {"$decode"};
+constexpr std::array<std::string_view, 0> kVplusFunctions{};
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
@@ -285,6 +285,9 @@ Value call_function(Func f, const std::vector<std::optional<Value>>& args,
     case Func::getc:
     case Func::iostat:
     case Func::tas:
+    case Func::speed:
+    case Func::time_s:
+    case Func::decode_s:
     case Func::priority:
     case Func::count: break;
   }

@@ -16,8 +16,9 @@ enum class Func : int {
   distance, shift, tool, base, len, chr, asc, val, defined, sig, timer, mid, last, frame,
   parameter, switch_, inrange, state, task, error, error_text, select, status, getc, iostat, tas, pdest,
   lngb_s, lngb, intb_s, intb, fltb_s, fltb,  // binary records: $LNGB LNGB $INTB INTB $FLTB FLTB
+  speed, time_s, decode_s,  // SPEED(select), $TIME([date, time]), $DECODE(var, breaks, mode)
   priority,  // PRIORITY(): the program priority (dialect §7c)
-  vplus,  // a V+ function that loads but is not simulated (dialect §7): $DECODE
+  vplus,  // a V+ function that loads but is not simulated (dialect §13)
   count
 };
 

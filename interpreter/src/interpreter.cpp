@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <set>
 #include <fstream>
 #include <sstream>
 
@@ -38,6 +39,18 @@ void locate_in_programs(const ParsedSource& source, std::vector<Diagnostic>& dia
       if (in && in->kw == ast::Kw::dot_end) break;
     }
   }
+}
+
+// The program whose lines hold file line `line` (its .PROGRAM line included); "" outside all.
+std::string program_at(const ParsedSource& source, int line) {
+  for (int i = std::min(line, static_cast<int>(source.lines.size())) - 1; i >= 0; --i) {
+    const auto& stmt = source.lines[static_cast<std::size_t>(i)].statement;
+    if (!stmt) continue;
+    if (const auto* h = boost::get<ast::ProgramHeader>(&*stmt)) return normalize_name(h->name);
+    const auto* in = boost::get<ast::Instruction>(&*stmt);
+    if (in && in->kw == ast::Kw::dot_end && i + 1 < line) return {};
+  }
+  return {};
 }
 
 }  // namespace
@@ -70,6 +83,16 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   Memory& m = impl_->memory;
   CheckResult checked = check_source(parsed, m.symbols, impl_->sim.robot().joint_count());
   locate_in_programs(parsed, parsed.errors);
+  // V+ LOAD: a program with an error is marked not executable and the rest loads. An error
+  // outside the programs (stray text, a data row) or a file-wide limit still loads nothing.
+  std::set<std::string> broken;
+  bool loadable = !parsed.truncated;
+  for (const std::vector<Diagnostic>* group : {&parsed.errors, &checked.errors})
+    for (const Diagnostic& d : *group) {
+      const std::string name = d.line > 0 ? program_at(parsed, d.line) : std::string();
+      if (name.empty()) loadable = false;
+      else broken.insert(name);
+    }
   // Syntax errors first, then checker errors, each group in line order; at most 20.
   std::vector<Diagnostic> all = std::move(parsed.errors);
   all.insert(all.end(), checked.errors.begin(), checked.errors.end());
@@ -83,7 +106,9 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
     note.file = file_name;
     all.push_back(std::move(note));
   }
-  if (!all.empty()) return all;  // nothing is loaded (the checker reports errors only)
+  // V+ LOAD: a program with an error is marked not executable and the rest loads. An error
+  // outside the programs (stray text, a data row, a file-wide limit) still loads nothing.
+  if (!loadable) return all;
   // The data of this load must fit beside what the process holds (docs/limits.md); this
   // estimate leaves out the index tables, whose charge can still end the assignment below.
   auto out_of_memory = [&](const std::string& detail) {
@@ -115,15 +140,18 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
   }
   std::vector<int> installed;  // program slots of this load
   for (Program& p : checked.programs) {
+    p.executable = broken.count(p.name) == 0;
     const int slot = m.symbols.program(p.name);
     installed.push_back(slot);
     m.programs.resize(m.symbols.programs.size());
     if (!m.programs[static_cast<std::size_t>(slot)]) m.load_order.push_back(p.name);
     m.programs[static_cast<std::size_t>(slot)] = std::make_shared<const Program>(std::move(p));
   }
-  // A CALL to a program that nothing loaded is a warning now, an error when it executes.
+  // A CALL to a program that nothing loaded is a warning now, an error when it executes (of a
+  // program that can run: one marked not executable has its errors reported).
   for (int slot : installed) {
     const auto& p = m.programs[static_cast<std::size_t>(slot)];
+    if (!p->executable) continue;
     for (const Instr& in : p->code) {
       if ((in.code != Code::call && in.code != Code::execute) || m.programs[static_cast<std::size_t>(in.program)])
         continue;
@@ -163,6 +191,25 @@ bool Interpreter::has_program(const std::string& name) const {
   const auto it = m.symbols.program_slots.find(normalize_name(name));
   return it != m.symbols.program_slots.end() && static_cast<std::size_t>(it->second) < m.programs.size()
       && m.programs[static_cast<std::size_t>(it->second)];
+}
+
+std::optional<std::string> Interpreter::not_executable_from(const std::string& name) const {
+  const Memory& m = impl_->memory;
+  std::vector<int> todo;
+  std::set<int> seen;
+  const auto it = m.symbols.program_slots.find(normalize_name(name));
+  if (it != m.symbols.program_slots.end()) todo.push_back(it->second);
+  while (!todo.empty()) {
+    const int slot = todo.back();
+    todo.pop_back();
+    if (!seen.insert(slot).second || static_cast<std::size_t>(slot) >= m.programs.size()) continue;
+    const auto& p = m.programs[static_cast<std::size_t>(slot)];
+    if (!p) continue;
+    if (!p->executable) return p->name;
+    for (const Instr& in : p->code)
+      if (in.code == Code::call || in.code == Code::execute) todo.push_back(in.program);
+  }
+  return std::nullopt;
 }
 
 std::optional<std::string> Interpreter::set_signal(int k) { return impl_->eval().monitor_signal(k); }

@@ -579,10 +579,10 @@ CommandStatus Monitor::cmd_load(Args rest) {
     out_ << (d.warning ? "Warning: " : "") << format_diagnostic(d);
     error = error || !d.warning;
   }
-  if (error) return CommandStatus::failed;  // nothing was loaded
+  // With errors the programs that had none are loaded all the same (dialect §8): still a failure.
   for (std::size_t i = 0; i < before.size() && i < m.programs.size(); ++i)
     if (before[i] && m.programs[i] != before[i]) out_ << "Program replaced: " << m.symbols.programs[i] << '\n';
-  return CommandStatus::ok;
+  return error ? CommandStatus::failed : CommandStatus::ok;
 }
 
 CommandStatus Monitor::cmd_store(Args rest, bool locations_only) {

@@ -5,6 +5,7 @@
 
 #include "instructions.hpp"
 #include "limits.hpp"
+#include "module_format.hpp"
 
 #include <fmt/format.h>
 #include <boost/fusion/include/adapt_struct.hpp>
@@ -31,6 +32,7 @@ BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Binding, kw, target, value)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ForStmt, var, from, to, step)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::IfStmt, cond, goto_label)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::CallStmt, name, args)
+BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::CallsStmt, program, args)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::Format, code, width, decimals)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::TypeStmt, kw, items)
 BOOST_FUSION_ADAPT_STRUCT(asimov::interpreter::ast::ProgramHeader, name, params)
@@ -136,7 +138,7 @@ struct unsupported_table : x3::symbols<x3::unused_type> {
   unsupported_table() {
     for (const char* w : {"select",
                           "set.event", "clear.event",
-                          "teach", "calls", "calibrate"})
+                          "teach", "calibrate"})
       add(w);
   }
 } const unsupported_words;
@@ -191,6 +193,8 @@ x3::rule<class assignment_class, ast::Binding> const assignment = "assignment";
 x3::rule<class for_class, ast::ForStmt> const for_stmt = "FOR";
 x3::rule<class if_class, ast::IfStmt> const if_stmt = "IF";
 x3::rule<class call_stmt_class, ast::CallStmt> const call_stmt = "CALL";
+x3::rule<class calls_stmt_class, ast::CallsStmt> const calls_stmt = "CALLS";
+x3::rule<class calls_target_class, ast::Operand> const calls_target = "string";
 x3::rule<class format_class, ast::Format> const format = "format";
 x3::rule<class type_item_class, ast::TypeItem> const type_item = "TYPE item";
 x3::rule<class type_class, ast::TypeStmt> const type_stmt = "TYPE";
@@ -274,6 +278,9 @@ const auto for_stmt_def = kw("for") > variable > '=' > expression > to_keyword >
 const auto if_stmt_def = kw("if") > expression > -(kw("goto") > label) > -kw("then");
 // call = CALL name [ "(" arguments ")" ]
 const auto call_stmt_def = kw("call") > word > -('(' > arguments > ')');
+// calls = CALLS ( string | variable ) [ "(" arguments ")" ]    (not followed by "=")
+const auto calls_target_def = string_literal | variable;
+const auto calls_stmt_def = kw("calls") >> !x3::lit('=') > calls_target > -('(' > arguments > ')');
 // format = "/D" | "/S" | "/N" | "/F" w "." d | "/I" w | "/X" [n] | "/C" [n]   (/N: no wait, no effect)
 const auto format_def = x3::lexeme['/' >> (
     (x3::no_case[x3::char_("dsn")] >> x3::attr(0u) >> x3::attr(0u))
@@ -310,10 +317,10 @@ const auto execute_head_def = (expression >> word) | (x3::attr(ast::Expr()) >> w
 const auto execute_stmt_def = kw("execute") >> x3::omit[-x3::lexeme[x3::no_case[x3::lit("/c")] >> !name_char]]
     >> execute_head >> -('(' > arguments > ')') >> *(',' >> optional_expression);
 // statement = assignment (when the line reads `name [subscript] =`) | program_header
-//           | declaration | type | for | if | call | timer | accel | io | execute | instruction | unsupported
+//           | declaration | type | for | if | call | calls | timer | accel | io | execute | instruction | unsupported
 //           | binding
 const auto statement_def = (assignment_ahead >> assignment) | program_header | declaration | type_stmt
-    | for_stmt | if_stmt | call_stmt | timer_stmt | accel_stmt | io_stmt | execute_stmt | instruction
+    | for_stmt | if_stmt | call_stmt | calls_stmt | timer_stmt | accel_stmt | io_stmt | execute_stmt | instruction
     | unsupported | binding;
 
 // data_line = [ "$" | "#" ] name [ "[" int { "," int } "]" ] { [ "," ] number } [ string ]
@@ -326,7 +333,7 @@ BOOST_SPIRIT_DEFINE(data_line, word, identifier, label, number, string_literal, 
                     operand, unary, primary, call, function_name, arguments, var_name, variable, subscript, instruction,
                     binding, assignment, for_stmt, if_stmt, call_stmt, format, type_item, type_stmt, param,
                     program_header, statement, to_keyword, declaration, optional_expression, timer_stmt, accel_stmt,
-                    unsupported, encode, io_stmt, unit_args, execute_stmt, execute_head)
+                    unsupported, encode, io_stmt, unit_args, execute_stmt, execute_head, calls_stmt, calls_target)
 
 // skipper = blank | ";" { any }
 const auto skipper = x3::blank | (';' >> *x3::char_);
@@ -458,7 +465,7 @@ std::optional<TooComplex> too_complex(const std::string& text, std::int64_t& fil
 ParsedSource parse_source(const std::string& source, const std::string& file, std::int64_t max_file_operators) {
   ParsedSource out;
   out.file = file;
-  out.text = split_lines(source);
+  out.text = split_lines(module_text(source));  // the stored module format: dialect §1
   out.lines.resize(out.text.size());
 
   bool in_data = false;  // inside .LOCATIONS / .REALS / .STRINGS

@@ -1,5 +1,6 @@
-// The public API: atomic LOAD, diagnostics with program and step, names, replacing programs.
+// The public API: LOAD as V+ does it (programs with errors marked not executable), diagnostics with program and step, names, replacing programs.
 #include "interpreter_fixture.hpp"
+#include "interpreter/src/errors.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -8,7 +9,7 @@
 using asimov::test::InterpreterFixture;
 using asimov::interpreter::RunStatus;
 
-TEST_CASE("a load with any error loads nothing and reports everything", "[interpreter]") {
+TEST_CASE("a load reports every error and marks the program with errors not executable", "[interpreter]") {
   InterpreterFixture f;
   const auto d = f.load(".PROGRAM good()\n  TYPE 1\n.END\n"
                         ".PROGRAM pick()\n  x = 1\n  total = (n + 2 * k\n  IF x THEN\n  GOTO 77\n.END\n");
@@ -22,8 +23,59 @@ TEST_CASE("a load with any error loads nothing and reports everything", "[interp
   CHECK(d[2].detail == "undefined label 77");
   CHECK(asimov::interpreter::format_diagnostic(d[0]) ==
         "*Syntax error*  expected \")\"\n test.v2:6:21  (pick, step 2)\n      total = (n + 2 * k\n                        ^\n");
-  CHECK_FALSE(f.interp.has_program("good"));
+  // As V+ loads: pick is marked not executable, good loads and runs.
+  CHECK(f.interp.program_names() == std::vector<std::string>{"good", "pick"});
+  CHECK(f.interp.run("good").status == RunStatus::completed);
+  CHECK(f.out.str() == "1\n");
+  const auto r = f.interp.run("pick");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Program not executable*");
+  CHECK(r.error.detail == "pick");
+  CHECK(f.interp.not_executable_from("good") == std::nullopt);
+  CHECK(f.interp.not_executable_from("pick") == "pick");
+}
+
+TEST_CASE("calling a program marked not executable stops with V+'s error", "[interpreter]") {
+  InterpreterFixture f;
+  const auto d = f.load(".PROGRAM main()\n  TYPE \"main\"\n  CALL ok()\n  CALL bad(1)\n  TYPE \"never\"\n.END\n"
+                        ".PROGRAM ok()\n  TYPE \"ok\"\n.END\n"
+                        ".PROGRAM bad(n)\n  TYPE n +\n.END\n"
+                        ".PROGRAM starter()\n  EXECUTE 1 bad(2)\n.END\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].program == "bad");
+  CHECK(d[0].line == 11);
+  CHECK(f.interp.not_executable_from("main") == "bad");
+  CHECK(f.interp.not_executable_from("ok") == std::nullopt);
+  auto r = f.interp.run("main");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Program not executable*");
+  CHECK(r.error.detail == "bad");
+  CHECK(r.program == "main");
+  CHECK(r.step == 3);
+  CHECK(f.out.str() == "main\nok\n");
+  r = f.interp.run("starter");
+  REQUIRE(r.status == RunStatus::error);
+  CHECK(r.error.message == "*Program not executable*");
+  CHECK(asimov::interpreter::error_code(r.error.message) == -304);
+  // Loading a corrected bad makes main run through.
+  REQUIRE(f.load(".PROGRAM bad(n)\n  TYPE n + 1\n.END\n").empty());
+  f.out.str("");
+  CHECK(f.interp.run("main").status == RunStatus::completed);
+  CHECK(f.out.str() == "main\nok\n2\nnever\n");
+}
+
+TEST_CASE("an error outside every program still loads nothing", "[interpreter]") {
+  InterpreterFixture f;
+  const auto d = f.load(".PROGRAM good()\n  TYPE 1\n.END\nstray text\n.PROGRAM other()\n.END\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].detail == "expected a statement");  // the stray line, outside every program
   CHECK(f.interp.program_names().empty());
+  // A program without .END is not loaded; the rest is.
+  InterpreterFixture g;
+  const auto e = g.load(".PROGRAM good()\n  TYPE 1\n.END\n.PROGRAM open()\n  TYPE 2\n");
+  REQUIRE(e.size() == 1);
+  CHECK(e[0].detail == ".PROGRAM without .END");
+  CHECK(g.interp.program_names() == std::vector<std::string>{"good"});
 }
 
 TEST_CASE("program names: load order, any case, replacement", "[interpreter]") {
@@ -138,13 +190,19 @@ TEST_CASE("data section errors", "[interpreter][data]") {
   CHECK(d[0].line == 2);
   CHECK(errors(".PROGRAM p()\n.REALS\n.END\n").size() >= 1);
   CHECK(errors(".REALS\nx = 1\n.END\n").size() == 1);  // syntax error in a data line
-  // Nothing is assigned when the load fails.
+  // Nothing is assigned when a data row is wrong; an error in a program marks only the program.
   InterpreterFixture f;
   REQUIRE(f.load(".REALS\nkeep 1\n.END\n").empty());
-  REQUIRE(f.load(".REALS\nkeep 2\n.END\n.PROGRAM p()\nGOTO 5\n.END\n").size() == 1);
-  const auto r = f.run(".PROGRAM show()\nTYPE keep\n.END\n", "show");
+  REQUIRE(f.load(".REALS\nkeep 2\nbad 1 2\n.END\n.PROGRAM p()\n.END\n").size() == 1);
+  CHECK_FALSE(f.interp.has_program("p"));
+  auto r = f.run(".PROGRAM show()\nTYPE keep\n.END\n", "show");
   REQUIRE(r.status == RunStatus::completed);
   CHECK(f.out.str() == "1\n");
+  REQUIRE(f.load(".REALS\nkeep 3\n.END\n.PROGRAM p()\nGOTO 5\n.END\n").size() == 1);
+  CHECK(f.interp.not_executable_from("p") == "p");
+  r = f.interp.run("show");
+  REQUIRE(r.status == RunStatus::completed);
+  CHECK(f.out.str() == "1\n3\n");
 }
 
 TEST_CASE("a block opener with a syntax error causes no second error", "[interpreter]") {

@@ -198,15 +198,41 @@ TEST_CASE("lines end at LF, CR LF, CR CR LF or CR; the last needs no newline", "
 }
 
 TEST_CASE("a control character is named", "[parser]") {
-  auto e = errors_of("x = 1\f");
+  auto e = errors_of("x = 1\f+ 2");  // a form feed inside a statement is no page break
   REQUIRE(e.size() == 1);
   CHECK(e[0].detail == "control character 0x0C (form feed)");
   CHECK(e[0].column == 6);
-  CHECK(errors_of("x = 1 \x1a")[0].detail == "control character 0x1A (Ctrl-Z)");
+  CHECK(errors_of("x = 1 \x01")[0].detail == "control character 0x01 (Ctrl-A)");
+  CHECK(errors_of("x = 1 \x1a")[0].detail == "control character 0x1A (Ctrl-Z)");  // inside a statement
+  CHECK(errors_of("x = \x1b")[0].detail == "control character 0x1B (escape)");
   CHECK(errors_of(std::string("x = 1", 5) + std::string(1, '\0'))[0].detail == "control character 0x00 (NUL)");
   CHECK(errors_of("$s = \"a\x7f\"")[0].detail == "control character 0x7F (delete)");
   CHECK(errors_of("x = 1 ; \f in a comment").empty());
   CHECK(errors_of("x = 1\t; a tab is a blank").empty());
+}
+
+TEST_CASE("a module as the controller stores it loads: form feeds, Ctrl-Z, NUL padding, a BOM", "[parser]") {
+  // The issue 31 reproducer: a form feed line between the programs, Ctrl-Z at the end.
+  const auto p = parse_source(".PROGRAM a()\n TYPE \"a\"\n.END\n\f\n.PROGRAM b()\n CALL a()\n.END\n\x1a", "m.v2");
+  CHECK(p.errors.empty());
+  CHECK(p.text.size() == 7);
+  // Adept's tools: CR LF lines, a form feed after each .END, Ctrl-Z, then the sector's padding.
+  const auto adept = parse_source("\xEF\xBB\xBF.PROGRAM a()\r\n  x = (1\r\n.END\f\r\n\f.PROGRAM b()\r\n.END\r\n\x1a"
+                                  + std::string(5, '\0') + "\x1a garbage \x01\x02",
+                                  "m.v2");
+  REQUIRE(adept.errors.size() == 1);  // the one real error, where an editor shows it
+  CHECK(adept.errors[0].line == 2);
+  CHECK(adept.errors[0].column == 9);
+  CHECK(adept.text.size() == 5);
+  CHECK(adept.text[0] == ".PROGRAM a()");  // the BOM is not text: columns count after it
+  // Trailing NULs without Ctrl-Z; a form feed among leading blanks; an .END in other spellings.
+  CHECK(parse_source(".PROGRAM a()\n \f TYPE 1\n.end  ; done\n" + std::string(512, '\0'), "m.v2").errors.empty());
+  CHECK(parse_source(".PROGRAM a()\n  TYPE 1\n  .End\t\f\n", "m.v2").errors.empty());
+  CHECK(parse_source(".PROGRAM a()\r\n  TYPE 1\r\n.END\x1a\xff\xfe garbage", "m.v2").errors.empty());  // right after .END
+  // A NUL that is not padding at the end keeps its error.
+  const auto nul = parse_source(std::string(".PROGRAM a()\n x = 1\0\n.END\n", 26), "m.v2");
+  REQUIRE(nul.errors.size() == 1);
+  CHECK(nul.errors[0].detail == "control character 0x00 (NUL)");
 }
 
 TEST_CASE("a # where the parse stops gets the comment hint", "[parser]") {

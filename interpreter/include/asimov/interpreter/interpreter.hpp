@@ -127,14 +127,19 @@ class Interpreter {
   Interpreter(motion::Simulator& sim, std::ostream& out);
   ~Interpreter();
 
-  // Parses and checks `text` as file `file_name`. All problems are returned together; if any
-  // is an error (not a warning), nothing is added to memory.
+  // Parses and checks `text` as file `file_name`. All problems are returned together. As V+
+  // loads (dialect §8), a program with an error is loaded marked not executable and the rest
+  // of the file loads; an error outside every program (stray text, a data section) or past a
+  // file-wide limit loads nothing.
   std::vector<Diagnostic> load_source(const std::string& text, const std::string& file_name);
   // Reads the file then load_source; a missing file is a "*File not found*" diagnostic.
   std::vector<Diagnostic> load_file(const std::string& path);
 
   std::vector<std::string> program_names() const;  // in load order
   bool has_program(const std::string& name) const;
+  // The first program that `name` or a program it reaches by CALL or EXECUTE (as written) that
+  // LOAD marked not executable; nullopt when all of them can run (those not loaded aside).
+  std::optional<std::string> not_executable_from(const std::string& name) const;
 
   // Runs `name` from its start; waits for the last motion to end.
   RunResult run(const std::string& name);
