@@ -1,14 +1,14 @@
-// Output files (report, trace, replay page, JUnit, updated expected files) are written to a
-// temporary name beside the target and renamed over it, so a reader never sees half a file
-// and a failed write leaves the old file as it was.
+// Output files of the app (report, trace, replay page, JUnit, updated expected files) go through
+// the one output writer, core::write_output_file (asimov/core/output_file.hpp): only a regular
+// file is replaced, the text is written beside the real target and renamed over it, and a
+// failure names the target and the errno text.
 #pragma once
 #include "asimov/core/result.hpp"
 #include <string>
 
 namespace asimov::app {
 
-// Writes `text` to `path` that way; the error ("cannot write PATH.tmpPID", ...) when the file
-// cannot be written (the temporary file is removed).
+// core::write_output_file(path, text).
 Result<void> write_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace asimov::app

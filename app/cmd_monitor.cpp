@@ -119,7 +119,8 @@ bool ask(const std::string& question) {
   std::cout << question << std::flush;
   std::string answer;
   char c = 0;
-  while (::read(STDIN_FILENO, &c, 1) == 1 && c != '\n') answer += c;
+  while (::read(STDIN_FILENO, &c, 1) == 1 && c != '\n')
+    if (answer.size() < 16) answer += c;  // only the first letter counts
   return !answer.empty() && (answer[0] == 'y' || answer[0] == 'Y');
 }
 
@@ -152,6 +153,16 @@ int interactive(interpreter::Monitor& monitor, bool strict) {
     }
     if (!got || count <= 0) {  // Ctrl-D on an empty line
       std::cout << '\n';
+      // While a program is typed, Ctrl-D ends it (as .END) and the monitor goes on; at the
+      // ". " prompt it ends the session.
+      if (monitor.entering_program()) {
+        if (monitor.execute(".END") == interpreter::CommandStatus::failed && strict) {
+          rc = kExitProgramError;
+          break;
+        }
+        std::cout << std::flush;
+        continue;
+      }
       if (monitor.end_of_input() == interpreter::CommandStatus::failed && strict) rc = kExitProgramError;
       break;
     }
@@ -174,11 +185,42 @@ int interactive(interpreter::Monitor& monitor, bool strict) {
   return rc;
 }
 
+// A monitor line (docs/limits.md): far above a typed command or program line, far below what
+// exhausts memory (a 300 MB line took 2.6 GB and was echoed twice in its error).
+constexpr std::size_t kMaxMonitorLine = 65536;
+
+// One line of `in` without its end, at most kMaxMonitorLine bytes kept (a longer one is read to
+// its end and `too_long` set); false at the end of input.
+bool read_line(std::istream& in, std::string& line, bool& too_long) {
+  line.clear();
+  too_long = false;
+  std::streambuf* buf = in.rdbuf();
+  bool any = false;
+  for (;;) {
+    const int c = buf ? buf->sbumpc() : std::char_traits<char>::eof();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      return any;
+    }
+    any = true;
+    if (c == '\n') return true;
+    if (line.size() < kMaxMonitorLine) line.push_back(static_cast<char>(c));
+    else too_long = true;
+  }
+}
+
 // Scripted mode: one command per line from stdin, no prompt, no confirmation.
 int scripted(interpreter::Monitor& monitor, std::istream& in, std::ostream& out, bool strict) {
   std::string line;
-  while (std::getline(in, line)) {
+  bool too_long = false;
+  while (read_line(in, line, too_long)) {
     sigint_flag().store(false);
+    if (too_long) {  // not run, not echoed: only its size is named
+      out << fmt::format("*Line too long*  a monitor line is longer than {} bytes (docs/limits.md)\n", kMaxMonitorLine);
+      out.flush();
+      if (strict) return kExitProgramError;
+      continue;
+    }
     const interpreter::CommandStatus s = monitor.execute(line);
     out.flush();
     if (s == interpreter::CommandStatus::quit) break;

@@ -5,6 +5,7 @@
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "asimov/collision/auto_pairs.hpp"
+#include "asimov/core/output_file.hpp"
 #include "asimov/motion/scene.hpp"
 
 #include <cstdlib>
@@ -27,6 +28,19 @@ std::string default_cell_cache() {
 }  // namespace
 
 int pairs_command(const PairsOptions& opt, std::ostream& out, std::ostream& err) {
+  // A --cache that may not be written (a device, FIFO, folder, or the cell file itself) is
+  // refused before anything is computed; the default cache beside the cell is then only skipped.
+  // (A missing folder stays a warning after the matrix is printed, as before.)
+  if (!opt.cache.empty()) {
+    std::error_code ec;
+    const bool present = std::filesystem::exists(std::filesystem::symlink_status(opt.cache, ec));
+    auto ok = present ? core::check_output_path(opt.cache) : Result<void>{};
+    if (ok) ok = core::check_outputs_apart({{"the cell file", opt.cell}}, {{"--cache", opt.cache}});
+    if (!ok) {
+      err << "*Cannot write file*  " << ok.error().message << '\n';
+      return kExitUsage;
+    }
+  }
   const auto loaded = cell::load_cell_for_command(opt.cell, err);
   if (!loaded) return kExitUsage;
   const motion::Cell& cell = *loaded;

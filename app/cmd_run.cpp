@@ -1,5 +1,6 @@
 // `asimov run` and `asimov check`: load a .v2 file into the interpreter, check it, run it.
 #include "app/atomic_file.hpp"
+#include "asimov/core/output_file.hpp"
 #include "asimov/cell/cell_loader.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
@@ -40,18 +41,26 @@ const interpreter::Diagnostic* first_error(const std::vector<interpreter::Diagno
   return nullptr;
 }
 
-// `path` "-" is standard output (`out`, after anything the program printed).
-int write_report(const std::string& path, const nlohmann::json& doc, std::ostream& out, std::ostream& err) {
-  if (path.empty()) return kExitCompleted;
+// `path` "-" is standard output (`out`, after anything the program printed). False when the
+// document could not be written (the message says which file and why).
+bool write_report(const std::string& path, const nlohmann::json& doc, std::ostream& out, std::ostream& err) {
+  if (path.empty()) return true;
   if (path == "-") {
     out << doc.dump(2) << '\n';
     out.flush();
-    return out ? kExitCompleted : kExitUsage;
+    if (!out) err << "*Cannot write file*  standard output: the document was not written (a full disk or a closed pipe)\n";
+    return static_cast<bool>(out);
   }
   const Result<void> written = write_json_file(path, doc);
-  if (written) return kExitCompleted;
+  if (written) return true;
   err << "*Cannot write file*  " << written.error().message << '\n';
-  return kExitUsage;
+  return false;
+}
+
+// The run's own code stays (a collision is 3 even when its report was lost); a run that ended
+// well and lost an output exits kExitOutputLost (docs/cli.md).
+int with_outputs(int run_rc, bool outputs_written) {
+  return outputs_written || run_rc != kExitCompleted ? run_rc : kExitOutputLost;
 }
 
 // Progress of a long run on a terminal (stderr): simulated time, the program line of the motion
@@ -93,12 +102,21 @@ class RunProgress {
 }  // namespace
 
 bool require_file(const std::string& path, std::ostream& err) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    err << fmt::format("*File not found*  {}\n", path);
-    return false;
-  }
-  return true;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_regular_file(st)) return true;
+  // Something that is not a file is named as what it is (a FIFO would block a read, a device
+  // never end it); only a missing name is "not found".
+  const char* what = fs::is_directory(st)      ? "is a folder, not a file"
+                     : fs::is_fifo(st)          ? "is a FIFO, not a regular file"
+                     : fs::is_character_file(st) || fs::is_block_file(st) ? "is a device, not a regular file"
+                     : fs::is_socket(st)        ? "is a socket, not a regular file"
+                     : nullptr;
+  if (what) err << fmt::format("*Cannot read file*  {}: {}\n", path, what);
+  else if (ec && ec != std::errc::no_such_file_or_directory) err << fmt::format("*Cannot read file*  {}: {}\n", path, ec.message());
+  else err << fmt::format("*File not found*  {}\n", path);
+  return false;
 }
 
 int check_command(const std::string& file, std::ostream& out, std::ostream& err) {
@@ -118,19 +136,20 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
     return kExitUsage;
   }
   // Output files are checked before anything runs (exit 1 means nothing ran): the folder must
-  // exist (it is never created) and the name must not be a folder.
+  // exist (it is never created), only a regular file is replaced, and no output may be an
+  // input of the run or another output (docs/cli.md "Output files").
   for (const std::string* path : {&opt.report, &opt.trace, &opt.replay}) {
     if (path->empty() || (*path == "-" && path != &opt.replay)) continue;  // "-": stdout
-    std::error_code ec;
-    const auto folder = std::filesystem::path(*path).parent_path();
-    if (!folder.empty() && !std::filesystem::is_directory(folder, ec)) {
-      err << fmt::format("*Cannot write file*  {}: no folder {}\n", *path, folder.string());
+    if (const auto ok = core::check_output_path(*path); !ok) {
+      err << "*Cannot write file*  " << ok.error().message << '\n';
       return kExitUsage;
     }
-    if (std::filesystem::is_directory(*path, ec)) {
-      err << fmt::format("*Cannot write file*  {}: is a folder\n", *path);
-      return kExitUsage;
-    }
+  }
+  if (const auto apart = core::check_outputs_apart({{"the program file", opt.file}, {"the cell file", opt.cell}},
+                                                   {{"--report", opt.report}, {"--trace", opt.trace}, {"--replay", opt.replay}});
+      !apart) {
+    err << "*Cannot write file*  " << apart.error().message << '\n';
+    return kExitUsage;
   }
   // Files are confined to one folder: --files DIR, or the program file's own (dialect §7a).
   if (std::error_code ec; !opt.files.empty() && !std::filesystem::is_directory(opt.files, ec)) {
@@ -164,11 +183,12 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   const auto diags = interp.load_file(opt.file);
   sim.recorders().timing.timing.parse_s += since(parse_start);
   // A program with an error is loaded marked not executable (dialect §8): the run goes on when
-  // the main program and every program it calls can run; otherwise it stops here, exit 2.
+  // the main program and every program it calls can run; otherwise it stops here, exit 2 (a
+  // report that could not be written is said, the code stays the program error's).
   const bool load_errors = print_diagnostics(diags, err);
   auto load_failed = [&] {
-    const int rc = write_report(opt.report, load_error_report(opt.file, *first_error(diags)), out, err);
-    return rc != kExitCompleted ? rc : kExitProgramError;
+    write_report(opt.report, load_error_report(opt.file, *first_error(diags)), out, err);
+    return kExitProgramError;
   };
   if (load_errors && interp.program_names().empty()) return load_failed();
 
@@ -195,9 +215,12 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
 
   // Ctrl-C stops the program where it is (the arm at its last checked pose) and the report and
   // trace are still written; a second Ctrl-C ends the process at once.
+  // SIGTERM and SIGHUP stop it the same way (the report written), then end the process by that
+  // signal once the outputs are written (docs/cli.md).
   sigint_flag().store(false);
   interp.limits().interrupt = &sigint_flag();
   install_sigint(true);
+  install_termination();
   std::optional<RunProgress> progress;
   if (&err == &std::cerr && ::isatty(STDERR_FILENO) == 1) {
     progress.emplace(sim, opt.file, err);
@@ -206,12 +229,19 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
   interpreter::RunResult result = interp.run(main);
   sim.set_pose_hook({});
   progress.reset();  // erases the progress line before the messages
-  signal(SIGINT, SIG_DFL);
+  // While the outputs are written a Ctrl-C is held (the writing is bounded: the recordings are
+  // capped), so a second Ctrl-C never leaves a new report beside an old trace.
+  install_sigint(false);
   out.flush();
   RunSummary summary = summarize_run(opt.file, std::move(result), sim, since(start));
   if (const auto* cell = interp.cell_state()) summary.workcell = workcell_json(*cell);
 
   for (const auto& w : summary.result.warnings) err << "Warning: " << interpreter::format_diagnostic(w);
+  for (const auto& [name, truncated] : {std::pair{"trace", sim.recorders().trace.truncated},
+                                        std::pair{"replay", sim.recorders().replay.truncated}})
+    if (truncated)
+      err << fmt::format("Warning: the {} holds its first {} samples only (docs/limits.md)\n", name,
+                         motion::kMaxRecordedSamples);
   int rc = kExitCompleted;
   switch (summary.result.status) {
     case interpreter::RunStatus::completed:
@@ -231,16 +261,24 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
       rc = kExitCollision;
       break;
   }
-  if (int w = write_report(opt.report, run_report(summary), out, err); w != kExitCompleted) return w;
-  if (int w = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.recorders().trace.samples), out, err);
-      w != kExitCompleted)
-    return w;
+  // Every output is attempted even when one fails (a lost report does not take the trace with it).
+  bool written = write_report(opt.report, run_report(summary), out, err);
+  written = write_report(opt.trace, trace_document(summary.result.program, sim.robot(), sim.recorders().trace.samples), out, err) &&
+            written;
   if (!opt.replay.empty())
-    if (const auto written = write_file_atomically(opt.replay, replay_html(replay_assets, replay_data(opt.file, sim, summary.result)));
-        !written) {
-      err << "*Cannot write file*  " << written.error().message << '\n';
-      return kExitUsage;
+    if (const auto page = write_file_atomically(opt.replay, replay_html(replay_assets, replay_data(opt.file, sim, summary.result)));
+        !page) {
+      err << "*Cannot write file*  " << page.error().message << '\n';
+      written = false;
     }
+  out.flush();
+  if (!out && opt.report != "-" && opt.trace != "-") {  // TYPE output to a full disk or a closed pipe is not lost silently
+    err << "*Cannot write file*  standard output: the program's output was not all written\n";
+    written = false;
+  }
+  rc = with_outputs(rc, written);
+  signal(SIGINT, SIG_DFL);
+  reraise_termination();  // ends the process by SIGTERM / SIGHUP if one stopped the run
   return rc;
 }
 

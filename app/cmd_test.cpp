@@ -1,6 +1,7 @@
 // `asimov test [PATH...]`: runs every sample-program case under the paths as `asimov run` would
 // and compares with the expected files (app/suite.hpp; formats in programs/README.md).
 #include "app/atomic_file.hpp"
+#include "asimov/core/output_file.hpp"
 #include "app/commands.hpp"
 #include "app/exit_codes.hpp"
 #include "app/report.hpp"
@@ -145,6 +146,16 @@ int merge_junit_command(const TestOptions& opt, std::ostream& out, std::ostream&
     err << "*Invalid argument*  --merge-junit OUT needs the JUnit files to merge as PATHs\n";
     return kExitUsage;
   }
+  {
+    std::vector<core::NamedPath> inputs;
+    for (const auto& path : opt.paths) inputs.push_back({"a JUnit file to merge", path});
+    auto ok = core::check_output_path(opt.merge_junit);
+    if (ok) ok = core::check_outputs_apart(inputs, {{"--merge-junit", opt.merge_junit}});
+    if (!ok) {
+      err << "*Cannot write file*  " << ok.error().message << '\n';
+      return kExitUsage;
+    }
+  }
   std::string body;
   std::size_t tests = 0, failures = 0;
   double time_s = 0;
@@ -257,10 +268,15 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
     return kExitCompleted;
   }
   if (!opt.junit.empty()) {
-    std::error_code ec;
-    const fs::path folder = fs::path(opt.junit).parent_path();
-    if (!folder.empty() && !fs::is_directory(folder, ec)) {
-      err << fmt::format("*Cannot write file*  {}: no folder {}\n", opt.junit, folder.string());
+    // The JUnit file must be writable and must not be one of the cases' own files.
+    std::vector<core::NamedPath> inputs;
+    for (const auto& c : cases)
+      for (const char* ext : {".v2", ".session", ".expect.json", ".cell.yaml"})
+        if (std::error_code ec; fs::exists(c.file(ext), ec)) inputs.push_back({"a file of case " + c.name, c.file(ext).string()});
+    auto ok = core::check_output_path(opt.junit);
+    if (ok) ok = core::check_outputs_apart(inputs, {{"--junit", opt.junit}});
+    if (!ok) {
+      err << "*Cannot write file*  " << ok.error().message << '\n';
       return kExitUsage;
     }
   }
@@ -386,7 +402,7 @@ int test_command(const TestOptions& opt, std::ostream& out, std::ostream& err) {
   if (!opt.junit.empty()) {
     if (const auto written = write_file_atomically(opt.junit, junit_document(cases, outcomes, failed, total_s, opt)); !written) {
       err << "*Cannot write file*  " << written.error().message << '\n';
-      return kExitUsage;
+      return failed == 0 ? kExitOutputLost : kExitTestFailed;  // the cases' verdict stays
     }
   }
   return failed == 0 ? kExitCompleted : kExitTestFailed;

@@ -9,6 +9,8 @@ enum ExitCode : int {
   kExitProgramError = 2,  // syntax, runtime, out of reach, joint limit
   kExitCollision = 3,     // halted by collision
   kExitTestFailed = 4,    // `asimov test`: at least one case failed
+  kExitOutputLost = 5,    // the run ended well (0) but an output file could not be written; a run
+                          // that failed keeps its own code (a collision is 3 with a lost report)
   kExitInterrupted = 130, // `asimov run` stopped by Ctrl-C (128 + SIGINT, as shells report it)
 };
 

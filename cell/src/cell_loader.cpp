@@ -1,5 +1,6 @@
 #include "asimov/cell/cell_loader.hpp"
 
+#include "duplicate_keys.hpp"
 #include "fields.hpp"
 
 #include "asimov/collision/mesh_io.hpp"
@@ -492,6 +493,10 @@ motion::Cell parse_cell_or_throw(const std::string& yaml, const std::string& sou
   } catch (const YAML::ParserException& e) {
     throw CellError{e.msg, source_name, e.mark.line + 1, e.mark.column + 1};
   }
+  if (const auto dup = first_duplicate_key(yaml))
+    throw CellError{fmt::format("duplicate key '{}' (first given at line {}); a key is given once per map", dup->key,
+                                dup->first_line),
+                    source_name, dup->line, dup->column};
   try {
     return reader.cell(root);
   } catch (const YAML::Exception& e) {  // e.g. a map where a string was expected

@@ -1,6 +1,7 @@
 // The reacting cell's keys: parts (alone or in patterns), the gripper's grasp zone, devices
 // (conveyor, sensor, feeder, sink) and logic rules -> motion::Workcell (docs/cell-format.md).
 #include "fields.hpp"
+#include "placement_check.hpp"
 
 #include <fmt/format.h>
 
@@ -15,6 +16,8 @@ using motion::is_soft_signal;
 
 // Parts in one cell, declared and fed (docs/limits.md): each is a moving body of the scene.
 constexpr double kMaxParts = 10000;
+// Conveyor speed (docs/limits.md): 10 m/s, twice the fastest belts in industry.
+constexpr double kMaxConveyorSpeed = 10000;
 
 int integer(const Fields& f, const YAML::Node& n, double lo, double hi, const std::string& what) {
   const double v = f.number(n, what);
@@ -57,7 +60,8 @@ void add_name(const Fields& f, const YAML::Node& n, const std::string& name, std
 
 // {name, shape, at[, colour][, count: [nx, ny, nz], pitch: [px, py, pz]]}: a pattern is named
 // name1..nameN, x fastest, then y, then z, offset by the pitch along the `at` frame's axes.
-void parts(const Fields& f, const YAML::Node& list, motion::Cell& cell, std::set<std::string>& names) {
+void parts(const Fields& f, const YAML::Node& list, motion::Cell& cell, std::set<std::string>& names,
+           std::vector<YAML::Node>& nodes) {
   if (!list.IsSequence()) f.fail(list, "parts must be a list");
   for (const auto& p : list) {
     f.expect_keys(p, {"name", "box", "cylinder", "sphere", "mesh", "scale", "at", "colour", "count", "pitch"}, "a part");
@@ -91,6 +95,7 @@ void parts(const Fields& f, const YAML::Node& list, motion::Cell& cell, std::set
           e.pose.translation() += d.pose.linear() * collision::Vec3(x * pitch.x(), y * pitch.y(), z * pitch.z());
           add_name(f, p["name"], e.name, names);
           cell.workcell.parts.push_back(std::move(e));
+          nodes.push_back(p);
         }
   }
 }
@@ -142,7 +147,11 @@ void conveyor(const Fields& f, const YAML::Node& d, motion::Cell& cell, std::set
   if (d["direction"]) {
     const auto v = f.numbers(d["direction"], 3, "conveyor '" + c.name + "' direction");
     c.direction = {v[0], v[1], v[2]};
-    if (!(c.direction.norm() > 0)) f.fail(d["direction"], "a conveyor's direction must not be zero");
+    // Scaled before it is normalised: the norm of [1e308, 1e308, 0] overflows to infinity and
+    // a plain normalize() gave the zero vector (a belt that never moved).
+    const double scale = c.direction.cwiseAbs().maxCoeff();
+    if (!(scale > 0)) f.fail(d["direction"], "a conveyor's direction must not be zero");
+    c.direction /= scale;
     c.direction.normalize();
   }
   // The belt carries along its top face: a direction out of that plane would lift parts.
@@ -151,6 +160,10 @@ void conveyor(const Fields& f, const YAML::Node& d, motion::Cell& cell, std::set
   if (!d["speed_mm_s"]) f.fail(d, "a conveyor needs speed_mm_s");
   c.speed_mm_s = f.number(d["speed_mm_s"], "speed_mm_s");
   if (c.speed_mm_s < 0) f.fail(d["speed_mm_s"], "speed_mm_s must be >= 0 (reverse the direction instead)");
+  // A belt faster than any real one only breaks the arithmetic: at 1e20 mm/s a part crossed
+  // its belt in less than the clock's resolution (docs/limits.md).
+  if (c.speed_mm_s > kMaxConveyorSpeed)
+    f.fail(d["speed_mm_s"], fmt::format("speed_mm_s must be at most {:g} mm/s, got {:g}", kMaxConveyorSpeed, c.speed_mm_s));
   if (d["signal"]) c.signal = signal(f, d["signal"], "conveyor signal");
   add_name(f, d["conveyor"], c.name, names);
   cell.objects.push_back({c.name, collision::make_box(c.body.size), c.body.pose});
@@ -269,8 +282,24 @@ void logic(const Fields& f, const YAML::Node& list, motion::Cell& cell) {
 }
 }  // namespace
 
+// A feeder whose feed pose lies in a sink that is always open: each part would be removed as it
+// appears and the next one fed at the same instant (a 10,000-part feeder ran 17 s into an
+// internal error). A gated sink (signal:) takes parts only at its edges and is allowed.
+void feeder_into_sink(const Fields& f, const YAML::Node& devices, const motion::Cell& cell) {
+  std::size_t k = 0;
+  for (const auto& dev : devices) {
+    if (!dev["feeder"]) continue;
+    const motion::Feeder& fd = cell.workcell.feeders[k++];
+    for (const auto& s : cell.workcell.sinks)
+      if (s.signal == 0 && s.region.contains(fd.part.pose.translation()))
+        f.fail(dev, fmt::format("feeder '{}' feeds into sink '{}', which removes every part at once; move the feeder or "
+                                "gate the sink with signal:", fd.name, s.name));
+  }
+}
+
 void read_workcell(const YAML::Node& root, const Fields& f, motion::Cell& cell, std::set<std::string>& names) {
-  if (const auto p = root["parts"]) parts(f, p, cell, names);
+  std::vector<YAML::Node> part_nodes;  // the entry that declared each part
+  if (const auto p = root["parts"]) parts(f, p, cell, names, part_nodes);
   if (const auto g = root["gripper"]) gripper(f, g, cell);
   if (const auto d = root["devices"]) {
     if (!d.IsSequence()) f.fail(d, "devices must be a list");
@@ -284,6 +313,8 @@ void read_workcell(const YAML::Node& root, const Fields& f, motion::Cell& cell, 
     }
   }
   if (const auto l = root["logic"]) logic(f, l, cell);
+  if (const auto d = root["devices"]) feeder_into_sink(f, d, cell);
+  if (const auto bad = first_misplaced_part(cell)) f.fail(part_nodes[bad->part], bad->message);
 }
 
 }  // namespace asimov::cell

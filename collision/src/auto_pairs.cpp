@@ -1,5 +1,8 @@
 #include "asimov/collision/auto_pairs.hpp"
 
+#include "asimov/collision/text_file.hpp"
+#include "asimov/core/output_file.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -178,32 +181,22 @@ AutoPairs generate_pairs(const AutoPairsInput& in) {
 }
 
 void save_pairs(const AutoPairs& p, const std::string& path) {
-  // A per-process temporary name (two runs at once never share one), removed on failure.
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  struct Cleanup {
-    const std::string& tmp;
-    bool armed = true;
-    ~Cleanup() {
-      std::error_code ec;
-      if (armed) std::filesystem::remove(tmp, ec);
-    }
-  } cleanup{tmp};
-  {
-    std::ofstream f(tmp);
-    if (!f) throw std::runtime_error(path + ": cannot write the pair cache");
-    char key[32];
-    std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(p.key));
-    f << "asimov-pairs 1\nkey " << key << "\nseed " << p.seed << "\nsamples " << p.samples << "\n";
-    for (const PairEntry& e : p.entries)
-      f << file_name(p.names[e.pair.a]) << ' ' << file_name(p.names[e.pair.b]) << ' ' << to_string(e.reason) << ' '
-        << e.contacts << "\n";
-    if (!f) throw std::runtime_error(path + ": cannot write the pair cache");
-  }
-  std::filesystem::rename(tmp, path);
-  cleanup.armed = false;
+  // Through the one output writer: only a regular file is replaced, written beside it and renamed.
+  std::ostringstream f;
+  char key[32];
+  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(p.key));
+  f << "asimov-pairs 1\nkey " << key << "\nseed " << p.seed << "\nsamples " << p.samples << "\n";
+  for (const PairEntry& e : p.entries)
+    f << file_name(p.names[e.pair.a]) << ' ' << file_name(p.names[e.pair.b]) << ' ' << to_string(e.reason) << ' '
+      << e.contacts << "\n";
+  if (const auto written = core::write_output_file(path, f.str()); !written)
+    throw std::runtime_error(written.error().message);
 }
 
 bool load_pairs(const std::string& path, std::uint64_t key, AutoPairs& out) {
+  // Only a regular file is a cache: a FIFO would block the read, a device never end it.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream f(path);
   std::string magic, version, word, hex;
   if (!(f >> magic >> version) || magic != "asimov-pairs" || version != "1") return false;
@@ -252,16 +245,19 @@ AutoPairs generate_pairs_cached(const AutoPairsInput& in, const std::string& cac
 }
 
 std::string format_pairs(const AutoPairs& p) {
+  // Names as a terminal may show them: a name's control characters (escape sequences) as '?'.
+  std::vector<std::string> names;
+  for (const std::string& s : p.names) names.push_back(printable(s));
   std::size_t w = 4;
-  for (const std::string& s : p.names) w = std::max(w, s.size());
+  for (const std::string& s : names) w = std::max(w, s.size());
   std::ostringstream o;
   char line[512];
   std::snprintf(line, sizeof line, "%-*s  %-*s  %-11s  %s\n", static_cast<int>(w), "body", static_cast<int>(w), "body",
                 "reason", "contacts");
   o << line;
   for (const PairEntry& e : p.entries) {
-    std::snprintf(line, sizeof line, "%-*s  %-*s  %-11s  %u/%u\n", static_cast<int>(w), p.names[e.pair.a].c_str(),
-                  static_cast<int>(w), p.names[e.pair.b].c_str(), to_string(e.reason), e.contacts, p.samples);
+    std::snprintf(line, sizeof line, "%-*s  %-*s  %-11s  %u/%u\n", static_cast<int>(w), names[e.pair.a].c_str(),
+                  static_cast<int>(w), names[e.pair.b].c_str(), to_string(e.reason), e.contacts, p.samples);
     o << line;
   }
   std::size_t tested = 0;

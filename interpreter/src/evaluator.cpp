@@ -670,6 +670,12 @@ RunStatus Evaluator::check_motion(const motion::MotionResult& r) {
 }
 
 RunStatus Evaluator::check_dwell(const motion::MotionResult& r, int line) {
+  if (r.status == motion::MotionStatus::interrupted && r.interrupt.waiting) {
+    // Ctrl-C in a wait with parts moving (WAIT.EVENT, a dwell): no motion halted, nothing to
+    // resume; reported at the statement that waited, which runs again on PROCEED.
+    if (!stack_.empty()) --stack_.back().pc;
+    return stop(fault(Message::interrupted));
+  }
   if (r.status == motion::MotionStatus::collision) {  // located at the statement that waited
     motion_program_ = current_program_;
     motion_line_ = line;

@@ -2,6 +2,8 @@
 
 #include "evaluator.hpp"
 
+#include "asimov/core/output_file.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -109,38 +111,8 @@ std::string store_text(const Memory& memory, const std::vector<std::string>& pro
 }
 
 Result<void> write_file_atomic(const std::string& path, const std::string& text) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  const std::string temp = path + ".tmp-" + std::to_string(::getpid());
-  auto fail = [&](const char* what) -> Result<void> {
-    Error e{fmt::format("{}: {} ({})", path, what, std::strerror(errno)), {}, path, 0};
-    ::unlink(temp.c_str());
-    return e;
-  };
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return Error{fmt::format("{}: cannot create ({})", path, std::strerror(errno)), {}, path, 0};
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      ::close(fd);
-      return fail("write failed");
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    return fail("fsync failed");
-  }
-  if (::close(fd) != 0) return fail("close failed");
-  if (::rename(temp.c_str(), path.c_str()) != 0) return fail("rename failed");
-  if (const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
-    ::fsync(dir);  // the rename itself reaches the disk
-    ::close(dir);
-  }
-  return {};
+  // The one output writer: a device, FIFO or link to one is refused, never replaced.
+  return core::write_output_file(path, text);
 }
 
 }  // namespace asimov::interpreter

@@ -11,6 +11,10 @@ namespace asimov::motion {
 
 void TraceRecorder::on_checked_pose(double t, const robots::JointVector& q, bool) {
   if (!on) return;
+  if (samples.size() >= max_samples) {
+    truncated = true;
+    return;
+  }
   samples.push_back({t, q, base * robots::flange_pose(robot, q) * tool, {}, Location::Identity()});
   if (world)
     if (auto c = world->carried(q)) samples.back().part = std::move(c->name), samples.back().part_pose = c->pose;
@@ -54,6 +58,10 @@ void ReplayRecorder::push(double t, const robots::JointVector& q, bool checked) 
     if (t < samples.back().time_s) return;
     checked = checked || samples.back().checked;  // same instant (a zero-length motion)
     samples.pop_back();
+  }
+  if (samples.size() >= max_samples) {
+    truncated = true;
+    return;
   }
   samples.push_back({t, q, current->step, checked, (base * robots::flange_pose(robot, q) * tool).translation()});
 }

@@ -415,7 +415,7 @@ struct Walker::Walk {
     st.time_s = t_halt;
     MotionResult r;
     r.status = MotionStatus::interrupted;
-    r.interrupt = InterruptReport{t_halt, fraction, st.joints, tr.step, by_condition};
+    r.interrupt = InterruptReport{t_halt, fraction, st.joints, tr.step, by_condition, false};
     return r;
   }
 
@@ -680,6 +680,15 @@ struct Walker::Walk {
     w.world_.pose(tr.to, t_prev);  // the parts' state now (the program may have changed signals)
     CollisionReport report;
     while (t_prev < stop) {
+      // Ctrl-C (or SIGTERM) during a wait with parts moving: the clock stops where it is. No
+      // motion was halted: the interpreter does not keep it as a motion to resume.
+      if (w.interrupt_ && w.interrupt_->load(std::memory_order_relaxed)) {  // Ctrl-C's flag only
+        st.time_s = t_prev;
+        MotionResult r;
+        r.status = MotionStatus::interrupted;
+        r.interrupt = InterruptReport{t_prev, 1, tr.to, tr.step, false, true};
+        return r;
+      }
       const double change = std::min(stop, w.world_.next_part_change());
       double speed = 0;
       broad();  // the belt-borne parts' near lists (their room: below)

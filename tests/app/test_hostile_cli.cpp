@@ -34,7 +34,7 @@ TEST_CASE("run: --report, --trace, --replay into a missing folder fail before ru
   }
   const auto r = run_cli("run " + program + " --report " + dir.string());
   CHECK(r.exit_code == 1);
-  CHECK(r.err == "*Cannot write file*  " + dir.string() + ": is a folder\n");
+  CHECK(r.err == "*Cannot write file*  " + dir.string() + ": is a folder, not a file; an output replaces only a regular file\n");
 }
 
 TEST_CASE("pairs --cache never creates folders nor leaves FILE.tmp", "[cli][hostile][pairs]") {
@@ -77,9 +77,13 @@ TEST_CASE("run: --cell that is a folder or /dev/zero, a program that is a folder
   CHECK(r.err == "*Cell error*  " + dir.string() + ": is a directory, not a file\n");
   r = run_cli("check " + dir.string());
   CHECK(r.exit_code == 1);
-  CHECK(r.err == "*File not found*  " + dir.string() + "\n");
+  CHECK(r.err == "*Cannot read file*  " + dir.string() + ": is a folder, not a file\n");
   r = run_cli("check /dev/zero");
   CHECK(r.exit_code == 1);
+  CHECK(r.err == "*Cannot read file*  /dev/zero: is a device, not a regular file\n");
+  r = run_cli("run " + (dir / "no-such.v2").string());
+  CHECK(r.exit_code == 1);
+  CHECK(r.err == "*File not found*  " + (dir / "no-such.v2").string() + "\n");
   CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 30);
 }
 

@@ -180,6 +180,17 @@ TEST_CASE("interactive monitor in a pty: completion, history, Ctrl-C, confirmati
     s.send("DIRECTORY\r");
     REQUIRE(s.expect("spin()"));
 
+    // Ctrl-D while a program is typed ends it as .END would; the monitor goes on.
+    s.send(".PROGRAM typed()\r");
+    REQUIRE(s.expect("   1  "));
+    s.send("    TYPE 5\r");
+    REQUIRE(s.expect("   2  "));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // libedit's tty mode (below)
+    s.send("\x04");
+    REQUIRE(s.expect(". "));
+    s.send("EXECUTE typed\r");
+    REQUIRE(s.expect("Program completed: typed"));
+
     s.send("WHERE\r");
     REQUIRE(s.expect("         J1"));
     REQUIRE(s.expect(". "));

@@ -320,6 +320,25 @@ TEST_CASE("replay without its viewer files: exit 1 with the fix, nothing written
   CHECK(!std::filesystem::exists(html));
 }
 
+TEST_CASE("trace and replay recordings keep their first max_samples samples and say so") {
+  motion::Simulator sim(cell::default_cell());
+  sim.recorders().trace.on = true;
+  sim.recorders().trace.max_samples = 5;
+  sim.recorders().replay.grid_s = app::kReplayGridS;
+  sim.recorders().replay.max_samples = 9;
+  robots::JointVector a = sim.joints();
+  a[0] += 40;
+  REQUIRE(sim.start_joint_move(a, motion::SpeedSettings{}, 1).status == motion::MotionStatus::ok);
+  REQUIRE(sim.finish_motion().status == motion::MotionStatus::ok);
+  CHECK(sim.recorders().counts.poses > 5);  // more checked poses than the trace keeps
+  CHECK(sim.recorders().trace.samples.size() == 5);
+  CHECK(sim.recorders().trace.truncated);
+  CHECK(sim.recorders().replay.samples.size() == 9);
+  CHECK(sim.recorders().replay.truncated);
+  CHECK(sim.recorders().trace.samples.front().time_s == 0);  // the first ones are kept
+  CHECK(motion::kMaxRecordedSamples == 250000);              // docs/limits.md
+}
+
 TEST_CASE("replay to a folder that does not exist: exit 1, cannot write") {
   const auto r = run_cli("run " + source_path("programs/demo/pick_place.v2") + " --replay " +
                          (test::scratch_dir() / "no-dir" / "x.html").string());

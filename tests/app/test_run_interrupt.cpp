@@ -37,8 +37,8 @@ bool catches_sigint(pid_t pid) {
   return false;
 }
 
-// Starts `asimov args...` with stdout and stderr to files; SIGINT once the handler is in place.
-int run_and_interrupt(const std::vector<std::string>& args, const std::string& out_file) {
+// Starts `asimov args...` with stdout and stderr to files; `signal` (SIGINT) once the handler is in place.
+int run_and_interrupt(const std::vector<std::string>& args, const std::string& out_file, int signal = SIGINT) {
   const pid_t pid = ::fork();
   if (pid == 0) {
     const int fd = ::open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -55,7 +55,7 @@ int run_and_interrupt(const std::vector<std::string>& args, const std::string& o
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   CHECK(catches_sigint(pid));  // if not, the SIGINT below still ends it
   std::this_thread::sleep_for(std::chrono::milliseconds(100));  // let it move a while
-  ::kill(pid, SIGINT);
+  ::kill(pid, signal);
   int status = 0;
   ::waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
@@ -98,4 +98,54 @@ TEST_CASE("Ctrl-C in asimov run stops the arm inside a motion, writes the report
   }
   const json tr = json::parse(asimov::test::slurp(trace));
   CHECK(tr["samples"].size() > 2);
+}
+
+// A wait with a part in the cell and a blinking signal walks the devices' clock change by change
+// (2,000,000 changes for this WAIT.EVENT): Ctrl-C and SIGTERM stop it between two checked poses.
+TEST_CASE("Ctrl-C and SIGTERM stop a WAIT.EVENT with parts moving, and the report is written") {
+  const auto dir = scratch_dir() / "wait-event";
+  std::filesystem::create_directories(dir);
+  const auto program = dir / "waitev.v2", cell = dir / "blink.yaml", output = dir / "out.txt";
+  std::ofstream(program) << ".PROGRAM waitev()\n  WAIT.EVENT , 100000\n  TYPE \"done\"\n.END\n";
+  std::ofstream(cell) << "objects:\n  - {name: table, box: [700, 1200, 40], at: [750, 0, -420, 0, 0, 0]}\n"
+                         "parts:\n  - {name: cube, box: [40, 40, 40], at: [600, 0, -380, 0, 0, 0]}\n"
+                         "logic:\n  - {at: 0, set: 2001, to: on}\n"
+                         "  - {when: 2001, is: on, after: 0.05, set: 2001, to: off}\n"
+                         "  - {when: 2001, is: off, after: 0.05, set: 2001, to: on}\n";
+  for (const int signal : {SIGINT, SIGTERM}) {
+    INFO(signal);
+    const auto report = dir / ("report" + std::to_string(signal) + ".json");
+    const auto t0 = std::chrono::steady_clock::now();
+    const int rc = run_and_interrupt({"run", program.string(), "--cell", cell.string(), "--report", report.string()},
+                                     output.string(), signal);
+    CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 20);
+    const std::string text = asimov::test::slurp(output);
+    INFO(text);
+    CHECK(rc == (signal == SIGINT ? 130 : 1000 + SIGTERM));  // SIGTERM: the process ends by it, as its sender expects
+    CHECK(text.find("*Program interrupted*") != std::string::npos);
+    CHECK(text.find("WAIT.EVENT , 100000") != std::string::npos);
+    CHECK(text.find("done") == std::string::npos);
+    const json r = json::parse(asimov::test::slurp(report));
+    CHECK(r["status"] == "interrupted");
+  }
+}
+
+// The devices' clock costs linear time in its changes: a 0.1 s blink for the whole WAIT limit
+// (3600 s, 72,000 changes) with a part in the cell took past 60 s when every change copied the
+// clock with its event log.
+TEST_CASE("a WAIT on a signal nothing drives, beside a blinking rule and a part, ends at the wait limit in seconds") {
+  const auto dir = scratch_dir() / "wait-blink";
+  std::filesystem::create_directories(dir);
+  const auto program = dir / "waitsig.v2", cell = dir / "blink.yaml";
+  std::ofstream(program) << ".PROGRAM waitsig()\n  WAIT SIG(1005)\n.END\n";
+  std::ofstream(cell) << "objects:\n  - {name: table, box: [700, 1200, 40], at: [750, 0, -420, 0, 0, 0]}\n"
+                         "parts:\n  - {name: cube, box: [40, 40, 40], at: [600, 0, -380, 0, 0, 0]}\n"
+                         "logic:\n  - {at: 0, set: 2001, to: on}\n"
+                         "  - {when: 2001, is: on, after: 0.05, set: 2001, to: off}\n"
+                         "  - {when: 2001, is: off, after: 0.05, set: 2001, to: on}\n";
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = asimov::test::run_cli("run " + program.string() + " --cell " + cell.string());
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 30);
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("*Wait limit exceeded*  still false after 3600 s") != std::string::npos);
 }

@@ -393,6 +393,25 @@ TEST_CASE("asimov test: a session runs in a copy of its folder, links followed, 
   CHECK(fs::is_symlink(dir / "hello.v2"));
 }
 
+TEST_CASE("asimov test: a program case's files are a copy of its folder, so a case that writes passes every time") {
+  const fs::path dir = suite_dir("files-copy");
+  fs::create_directories(dir / "data");
+  write(dir / "data" / "in.txt", "7\n");
+  // Appends a line to log.txt (created the first time) and counts its lines; reads data/in.txt.
+  write(dir / "append.v2",
+        ".PROGRAM append()\n    ATTACH (lun, 4) \"DISK\"\n    FOPENA (lun) \"log.txt\"\n    WRITE (lun) \"x\"\n"
+        "    FCLOSE (lun)\n    FOPENR (lun) \"log.txt\"\n    n = 0\n    READ (lun) $l\n    WHILE IOSTAT(lun) >= 0 DO\n"
+        "        n = n + 1\n        READ (lun) $l\n    END\n    FCLOSE (lun)\n    FOPENR (lun) \"data/in.txt\"\n"
+        "    READ (lun) v\n    FCLOSE (lun)\n    DETACH (lun)\n    TYPE \"lines \", n, \" value \", v\n.END\n");
+  write(dir / "append.expect.json", R"({"exit": 0, "stdout": ["lines 1 value 7"], "stderr": ["Program completed: append"]})");
+  for (int run = 1; run <= 2; ++run) {
+    const auto r = run_cli("test " + quoted(dir.string()));
+    INFO(run << ": " << r.out << r.err);
+    CHECK(r.exit_code == 0);
+    CHECK_FALSE(fs::exists(dir / "log.txt"));
+  }
+}
+
 TEST_CASE("asimov test: usage and file errors exit 1") {
   const fs::path dir = suite_dir("usage");
   auto r = run_cli("test " + quoted((dir / "nowhere").string()));

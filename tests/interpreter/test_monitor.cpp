@@ -204,10 +204,10 @@ TEST_CASE("write_file_atomic replaces whole files and leaves nothing on failure"
   REQUIRE(interpreter::write_file_atomic(path, "old\n").ok());
   REQUIRE(interpreter::write_file_atomic(path, "new\n").ok());
   CHECK(slurp(path) == "new\n");
-  fs::create_directories(dir / "taken.v2");  // rename onto a folder fails
+  fs::create_directories(dir / "taken.v2");  // a folder is never replaced: refused before writing
   const auto taken = interpreter::write_file_atomic((dir / "taken.v2").string(), "x\n");
   REQUIRE_FALSE(taken.ok());
-  CHECK(taken.error().message.find("rename failed") != std::string::npos);
+  CHECK(taken.error().message.find("is a folder") != std::string::npos);
   CHECK(taken.error().file == (dir / "taken.v2").string());
   CHECK_FALSE(interpreter::write_file_atomic((dir / "missing" / "f.v2").string(), "x\n").ok());
   int files = 0;

@@ -33,9 +33,11 @@ std::vector<std::string> program_lines(const Program& program);
 // .STRINGS with all the globals. `locations_only` (STOREL): only .LOCATIONS.
 std::string store_text(const Memory& memory, const std::vector<std::string>& programs, bool locations_only);
 
-// Writes `text` to `path` through `path.tmp-PID` in the same folder: write, fsync, rename,
-// fsync of the folder. On failure the temporary is removed, `path` is untouched, and the
-// error says what failed ("PATH: rename failed (Is a directory)").
+// Writes `text` to `path` by the one output writer (core::write_output_file): only a regular
+// file is replaced (a device, FIFO or folder is refused), a link's target is replaced, through a
+// temporary beside it (write, fsync, rename, fsync of the folder). On failure the temporary is
+// removed, the target is untouched, and the error names it and the reason
+// ("PATH: cannot write: No space left on device").
 Result<void> write_file_atomic(const std::string& path, const std::string& text);
 
 }  // namespace asimov::interpreter

@@ -42,6 +42,7 @@ struct InterruptReport {
   robots::JointVector joints;  // display [deg]
   int step = 0;               // program step of the motion instruction
   bool by_condition = false;  // the stop condition (a REACTI) stopped it, not Ctrl-C's flag
+  bool waiting = false;       // stopped in a wait (the arm at rest): no motion to resume
 };
 
 // When a motion runs on the simulated clock (the report's per-motion durations): start and

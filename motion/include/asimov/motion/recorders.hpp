@@ -59,12 +59,20 @@ struct RunTiming {
 
 // Every checked pose with the tool's world pose, when `on`. BASE and TOOL are read at the
 // pose (the program's, as HERE).
+// Samples a run's trace and its replay recording keep, each (docs/limits.md): a trace sample is
+// ~200 bytes in memory and ~300 in JSON, so a capped trace stays near 50 MB in memory and 75 MB
+// on disk. 8,000 motions with both took 1.4 GB and wrote 430 MB; past the cap the first samples
+// are kept and `truncated` says so (the commands print a warning).
+constexpr std::size_t kMaxRecordedSamples = 250000;
+
 struct TraceRecorder final : WalkObserver {
   TraceRecorder(const robots::Robot& robot, const Location& base, const Location& tool)
       : robot(robot), base(base), tool(tool) {}
   void on_checked_pose(double t, const robots::JointVector& q, bool contact) override;
   bool on = false;
   std::vector<TraceSample> samples;
+  std::size_t max_samples = kMaxRecordedSamples;
+  bool truncated = false;  // samples stopped at max_samples
   const World* world = nullptr;  // the carried part's pose comes from it (null: none)
 
  private:
@@ -110,6 +118,8 @@ struct ReplayRecorder final : WalkObserver {
   void on_contact(const CollisionReport& report, const robots::JointVector& q_halt, double search_s) override;
   double grid_s = 0;
   std::vector<ReplaySample> samples;
+  std::size_t max_samples = kMaxRecordedSamples;
+  bool truncated = false;  // samples stopped at max_samples
   // A cell with parts or devices: their states, observed at each walk's start, each checked pose
   // and a contact (the Simulator sets runtime; null: a static cell, nothing recorded).
   const CellRuntime* runtime = nullptr;
