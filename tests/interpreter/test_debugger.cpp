@@ -98,7 +98,7 @@ TEST_CASE("a pause asked by the hook is resumed at that instruction, the arm whe
   CHECK(f.sim.time_s() == t);  // nothing moved again
 }
 
-TEST_CASE("XSTEP stops at every step, into CALLs; SSTEP runs a CALL as one step", "[debugger]") {
+TEST_CASE("XSTEP stops at every step, into CALLs, SSTEP runs a CALL as one step", "[debugger]") {
   {
     InterpreterFixture f;
     REQUIRE(f.load(kProgram).empty());
