@@ -284,7 +284,7 @@ const auto if_stmt_def = kw("if") > expression > -(kw("goto") > label) > -kw("th
 const auto call_stmt_def = kw("call") > word > -('(' > arguments > ')');
 // calls = CALLS ( string | variable ) [ "(" arguments ")" ]    (not followed by "=")
 const auto calls_target_def = string_literal | variable;
-const auto calls_stmt_def = kw("calls") >> !x3::lit('=') > calls_target > -('(' > arguments > ')');
+const auto calls_stmt_def = (kw("calls") >> !x3::lit('=')) > calls_target > -('(' > arguments > ')');
 // format = "/D" | "/S" | "/N" | "/F" w "." d | "/I" w | "/X" [n] | "/C" [n]   (/N: no wait, no effect)
 const auto format_def = x3::lexeme['/' >> (
     (x3::no_case[x3::char_("dsn")] >> x3::attr(0u) >> x3::attr(0u))
