@@ -81,7 +81,8 @@ RunResult Evaluator::resume(bool retry) {
   duration_always_ = s.duration_always;
   duration_next_ = s.duration_next;
   last_motion_ = s.motion;
-  return protected_run(s.program, [&] {
+  resumed_pins_ = std::move(s.pinned);
+  RunResult r = protected_run(s.program, [&] {
     // After Ctrl-C halted a motion, PROCEED and RETRY first carry out its rest (a real
     // controller resumes the interrupted motion towards its target).
     if (s.motion_halted)
@@ -95,6 +96,17 @@ RunResult Evaluator::resume(bool retry) {
     if (retry && s.status == RunStatus::collision && last_motion_) return start_motion(*last_motion_);
     return RunStatus::completed;
   });
+  resumed_pins_.clear();  // a new stop took what it needs (pin_programs)
+  return r;
+}
+
+// Every program a stopped execution's frames may point to: memory_'s, and those a resumed
+// execution still runs that memory_ has dropped since.
+std::vector<std::shared_ptr<const Program>> Evaluator::pin_programs() const {
+  std::vector<std::shared_ptr<const Program>> pins = memory_.programs;
+  for (const auto& p : resumed_pins_)
+    if (p && std::find(memory_.programs.begin(), memory_.programs.end(), p) == memory_.programs.end()) pins.push_back(p);
+  return pins;
 }
 
 // --- the protected boundary -----------------------------------------------------------------
@@ -216,7 +228,7 @@ RunResult Evaluator::protected_run(const std::string& name, const std::function<
     result.line = result.step = 0;
   } else if (!stack_.empty() || (tasks_.empty() && result.status == RunStatus::collision) || halt_) {
     stopped_ = Stopped{stack_.take(), result.status, name, speed_always_, speed_next_, last_motion_,
-                       duration_always_, duration_next_, halt_.has_value(), memory_.programs};
+                       duration_always_, duration_next_, halt_.has_value(), pin_programs()};
   }
   result.interrupt = halt_;
   result.reaction_stops = std::move(reaction_stops_);

@@ -163,6 +163,7 @@ class Evaluator {
   // the status that ends it (collision: the report in contact_; error / interrupted: the
   // message in fault_, set by stop()).
   RunResult protected_run(const std::string& name, const std::function<RunStatus()>& setup);
+  std::vector<std::shared_ptr<const Program>> pin_programs() const;  // Stopped::pinned of a new stop
   RunStatus start_motion(const MotionRequest& m);
   void record_timing(const motion::MotionTiming& t, const std::string& program);  // RunResult::motion_times
   RunStatus execute(const Instr& in);  // the statements that can end a run, else statement()
@@ -289,6 +290,10 @@ class Evaluator {
   std::uint64_t motion_times_omitted_ = 0;
   std::optional<MotionRequest> last_motion_;  // the last motion started
   std::optional<Stopped> stopped_;            // what PROCEED / RETRY continue
+  // While a stopped execution runs again: its pins. A program it runs that memory_ no longer
+  // holds (the monitor's temporary program of `DEBUG name(args)`, a reloaded one) stays pinned
+  // when it stops again (pin_programs), however often it is stepped.
+  std::vector<std::shared_ptr<const Program>> resumed_pins_;
   std::optional<motion::InterruptReport> halt_;  // this run's motion halted by Ctrl-C
   Fault fault_;                               // what ended the run (status error / interrupted)
   motion::CollisionReport contact_;           // what ended the run (status collision)
