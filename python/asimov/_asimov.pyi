@@ -6,7 +6,7 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
-SCHEMA_VERSION: str
+SCHEMA_VERSION: int
 
 FloatArray = npt.NDArray[np.float64]
 ArrayLike = npt.ArrayLike
