@@ -4,6 +4,9 @@
 // server on 127.0.0.1 and answered; WHERE over the same socket (the server's own cost: JSON,
 // the worker thread, the socket); and, as the peer, the same DO MOVE on interpreter::Monitor
 // directly (no server). The ratio studio / direct is what serving costs.
+// The program debugger's stream (docs/studio.md "Stepping"): the latency from a `debug` step
+// command to the first frame of its motion (the arm's poses, streamed as the walker simulates
+// the motion), and the frames per second of the pose stream while the arm moves live at x1.
 // Run: build/bench/bench_studio --benchmark_repetitions=9 --benchmark_report_aggregates_only=true
 #include "app/serve/server.hpp"
 #include "asimov/cell/cell_loader.hpp"
@@ -14,6 +17,7 @@
 #include <boost/beast/websocket.hpp>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -65,6 +69,7 @@ struct LiveServer {
     ws->read(b);
     return nlohmann::json::parse(beast::buffers_to_string(b.data()));
   }
+  void send(const nlohmann::json& message) { ws->write(net::buffer(message.dump())); }
   nlohmann::json ask(const std::string& line) {
     ws->write(net::buffer(nlohmann::json{{"type", "monitor"}, {"id", 1}, {"line", line}}.dump()));
     return receive();
@@ -87,6 +92,77 @@ void BM_StudioWhere(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(live.ask("WHERE"));
 }
 BENCHMARK(BM_StudioWhere)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// A program of short joint moves back and forth, every step a motion.
+std::string swing_program(int moves) {
+  std::string text = ".PROGRAM swing()\n    SPEED 100 ALWAYS\n";
+  for (int i = 0; i < moves; ++i) text += i % 2 ? "    MOVE #PPOINT(20, -70, 110, 0, 30, 0)\n" : "    MOVE #PPOINT(10, -80, 100, 0, 20, 0)\n";
+  return text + ".END\n";
+}
+
+nlohmann::json debug_message(const char* action, const std::string& text, double speed) {
+  return {{"type", "debug"}, {"id", 2}, {"action", action}, {"file", "swing.v2"}, {"text", text}, {"speed", speed}};
+}
+
+// From a step command to the first frame of its motion on the client's side of the socket
+// (manual time: only that interval); the rest of the motion streams at x4 and is drained.
+void BM_StudioStepToFrame(benchmark::State& state) {
+  LiveServer live;
+  const std::string text = swing_program(1000);
+  live.send(debug_message("start", text, 0));
+  live.receive();
+  live.send(debug_message("step", text, 0));  // SPEED: no motion
+  live.receive();
+  std::size_t frames = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    live.send(debug_message("step", text, 4));
+    bool first = true;
+    for (;;) {
+      const nlohmann::json m = live.receive();
+      if (m["type"] == "frame") {
+        ++frames;
+        if (first) state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        first = false;
+        continue;
+      }
+      if (m["type"] != "debug" || m["stop"] != "step") state.SkipWithError("the step did not stop at the next one");
+      break;
+    }
+    if (first) state.SkipWithError("no frame");
+  }
+  state.counters["frames_per_step"] = benchmark::Counter(static_cast<double>(frames) / static_cast<double>(state.iterations()));
+}
+BENCHMARK(BM_StudioStepToFrame)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(15);
+
+// The pose stream while the arm moves live at x1: frames received per second of wall time from
+// the first frame to the last of a run of motions, and the simulated seconds shown per wall
+// second (1 when the stream keeps pace).
+void BM_StudioLiveFrameRate(benchmark::State& state) {
+  LiveServer live;
+  const std::string text = swing_program(6);
+  for (auto _ : state) {
+    live.send(debug_message("go", text, 1));
+    std::size_t frames = 0;
+    double t0 = 0, t1 = 0;
+    std::chrono::steady_clock::time_point w0, w1;
+    for (;;) {
+      const nlohmann::json m = live.receive();
+      if (m["type"] != "frame") {
+        if (m.value("stop", "") != "completed") state.SkipWithError("the run did not complete");
+        break;
+      }
+      w1 = std::chrono::steady_clock::now();
+      t1 = m["t"].get<double>();
+      if (frames++ == 0) w0 = w1, t0 = t1;
+    }
+    const double wall = std::chrono::duration<double>(w1 - w0).count();
+    state.counters["frames_per_s"] = static_cast<double>(frames - 1) / wall;
+    state.counters["sim_s_per_wall_s"] = (t1 - t0) / wall;
+    state.counters["frames"] = static_cast<double>(frames);
+  }
+}
+BENCHMARK(BM_StudioLiveFrameRate)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // The peer: the monitor itself, no server, no JSON, no socket.
 void BM_DirectDoMove(benchmark::State& state) {

@@ -10,10 +10,16 @@ namespace {
 
 Error invalid(std::string detail) { return Error{"*Invalid message*", std::move(detail), {}, 0, 0}; }
 
-constexpr std::array<std::pair<const char*, RequestKind>, 9> kKinds = {{
+constexpr std::array<std::pair<const char*, RequestKind>, 11> kKinds = {{
     {"check", RequestKind::check}, {"monitor", RequestKind::monitor}, {"run", RequestKind::run},
     {"abort", RequestKind::abort}, {"list", RequestKind::list}, {"open", RequestKind::open},
     {"save", RequestKind::save}, {"replay", RequestKind::replay}, {"scene", RequestKind::scene},
+    {"debug", RequestKind::debug}, {"pause", RequestKind::pause},
+}};
+
+constexpr std::array<std::pair<const char*, DebugAction>, 6> kActions = {{
+    {"start", DebugAction::start}, {"step", DebugAction::step}, {"into", DebugAction::into},
+    {"go", DebugAction::go}, {"abort", DebugAction::abort}, {"state", DebugAction::state},
 }};
 
 // A string field: absent is "" unless required; present must be a string within `limit` bytes.
@@ -81,6 +87,28 @@ Result<Request> parse_request(std::string_view message) {
                                     : it->get<std::int64_t>();
   }
   const bool text = r.kind == RequestKind::check || r.kind == RequestKind::run || r.kind == RequestKind::save;
+  if (r.kind == RequestKind::debug) {
+    std::string action;
+    if (!field(j, "action", 16, true, action, error)) return error;
+    bool found = false;
+    for (const auto& [name, a] : kActions)
+      if (action == name) r.action = a, found = true;
+    if (!found) return invalid("unknown action \"" + action + "\"");
+    if (const auto it = j.find("breakpoints"); it != j.end()) {
+      if (!it->is_array()) return invalid("\"breakpoints\" is not an array");
+      if (it->size() > kMaxBreakpoints) return invalid("more than " + std::to_string(kMaxBreakpoints) + " breakpoints");
+      for (const auto& b : *it) {
+        if (!b.is_number_integer() || b.get<std::int64_t>() < 1 || b.get<std::int64_t>() > 10'000'000)
+          return invalid("a breakpoint is not a line number");
+        r.breakpoints.push_back(static_cast<int>(b.get<std::int64_t>()));
+      }
+    }
+    if (const auto it = j.find("speed"); it != j.end()) {
+      if (!it->is_number() || !(it->get<double>() >= 0 && it->get<double>() <= 100))
+        return invalid("\"speed\" is not a number from 0 to 100");
+      r.speed = it->get<double>();
+    }
+  }
   const bool file_required = r.kind == RequestKind::open || r.kind == RequestKind::save || r.kind == RequestKind::replay;
   if (!field(j, "text", kMaxTextBytes, text, r.text, error)) return error;
   if (!field(j, "file", kMaxNameBytes, file_required, r.file, error)) return error;

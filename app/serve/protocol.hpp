@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace asimov::serve {
 
@@ -28,7 +29,16 @@ enum class RequestKind {
   save,     // file, text: written whole into the workspace
   replay,   // file: the last run's replay page written into the workspace
   scene,    // the cell at rest (bodies, the arm's first pose)
+  debug,    // action, text, file, main, breakpoints, speed: the program debugger on the editor's program
+  pause,    // pause the program running under the debugger at its next step or checked pose
 };
+
+// What a `debug` request asks (docs/studio.md "Stepping"): start the editor's program stopped
+// before its first step, one step over a CALL (SSTEP) or into it (XSTEP), run on to a
+// breakpoint or the end (PROCEED; a start when nothing is stopped), end the stopped program
+// (ABORT), or only set the breakpoints and show the variables.
+enum class DebugAction { start, step, into, go, abort, state };
+constexpr std::size_t kMaxBreakpoints = 1000;
 
 struct Request {
   RequestKind kind = RequestKind::check;
@@ -36,7 +46,10 @@ struct Request {
   std::string text;      // check, run, save
   std::string file;      // check, run, open, save, replay ("" where optional)
   std::string line;      // monitor
-  std::string main;      // run: the program to run ("" the first)
+  std::string main;      // run, debug: the program to run ("" the first)
+  DebugAction action = DebugAction::state;  // debug
+  std::vector<int> breakpoints;             // debug: file lines of the editor (at most kMaxBreakpoints)
+  double speed = 1;      // debug: live playback speed of the arm (0: as fast as possible; at most 100)
 };
 
 // One message, validated: a JSON object with a known "type", an optional integer "id", and the

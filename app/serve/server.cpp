@@ -174,9 +174,12 @@ class Worker {
     cv_.notify_one();
   }
   void abort() { session_.abort(); }
+  void pause() { session_.pause(); }
   nlohmann::json hello() const { return session_.hello(); }
-  // The thread's loop; returns after stop().
-  void loop(const std::function<void(std::string)>& deliver) {
+  // The thread's loop; returns after stop(). `deliver(text, droppable)`: the answers (never
+  // dropped) and the arm's frames (dropped when the client falls behind).
+  void loop(const std::function<void(std::string, bool)>& deliver) {
+    session_.set_frame_sink([&](std::string text) { deliver(std::move(text), true); });
     for (;;) {
       Request r;
       {
@@ -188,7 +191,7 @@ class Worker {
       }
       nlohmann::json answer = session_.handle(r);
       // Program output may hold any bytes: invalid UTF-8 is replaced, never an exception.
-      deliver(answer.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+      deliver(answer.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), false);
     }
   }
 
@@ -202,6 +205,8 @@ class Worker {
 };
 
 class WsSession : public std::enable_shared_from_this<WsSession> {
+  static constexpr std::size_t kMaxFramesWaiting = 8;
+
  public:
   WsSession(ImplPtr server, tcp::socket socket)
       : server_(std::move(server)), ws_(std::move(socket)), counted_(server_->sessions) {}
@@ -225,9 +230,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     std::weak_ptr<WsSession> weak = shared_from_this();
     auto executor = ws_.get_executor();
     std::thread([worker = worker_, server = server_, weak, executor] {
-      worker->loop([&](std::string text) {
-        net::post(executor, [weak, text = std::move(text)]() mutable {
-          if (auto self = weak.lock()) self->send(std::move(text));
+      worker->loop([&](std::string text, bool droppable) {
+        net::post(executor, [weak, text = std::move(text), droppable]() mutable {
+          if (auto self = weak.lock()) self->send(std::move(text), droppable);
         });
       });
     }).detach();
@@ -253,6 +258,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     } else if (r->kind == RequestKind::abort) {
       worker_->abort();  // at once, not behind the run it stops
       send(nlohmann::json{{"type", "abort"}, {"id", r->id}}.dump());
+    } else if (r->kind == RequestKind::pause) {
+      worker_->pause();  // at once, as abort: the program under way stops resumable
+      send(nlohmann::json{{"type", "pause"}, {"id", r->id}}.dump());
     } else {
       const std::int64_t id = r->id;
       if (!worker_->push(std::move(*r))) reply_error(id, "*Busy*", "too many requests waiting; wait for the answers");
@@ -265,7 +273,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
         -1, ' ', false, nlohmann::json::error_handler_t::replace));
   }
 
-  void send(std::string text) {
+  void send(std::string text, bool droppable = false) {
+    // The arm's frames are dropped while the client is behind (the next one poses it anyway).
+    if (droppable && outbox_.size() >= kMaxFramesWaiting) return;
     // A client that reads nothing does not make the server hold its answers without end.
     if (outbox_.size() >= 64) {
       ws_.next_layer().close();

@@ -12,8 +12,11 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <optional>
+#include <set>
+#include <vector>
 #include <sstream>
 #include <string>
 
@@ -40,6 +43,15 @@ class StudioSession {
   nlohmann::json hello() const;
   // Stops the run or monitor command under way at its next step or checked pose (any thread).
   void abort() { interrupt_.store(true); }
+  // Pauses the program the debugger runs (a `debug` go or step under way) at its next step or
+  // checked pose, resumable (any thread). Nothing when nothing runs.
+  void pause() {
+    pausing_.store(true);
+    interrupt_.store(true);
+  }
+  // Where the arm's poses go while the session's monitor arm moves (frames, docs/studio.md
+  // "Stepping"): called on the thread running handle(), a JSON text each. Unset: none sent.
+  void set_frame_sink(std::function<void(std::string)> sink);
 
  private:
   nlohmann::json check(const Request& r);
@@ -49,12 +61,29 @@ class StudioSession {
   nlohmann::json save(const Request& r);
   nlohmann::json replay(const Request& r);
   nlohmann::json scene();
+  nlohmann::json debug(const Request& r);
+  // The monitor's output since the last call, the workspace's absolute path taken out.
+  std::string take_monitor_output();
+  // The arm's joints and the moving bodies' world poses where the monitor's arm stands.
+  void add_arm(nlohmann::json& answer) const;
+  // The stopped program's place, variables and tasks, the breakpoints (debug answers).
+  void add_debug_state(nlohmann::json& answer) const;
   // LOAD / STORE / STOREL name files: the name is resolved in the workspace (never outside).
   std::optional<std::string> confine_monitor_line(const std::string& line, std::string& refusal) const;
 
   const StudioConfig& config_;
   const Workspace& workspace_;
   std::atomic<bool> interrupt_{false};
+  std::atomic<bool> pausing_{false};
+  // The monitor arm's poses streamed to the page as it moves (session.cpp); declared before the
+  // simulator it watches, so it outlives it.
+  struct PoseStream;
+  std::unique_ptr<PoseStream> stream_;
+  // The program debugger's state for the page: the breakpoints the page set (by program and
+  // step), the file and program it started.
+  std::set<interpreter::Breakpoint> page_breakpoints_;
+  std::vector<int> breakpoint_lines_;
+  std::string debug_file_, debug_main_;
   // The monitor console's own arm and memory, kept between commands (as a terminal monitor's).
   std::unique_ptr<motion::Simulator> monitor_sim_;
   std::ostringstream monitor_out_;

@@ -9,8 +9,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <fstream>
 #include <set>
+#include <thread>
 
 using namespace asimov;
 using namespace asimov::serve;
@@ -188,4 +190,158 @@ TEST_CASE("studio session: the monitor keeps its state and poses the arm") {
   // A program typed at the prompt: the prompt shows the step.
   m = s.ask(R"j({"type":"monitor","line":".PROGRAM typed()"})j");
   CHECK(m["prompt"] == "1? ");
+}
+
+TEST_CASE("studio messages: debug and pause requests") {
+  auto r = parse_request(R"({"type":"debug","action":"go","breakpoints":[3,7],"speed":0.25,"text":"x"})");
+  REQUIRE(r);
+  CHECK(r->kind == RequestKind::debug);
+  CHECK(r->action == DebugAction::go);
+  CHECK(r->breakpoints == std::vector<int>{3, 7});
+  CHECK(r->speed == 0.25);
+  r = parse_request(R"({"type":"debug","action":"step"})");
+  REQUIRE(r);
+  CHECK(r->speed == 1);
+  CHECK(r->breakpoints.empty());
+  CHECK(parse_request(R"({"type":"pause"})"));
+  const auto why = [](const std::string& m) {
+    auto a = parse_request(m);
+    REQUIRE(!a);
+    return a.error().detail;
+  };
+  CHECK(why(R"({"type":"debug"})") == "\"action\" is missing");
+  CHECK(why(R"({"type":"debug","action":"jump"})") == "unknown action \"jump\"");
+  CHECK(why(R"({"type":"debug","action":"go","breakpoints":3})") == "\"breakpoints\" is not an array");
+  CHECK(why(R"({"type":"debug","action":"go","breakpoints":[0]})") == "a breakpoint is not a line number");
+  CHECK(why(R"({"type":"debug","action":"go","breakpoints":[1.5]})") == "a breakpoint is not a line number");
+  CHECK(why(R"({"type":"debug","action":"go","breakpoints":["2"]})") == "a breakpoint is not a line number");
+  CHECK(why(R"({"type":"debug","action":"go","speed":-1})") == "\"speed\" is not a number from 0 to 100");
+  CHECK(why(R"({"type":"debug","action":"go","speed":1e300})") == "\"speed\" is not a number from 0 to 100");
+  std::string many = R"({"type":"debug","action":"go","breakpoints":[1)";
+  for (std::size_t i = 0; i < kMaxBreakpoints; ++i) many += ",1";
+  CHECK(why(many + "]}") == "more than 1000 breakpoints");
+}
+
+namespace {
+
+// A program of three motions and a CALL, for the debugger (lines in comments).
+const char* const kStepped = R"(.PROGRAM walk()
+    x = 5
+    MOVE #PPOINT(20, -80, 100, 0, 10, 0)
+    MOVE #PPOINT(40, -70, 110, 0, 30, 0)
+    CALL bump(x)
+    MOVE #PPOINT(-20, -90, 90, 0, 0, 0)
+    TYPE "x is ", x
+.END
+.PROGRAM bump(v)
+    v = v + 1
+.END
+)";
+
+nlohmann::json debug_request(const char* action, std::vector<int> breakpoints = {}, double speed = 0) {
+  return {{"type", "debug"}, {"action", action}, {"file", "walk.v2"}, {"text", kStepped}, {"breakpoints", breakpoints}, {"speed", speed}};
+}
+
+const nlohmann::json* variable(const nlohmann::json& a, const std::string& name) {
+  for (const auto& v : a["variables"])
+    if (v["name"] == name) return &v;
+  return nullptr;
+}
+
+}  // namespace
+
+TEST_CASE("studio session: stepping the editor's program, the pointer, the arm and the variables") {
+  Studio s("debug");
+  std::vector<nlohmann::json> frames;
+  s.session.set_frame_sink([&](std::string text) { frames.push_back(nlohmann::json::parse(text)); });
+  // Step with nothing stopped: the program starts stopped before its first step.
+  auto a = s.ask(debug_request("step").dump());
+  REQUIRE(a["type"] == "debug");
+  CHECK(a["stopped"] == true);
+  CHECK(a["stop"] == "step");
+  CHECK(a["place"]["line"] == 2);
+  CHECK(a["place"]["program"] == "walk");
+  CHECK(a["place"]["text"] == "x = 5");
+  CHECK(a["output"].get<std::string>().find("walk, step 1:  x = 5") != std::string::npos);
+  REQUIRE(a["tasks"].size() == 1);
+  CHECK(a["tasks"][0]["state"] == "stopped at walk, step 1");
+  const double j1 = a["joints"][0].get<double>();
+  a = s.ask(debug_request("step").dump());  // x = 5
+  CHECK(a["place"]["line"] == 3);
+  REQUIRE(variable(a, "x"));
+  CHECK((*variable(a, "x"))["value"] == "5");
+  CHECK(frames.empty());  // no motion yet
+  a = s.ask(debug_request("step").dump());  // the first MOVE: the arm there, frames on the way
+  CHECK(a["place"]["line"] == 4);
+  CHECK(a["joints"][0].get<double>() == Approx(20).margin(1e-6));
+  CHECK(j1 != Approx(20));
+  REQUIRE(frames.size() >= 1);
+  CHECK(frames.back()["joints"][0].get<double>() == Approx(20).margin(1e-6));
+  CHECK(frames.back()["poses"].size() == a["poses"].size());
+  // A breakpoint in the CALLed program by its file line; a comment-free line with no step refused.
+  a = s.ask(debug_request("go", {10, 8}).dump());
+  CHECK(a["stop"] == "breakpoint");
+  CHECK(a["place"]["program"] == "bump");
+  CHECK(a["place"]["line"] == 10);
+  CHECK(a["place"]["depth"] == 2);
+  CHECK(a["breakpoints"] == nlohmann::json::array({10}));
+  CHECK(a["refused"] == nlohmann::json::array({8}));
+  CHECK(a["joints"][0].get<double>() == Approx(40).margin(1e-6));
+  // The variable changed through the monitor (DO), then seen by the program.
+  CHECK(s.ask(R"({"type":"monitor","line":"DO x = 41"})")["status"] == "ok");
+  a = s.ask(debug_request("state", {10}).dump());
+  CHECK((*variable(a, "x"))["value"] == "41");
+  CHECK(a["stopped"] == true);
+  a = s.ask(debug_request("go", {}).dump());  // the breakpoint cleared: to the end
+  CHECK(a["stopped"] == false);
+  CHECK(a["stop"] == "completed");
+  CHECK(a["output"].get<std::string>().find("x is 42") != std::string::npos);
+  CHECK(a["place"].is_null());
+  // Step into the CALL, then abort.
+  s.ask(debug_request("start").dump());
+  s.ask(debug_request("step").dump());
+  s.ask(debug_request("step").dump());
+  s.ask(debug_request("step").dump());
+  a = s.ask(debug_request("into").dump());
+  CHECK(a["place"]["line"] == 10);
+  a = s.ask(debug_request("abort").dump());
+  CHECK(a["stop"] == "aborted");
+  CHECK(a["stopped"] == false);
+  // Nothing stopped: abort does nothing; a text with an error does not start.
+  CHECK(s.ask(debug_request("abort").dump())["stop"] == "none");
+  a = s.ask(nlohmann::json{{"type", "debug"}, {"action", "step"}, {"text", ".PROGRAM w()\n    MOVE (\n.END\n"}}.dump());
+  CHECK(a["status"] == "error");
+  CHECK(a["stopped"] == false);
+  CHECK(a["diagnostics"].size() >= 1);
+}
+
+TEST_CASE("studio session: a stepped motion streamed live, paced on the wall clock, and paused") {
+  Studio s("live");
+  std::vector<std::pair<std::chrono::steady_clock::time_point, double>> frames;
+  s.session.set_frame_sink([&](std::string text) {
+    frames.emplace_back(std::chrono::steady_clock::now(), nlohmann::json::parse(text)["t"].get<double>());
+  });
+  s.ask(debug_request("start").dump());
+  s.ask(debug_request("step", {}, 4).dump());
+  frames.clear();
+  auto a = s.ask(debug_request("step", {}, 4).dump());  // the first MOVE at x4
+  CHECK(a["place"]["line"] == 4);
+  REQUIRE(frames.size() >= 3);
+  // Poses every 4/60 s of simulated time, in order; the last the motion's end.
+  for (std::size_t i = 1; i < frames.size(); ++i) CHECK(frames[i].second > frames[i - 1].second);
+  // On the grid of 4/60 s of simulated time (plus the checked poses): at least one pose a grid step.
+  const double sim_s = frames.back().second - frames.front().second;
+  CHECK(static_cast<double>(frames.size()) >= sim_s / (4.0 / 60) - 1);
+  // A pause from another thread while a slow motion runs: stopped resumable mid-way, Continue ends it.
+  std::thread pauser([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    s.session.pause();
+  });
+  a = s.ask(debug_request("go", {}, 0.25).dump());
+  pauser.join();
+  CHECK(a["stop"] == "pause");
+  CHECK(a["stopped"] == true);
+  CHECK(a["place"]["line"].get<int>() >= 4);
+  a = s.ask(debug_request("go", {}, 0).dump());
+  CHECK(a["stop"] == "completed");
 }

@@ -1,8 +1,10 @@
 // The studio (`asimov serve`) in a real browser and on the wire: the token and Origin checks
 // (403), the page on the embedded sample, a program typed with a check error shown under its
 // line, a run played back with the pointer and the arm moving, a collision with its report and
-// marker, the monitor console moving the arm, files saved, opened and confined to the workspace,
-// a replay page exported, a screenshot that is not blank.
+// marker, the monitor console moving the arm, the debugger (three steps with the pointer and
+// the arm moving, a breakpoint clicked in the gutter and run to, a variable seen and changed),
+// files saved, opened and confined to the workspace, a replay page exported, a screenshot that
+// is not blank.
 // usage: node studio.test.mjs ASIMOV SOURCE_DIR SCRATCH_DIR
 import { spawn } from 'node:child_process';
 import { existsSync, mkdirSync, readFileSync, rmSync } from 'node:fs';
@@ -135,6 +137,52 @@ try {
   await page.waitForFunction(() => /J1/.test(window.asimovStudio.state().monitor.output), null, { timeout: 30000 });
   s = await st();
   check(/40\.000/.test(s.monitor.output) && s.arm.join() !== armBefore.join(), `the monitor moved the arm: ${s.monitor.output}`);
+
+  // The debugger: a typed program stepped three times (the pointer and the arm move, live
+  // frames arrive), a breakpoint set by a click on a line number and run to, a variable's value
+  // seen and changed in the watch list, the program continued to its end.
+  const debugStart = Date.now();
+  await page.click('.cm-content');
+  await page.keyboard.press('Control+a');
+  await page.keyboard.press('Delete');
+  await page.keyboard.type('.PROGRAM walk()\nx = 5\nMOVE #PPOINT(20, -80, 100, 0, 10, 0)\nMOVE #PPOINT(40, -70, 110, 0, 30, 0)\n' +
+                           'x = x + 2\nMOVE #PPOINT(-20, -90, 90, 0, 0, 0)\nTYPE "x is ", x\n.END\n', { delay: 1 });
+  await page.waitForFunction(() => /\.END\n$/.test(window.asimovStudio.text()), null, { timeout: 20000 });
+  await page.evaluate(() => window.asimovStudio.setSpeed(4));
+  const stepped = [];
+  for (let k = 0; k < 3; ++k) {
+    const before = await st();
+    await page.click('#step');
+    await page.waitForFunction((n) => { const s = window.asimovStudio.state(); return !s.debugging && s.debug && s.debug.place && s.pointerLine === s.debug.place.line && s.framesReceived >= n; },
+                               before.framesReceived, { timeout: 30000 });
+    const after = await st();
+    stepped.push({ line: after.pointerLine, armMoved: after.arm.join() !== before.arm.join(), frames: after.framesReceived - before.framesReceived });
+  }
+  check(stepped.map((x) => x.line).join() === '2,3,4', `three steps: the pointer at lines ${stepped.map((x) => x.line)}`);
+  check(stepped[2].armMoved && stepped[2].frames > 1, `the stepped MOVE moved the arm live: ${stepped[2].frames} frames`);
+  const lineNumber = page.locator('.cm-lineNumbers .cm-gutterElement', { hasText: /^6$/ });
+  await lineNumber.click();
+  const dots = await page.evaluate(() => [...document.querySelectorAll('.cm-breakpoints .cm-gutterElement')]
+    .filter((e) => e.textContent === '\u25cf' && getComputedStyle(e).visibility !== 'hidden').length);
+  check((await page.evaluate(() => window.asimovStudio.breakpoints())).join() === '6' && dots === 1, `a breakpoint set by a click on line 6: ${dots} dot(s)`);
+  await page.click('#continue');
+  await page.waitForFunction(() => { const s = window.asimovStudio.state(); return !s.debugging && s.debug && s.debug.stop === 'breakpoint'; }, null, { timeout: 30000 });
+  s = await st();
+  check(s.pointerLine === 6 && s.debug.place.line === 6, `run to the breakpoint: stopped at line ${s.pointerLine}`);
+  const x = page.locator('#variables input[data-name="x"]');
+  check((await x.inputValue()) === '7', `the watch list shows x = ${await x.inputValue()}`);
+  check(/walk/.test(await page.textContent('#tasks')), `the task list: ${await page.textContent('#tasks')}`);
+  const dbgShot = await pixelStats(context, await page.screenshot({ path: join(scratch, 'studio-debug.png') }), {});
+  check(dbgShot.nonBackground > 0.2 && dbgShot.colours > 30, `the stopped studio's screenshot is not blank: ${JSON.stringify(dbgShot)}`);
+  await x.fill('10');
+  await x.press('Enter');
+  await page.waitForFunction(() => { const v = (window.asimovStudio.state().debug.variables || []).find((e) => e.name === 'x'); return v && v.value === '10'; }, null, { timeout: 20000 });
+  await page.click('#continue');
+  await page.waitForFunction(() => { const s = window.asimovStudio.state(); return !s.debugging && s.debug.stop === 'completed'; }, null, { timeout: 30000 });
+  s = await st();
+  check(/x is 10/.test(s.debug.output) && s.pointerLine === 0, `continued to the end with the changed value: ${s.debug.output.trim()}`);
+  await page.evaluate((t) => window.asimovStudio.setText(t), readFileSync(join(source, 'programs/demo/crash.v2'), 'utf8'));
+  console.log(`# the debugger part took ${((Date.now() - debugStart) / 1000).toFixed(1)} s`);
 
   // Files: save into the workspace, confinement, open, export a replay.
   const api = (fn, ...a) => page.evaluate(([f, args]) => window.asimovStudio[f](...args), [fn, a]);

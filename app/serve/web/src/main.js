@@ -1,12 +1,15 @@
 // The studio page of `asimov serve` (docs/studio.md): the program in a CodeMirror editor with V+
 // highlighting and `check`'s errors under their lines as you type, the monitor console, the cell
 // in 3D (three.js) with the arm, runs played back with the tool path and the line being carried
-// out, a contact marked with its report, files of the workspace, replay export. Everything goes
+// out, a contact marked with its report, files of the workspace, replay export; the program
+// debugger: step, step into, run to a breakpoint, pause, abort, with the execution pointer, the
+// breakpoints in the gutter, the arm moving live (frames streamed as each motion is simulated),
+// the stopped program's variables (editable) and its tasks. Everything goes
 // through one WebSocket (messages in app/serve/protocol.hpp); window.asimovStudio is the API the
 // browser tests use.
 import { EditorView, basicSetup } from 'codemirror';
-import { EditorState, StateEffect, StateField, RangeSetBuilder } from '@codemirror/state';
-import { Decoration, WidgetType, keymap } from '@codemirror/view';
+import { EditorState, StateEffect, StateField, RangeSet, RangeSetBuilder } from '@codemirror/state';
+import { Decoration, GutterMarker, WidgetType, gutter, keymap, lineNumbers } from '@codemirror/view';
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { HighlightStyle, syntaxHighlighting } from '@codemirror/language';
@@ -41,6 +44,11 @@ $('style', { textContent: `
   .cm-diag{font:12px monospace;white-space:pre-wrap;padding:1px 8px;border-left:3px solid #e05252;background:#3a1f24;color:#ffb4b4}
   .cm-diag.warning{border-color:#d8b04a;background:#3a3320;color:#ffe6a0}
   .cm-errorLine{background:#e0525222} .cm-pointerLine{background:#3a6df055 !important}
+  .cm-breakpoints{width:14px;cursor:pointer} .cm-breakpoints .cm-gutterElement{color:#ff4545;padding:0 2px}
+  .cm-lineNumbers .cm-gutterElement{cursor:pointer}
+  #debug{position:absolute;right:8px;top:6px;width:300px;max-height:55%;overflow:auto;font:12px monospace;background:#000b;border-radius:4px;padding:4px 6px}
+  #debug table{border-collapse:collapse;width:100%} #debug td{padding:0 4px;vertical-align:top} #debug h4{margin:2px 0;font-size:12px;color:#8ab}
+  #debug input{width:100%;box-sizing:border-box;background:#15171b;color:#eee;border:1px solid #444;font:12px monospace}
   #console{height:32%;display:flex;flex-direction:column;border-top:1px solid #333;background:#15171b}
   #out{flex:1;overflow:auto;margin:0;padding:6px 8px;font:12px/1.35 monospace;white-space:pre-wrap}
   #cmd{display:flex;border-top:1px solid #333} #prompt{padding:4px 6px;font:12px monospace;color:#8ab}
@@ -61,6 +69,10 @@ const bSave = btn('save', 'Save', 'save the editor into the workspace (Ctrl-S)')
 $('span', { className: 'sep' }, bar);
 const bRun = btn('run', 'Run', 'run the program to its end (Ctrl-Enter)');
 const bAbort = btn('abort', 'Abort', 'stop the run or monitor command under way');
+const bStep = btn('step', 'Step', 'execute one step; a CALL is one step (SSTEP); starts the program stopped at its first step');
+const bInto = btn('stepin', 'Step into', 'execute one step; at a CALL stop at the CALLed program\'s first step (XSTEP)');
+const bGo = btn('continue', 'Continue', 'run on to the next breakpoint or the end (PROCEED); click a line number to set a breakpoint');
+const bPause = btn('pause', 'Pause', 'pause the program running under the debugger (Continue goes on)');
 const bPlay = btn('play', 'Pause', 'pause or go on playing the last run back (Restart: from its start)');
 const bRestart = btn('restart', 'Restart', 'play the last run back from its start');
 const speed = $('select', { id: 'speed', title: 'playback speed' }, bar);
@@ -79,6 +91,7 @@ const right = $('div', { id: 'right' }, root);
 const view3d = $('div', { id: 'view' }, right);
 const hud = $('div', { id: 'hud' }, right);
 const report = $('pre', { id: 'report', className: 'hidden' }, right);
+const debugBox = $('div', { id: 'debug', className: 'hidden' }, right);
 
 const setStatus = (text) => { status.textContent = text; status.title = text; };
 const print = (text, cls) => {
@@ -133,13 +146,42 @@ const pointerField = StateField.define({
   },
   provide: (f) => EditorView.decorations.from(f),
 });
+// Breakpoints: a gutter of red dots, toggled by a click on it or on the line number.
+const toggleBreak = StateEffect.define({ map: (v, mapping) => ({ pos: mapping.mapPos(v.pos), on: v.on }) });
+const breakMarker = new (class extends GutterMarker { toDOM() { return document.createTextNode('\u25cf'); } })();
+const breakField = StateField.define({
+  create: () => RangeSet.empty,
+  update(set, tr) {
+    set = set.map(tr.changes);
+    for (const e of tr.effects)
+      if (e.is(toggleBreak)) set = e.value.on ? set.update({ add: [breakMarker.range(e.value.pos)] }) : set.update({ filter: (from) => from !== e.value.pos });
+    return set;
+  },
+});
+function breakLines(state = editor.state) {
+  const lines = [];
+  for (let it = state.field(breakField).iter(); it.value; it.next()) lines.push(state.doc.lineAt(it.from).number);
+  return [...new Set(lines)].sort((a, b) => a - b);
+}
+function setBreakpoint(line, on) {
+  if (line < 1 || line > editor.state.doc.lines) return;
+  const pos = editor.state.doc.line(line).from;
+  if (breakLines().includes(line) === on) return;
+  editor.dispatch({ effects: toggleBreak.of({ pos, on }) });
+  if (stopped) debug('state');  // the stopped program takes it at once
+}
+const toggleAt = (view, block) => { const n = view.state.doc.lineAt(block.from).number; setBreakpoint(n, !breakLines().includes(n)); return true; };
+const breakGutter = [breakField, gutter({
+  class: 'cm-breakpoints', markers: (v) => v.state.field(breakField), initialSpacer: () => breakMarker,
+  domEventHandlers: { mousedown: toggleAt },
+}), lineNumbers({ domEventHandlers: { mousedown: toggleAt } })];
 let checkTimer = 0;
 const editor = new EditorView({
   parent: editorBox,
   state: EditorState.create({
     doc: '',
     extensions: [
-      basicSetup, vplus, syntaxHighlighting(darkHighlight), diagField, pointerField, EditorView.theme({}, { dark: true }),
+      breakGutter, basicSetup, vplus, syntaxHighlighting(darkHighlight), diagField, pointerField, EditorView.theme({}, { dark: true }),
       keymap.of([{ key: 'Mod-s', run: () => { save(); return true; } }, { key: 'Mod-Enter', run: () => { run(); return true; } }]),
       EditorView.updateListener.of((u) => { if (u.docChanged) { clearTimeout(checkTimer); checkTimer = setTimeout(check, 250); } }),
     ],
@@ -157,6 +199,7 @@ function showPointer(line) {
 // --- connection ---------------------------------------------------------------------------------
 const pending = new Map();
 let nextId = 1, ws = null, lastDiagnostics = [], lastRun = null, lastMonitor = null, checks = 0;
+let stopped = false, lastDebug = null, lastFrame = null, framesReceived = 0, debugging = false;
 function send(msg) {
   const id = nextId++;
   ws.send(JSON.stringify({ ...msg, id }));
@@ -168,6 +211,7 @@ function connect() {
   ws.onmessage = (ev) => {
     const m = JSON.parse(ev.data);
     if (m.type === 'hello') return hello(m);
+    if (m.type === 'frame') return onFrame(m);
     if (m.type === 'error') {
       setStatus(`${m.message}  ${m.detail || ''}`);
       print(`${m.message}  ${m.detail || ''}`, '#ff9a9a');
@@ -419,7 +463,12 @@ cmdline.addEventListener('keydown', (e) => {
 bOpen.onclick = open;
 bSave.onclick = save;
 bRun.onclick = run;
-bAbort.onclick = () => send({ type: 'abort' });
+// Abort: the run or command under way stops at once; a program stopped under the debugger ends.
+bAbort.onclick = async () => {
+  await send({ type: 'abort' });
+  if (stopped || debugging) { await waitIdle(); await send({ type: 'debug', action: 'abort' }).then((m) => m.type === 'debug' && (showDebug(m), showPointer(0), print(m.output || ''))); }
+};
+const waitIdle = () => new Promise((resolve) => { const t = setInterval(() => { if (!debugging) { clearInterval(t); resolve(); } }, 20); });
 bReplay.onclick = exportReplay;
 // Playback of the last run (the run itself is computed whole: docs/studio.md).
 bPlay.onclick = () => {
@@ -436,10 +485,88 @@ bRestart.onclick = () => {
   setPlaying(true);
 };
 
+// --- the program debugger (docs/studio.md "Stepping") -------------------------------------------
+// The arm's poses as the server simulates them: the arm is posed from each frame at once.
+function onFrame(m) {
+  ++framesReceived;
+  lastFrame = m;
+  if (!moving.length) return;
+  setPlaying(false);
+  poseMoving(m.poses);
+  hud.textContent = `t = ${m.t.toFixed(3)} s  step ${m.step}\njoints ${m.joints.map((v) => v.toFixed(1)).join('  ')}`;
+}
+const esc = (t) => String(t).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
+function showDebug(m) {
+  stopped = m.stopped;
+  debugBox.textContent = '';
+  if (!m.stopped && !(m.tasks || []).length) { debugBox.className = 'hidden'; return; }
+  debugBox.className = '';
+  const p = m.place;
+  $('h4', { textContent: p ? `${p.program}, step ${p.step}${p.text ? ':  ' + p.text : ''}` : `not stopped (${m.stop})` }, debugBox);
+  $('h4', { textContent: 'Tasks' }, debugBox);
+  const tasks = $('table', { id: 'tasks' }, debugBox);
+  for (const t of m.tasks || []) {
+    const tr = $('tr', {}, tasks);
+    $('td', { textContent: String(t.number) }, tr); $('td', { textContent: t.program }, tr); $('td', { textContent: t.state }, tr);
+  }
+  $('h4', { textContent: `Variables${m.variables_omitted ? ` (${m.variables_omitted} more not shown)` : ''}` }, debugBox);
+  const vars = $('table', { id: 'variables' }, debugBox);
+  for (const v of m.variables || []) {
+    const tr = $('tr', {}, vars);
+    $('td', { textContent: v.name }, tr);
+    const td = $('td', {}, tr);
+    if (v.kind === 'real' || v.kind === 'string') {
+      // Editable: Enter sends DO name = value to the monitor (it changes what the next step reads).
+      const input = $('input', { value: v.value, title: 'Enter: DO ' + v.name + ' = value' }, td);
+      input.dataset.name = v.name;
+      input.addEventListener('keydown', (e) => { if (e.key === 'Enter') setVariable(v.name, input.value); });
+    } else td.textContent = v.value;
+  }
+}
+async function setVariable(variable, value) {
+  await monitor(`DO ${variable} = ${value}`);
+  await debug('state');
+}
+function debugButtons() {
+  for (const b of [bStep, bInto, bGo, bRun]) b.disabled = debugging;
+  bPause.disabled = !debugging;
+}
+async function debug(action) {
+  if (debugging && action !== 'state') return null;
+  if (action !== 'state') { debugging = true; debugButtons(); setStatus(`${action} ...`); }
+  const m = await send({ type: 'debug', action, text: editorText(), file: name.value, breakpoints: breakLines(),
+                         speed: Number(speed.value) });
+  if (action !== 'state') { debugging = false; debugButtons(); }
+  if (m.type !== 'debug') return m;
+  lastDebug = m;
+  if (m.diagnostics && m.diagnostics.length) editor.dispatch({ effects: setDiags.of(m.diagnostics) });
+  if (m.output && action !== 'state') print(m.output);
+  // Lines that hold no step cannot stop the program: their dots go.
+  for (const line of m.refused || []) setBreakpoint(line, false);
+  const p = m.place;
+  showPointer(m.stopped && p && (!p.file || p.file === name.value) ? p.line : m.line && m.stop === 'collision' ? m.line : 0);
+  if (m.poses && moving.length) { setPlaying(false); poseMoving(m.poses); }
+  report.className = 'hidden';
+  if (m.stop === 'collision' && m.report) { report.textContent = m.report; report.className = 'collision'; }
+  showDebug(m);
+  if (action !== 'state')
+    setStatus(m.stopped && p ? `${m.stop === 'breakpoint' ? 'breakpoint' : m.stop === 'pause' ? 'paused' : 'stopped'} at ${p.program}, step ${p.step}`
+              : `${m.stop}${m.output ? ': ' + m.output.trim().split('\n')[0] : ''}`);
+  return m;
+}
+bStep.onclick = () => debug('step');
+bInto.onclick = () => debug('into');
+bGo.onclick = () => debug('go');
+bPause.onclick = () => send({ type: 'pause' });
+debugButtons();
+
 // The API of the page (tests, embedding).
 window.asimovStudio = {
   ready: false,
   setText, text: editorText, check, run, monitor, save, open, exportReplay,
+  step: () => debug('step'), stepInto: () => debug('into'), go: () => debug('go'), pause: () => send({ type: 'pause' }),
+  abort: () => bAbort.onclick(), debugState: () => debug('state'),
+  setBreakpoint, breakpoints: () => breakLines(),
   setSpeed: (v) => { speed.value = String(v); },
   state: () => ({
     checks, diagnostics: lastDiagnostics, pointerLine, playing, t: playT, frames: frameCount,
@@ -448,6 +575,9 @@ window.asimovStudio = {
     contactShown: !!(marker && marker.visible), report: report.className === 'hidden' ? '' : report.textContent,
     arm: moving.length ? bodies[moving[moving.length - 1]].mesh.position.toArray() : null,
     file: name.value,
+    debug: lastDebug && { stopped: lastDebug.stopped, stop: lastDebug.stop, place: lastDebug.place, variables: lastDebug.variables,
+                          tasks: lastDebug.tasks, breakpoints: lastDebug.breakpoints, output: lastDebug.output },
+    debugging, framesReceived, frame: lastFrame && { t: lastFrame.t, step: lastFrame.step },
   }),
 };
 connect();
