@@ -25,6 +25,7 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <vector>
 
 namespace asimov::robots {
@@ -650,6 +651,9 @@ class Expr {
         while (k < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[k])) || s_[k] == '_')) ++k;
         name = s_.substr(i_, k - i_);
         i_ = k;
+        // ros/xacro's own helpers exist under xacro. only (a property may be called arg).
+        if (std::string_view(ns) == "xacro" && (name == "arg" || name == "abs_filename" || name == "dotify" || name == "error"))
+          name = "xacro." + name;
       }
     skip();
     if (i_ < s_.size() && s_[i_] == '(') return call(name);
@@ -1285,6 +1289,33 @@ class Expander {
       return property_value(*p, *holder);
     };
     cx.call = [this, e](const std::string& name, const std::vector<Value>& args) -> std::optional<Value> {
+      // ros/xacro's xacro namespace: arg(name) (the argument's text), abs_filename(spec) (a
+      // package:// or file:// URI, or a path relative to this file, made absolute), dotify(d)
+      // (our dicts already take d.key), error(text) (stops the expansion with the text).
+      if (name.rfind("xacro.", 0) == 0) {
+        const std::string fn = name.substr(6);
+        if (args.size() != 1) fail(e, "xacro: xacro." + fn + "() takes one argument");
+        if (fn == "dotify") {
+          if (args[0].kind != Value::dict) fail(e, "xacro: xacro.dotify() takes a dict");
+          return args[0];
+        }
+        if (args[0].kind != Value::text) fail(e, "xacro: xacro." + fn + "() takes a string");
+        const std::string& a = args[0].str;
+        if (fn == "arg") {
+          if (auto it = args_.find(a); it != args_.end()) return text_value(it->second);
+          fail(e, "xacro: xacro.arg('" + a + "'): no such argument (declare it with <xacro:arg name=\"" + a + "\" default=...>)");
+        }
+        if (fn == "error") fail(e, "xacro: xacro.error: " + a);
+        fs::path path = a;
+        if (a.rfind("package://", 0) == 0 || a.rfind("file://", 0) == 0) {
+          std::string error;
+          path = resolve_uri(a, fs::path(files_.back()).parent_path(), packages_, error);
+          if (!error.empty()) fail(e, "xacro: xacro.abs_filename('" + a + "'): " + error);
+        } else if (path.is_relative()) {
+          path = fs::path(files_.back()).parent_path() / path;
+        }
+        return text_value(fs::absolute(path).lexically_normal().string());
+      }
       if (name != "load_yaml") return std::nullopt;
       if (args.size() != 1 || args[0].kind != Value::text) fail(e, "xacro: load_yaml() takes one file name");
       return load_yaml(args[0].str, e);

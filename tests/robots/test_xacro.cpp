@@ -374,3 +374,33 @@ TEST_CASE("xacro: $(anon), namespaced include properties, arg defaults, nested l
   has(error_of("<xacro:property name=\"base\" value=\"1\"/><xacro:include filename=\"nsprops.xacro\" ns=\"lib\"/><e v=\"${lib.nope}\"/>"),
       "no property 'nope' in the namespace");
 }
+
+TEST_CASE("xacro: the xacro namespace's helpers: arg, abs_filename, dotify, error", "[urdf][xacro]") {
+  // Exported and generated descriptions test arguments inside expressions:
+  // ${xacro.arg('ros_profile') == 'ros1' and ...}; arguments are strings there.
+  write("sub/part.yaml", "size: 3\n");
+  const std::string x = expand(
+      "<xacro:arg name=\"ros_profile\" default=\"ros2\"/><xacro:arg name=\"n\" default=\"4\"/>"
+      "<xacro:if value=\"${xacro.arg('ros_profile') == 'ros1'}\"><ros1/></xacro:if>"
+      "<xacro:if value=\"${xacro.arg('ros_profile') == 'ros2' and int(xacro.arg('n')) > 3}\"><ros2/></xacro:if>"
+      "<xacro:property name=\"arg\" value=\"7\"/>"  // a property may be called arg
+      "<xacro:property name=\"d\" value=\"${xacro.dotify(xacro.load_yaml(xacro.abs_filename('sub/part.yaml')))}\"/>"
+      "<e a=\"${arg}\" s=\"${d.size}\" f=\"${xacro.abs_filename('sub/part.yaml')}\"/>\n",
+      {{"n", "5"}});
+  has(x, "<ros2/>");
+  CHECK(x.find("<ros1/>") == std::string::npos);
+  has(x, "a=\"7\"");
+  has(x, "s=\"3\"");
+  has(x, "f=\"" + (scratch() / "sub/part.yaml").lexically_normal().string() + "\"");
+  // abs_filename of a package:// URI is the file in the package.
+  PackagePath packages;
+  packages.add_root(kWorkspace);
+  const std::string pkg = expand_xacro(
+      write("p.xacro", std::string(kNs) + "<e f=\"${xacro.abs_filename('package://asimov_demo_support/package.xml')}\"/></robot>\n").string(),
+      packages, {});
+  has(pkg, "f=\"" + fs::absolute(kPackage / "package.xml").lexically_normal().string() + "\"");
+  has(error_of("<e v=\"${xacro.arg('missing')}\"/>"), "xacro.arg('missing'): no such argument");
+  has(error_of("<xacro:if value=\"${True}\">\n<e v=\"${xacro.error('this arm needs a tip')}\"/></xacro:if>"),
+      "t.xacro:3: xacro: xacro.error: this arm needs a tip");
+  has(error_of("<e v=\"${xacro.dotify(1)}\"/>"), "xacro.dotify() takes a dict");
+}
