@@ -5,6 +5,7 @@
 #include "expressions.hpp"
 #include "files.hpp"
 #include "limits.hpp"
+#include "load_errors.hpp"
 #include "settings.hpp"
 
 #include <fmt/format.h>
@@ -64,6 +65,37 @@ struct Block {
 constexpr Kw kIfBlock = Kw::then;
 constexpr Kw kForBlock = Kw::next;
 
+const char* block_name(Kw kind) {
+  switch (kind) {
+    case kIfBlock: return "IF";
+    case Kw::while_: return "WHILE";
+    case Kw::do_: return "DO";
+    case kForBlock: return "FOR";
+    case Kw::case_: return "CASE";
+    default: return "block";
+  }
+}
+
+// What a value is when the syntax shows it: 'p' precision point, 't' transformation, 's'
+// string, 'r' real; 0 when only the run tells (a variable without prefix, an operator).
+char location_kind(const Node& n) {
+  if (n.kind == NodeKind::variable && n.text[0] == '#') return 'p';
+  if (n.kind == NodeKind::chain && n.ops[0] == ast::Op::compound) return 't';
+  if (n.kind == NodeKind::function) switch (n.func) {
+      case Func::ppoint: case Func::pdest: return 'p';
+      case Func::trans: case Func::here: case Func::dest: case Func::null: case Func::inverse:
+      case Func::rx: case Func::ry: case Func::rz: case Func::shift: case Func::tool: case Func::base:
+      case Func::frame: return 't';
+      default: break;
+    }
+  const StaticKind k = static_kind(n);
+  return k == StaticKind::string ? 's' : k == StaticKind::real ? 'r' : 0;
+}
+
+void expect_args(LoadErrors& errors_, const ast::Instruction& i, std::size_t lo, std::size_t hi, const char* what) {
+  if (i.args.size() < lo || i.args.size() > hi) errors_.here(fmt::format("{} expects {}", what, lo == hi && lo == 0 ? "no argument" : "other arguments"));
+}
+
 class Checker {
  public:
   Checker(const ParsedSource& src, Symbols& symbols, int joint_count)
@@ -73,10 +105,8 @@ class Checker {
 
   CheckResult run() {
     for (std::size_t i = 0; i < src_.lines.size(); ++i) {
-      line_ = static_cast<int>(i) + 1;
-      line_errors_ = 0;
       const ast::Line& l = src_.lines[i];
-      column_ = l.column;
+      errors_.start_line(static_cast<int>(i) + 1, l.column);
       if (l.data) {
         data_line(*l.data);
         continue;
@@ -84,18 +114,18 @@ class Checker {
       if (data_section(l)) continue;
       if (!l.statement) {
         if (l.label) {
-          if (!in_program_) error("label outside .PROGRAM");
+          if (!in_program_) errors_.here("label outside .PROGRAM");
           else define_label(*l.label);
         }
         continue;
       }
       if (const auto* h = boost::get<ast::ProgramHeader>(&*l.statement)) {
-        if (l.label) error("a label cannot precede .PROGRAM");
+        if (l.label) errors_.here("a label cannot precede .PROGRAM");
         begin_program(*h);
         continue;
       }
       if (!in_program_) {
-        error("only comments may appear outside .PROGRAM ... .END");
+        errors_.here("only comments may appear outside .PROGRAM ... .END");
         continue;
       }
       if (l.label) define_label(*l.label);
@@ -103,73 +133,14 @@ class Checker {
     }
     // A file read only up to a limit has lost its .END lines: its limit's error says why.
     if (in_program_) {
-      if (!src_.truncated) error_at(prog_.line, 1, ".PROGRAM without .END");
+      if (!src_.truncated) errors_.at(prog_.line, 1, ".PROGRAM without .END");
       in_program_ = false;
     }
-    if (data_kind_ != Kw::none && !src_.truncated) error_at(data_start_, 1, "data section without .END");
+    if (data_kind_ != Kw::none && !src_.truncated) errors_.at(data_start_, 1, "data section without .END");
     return std::move(out_);
   }
 
  private:
-  // --- diagnostics ---------------------------------------------------------------------
-  void error_at(int line, int column, std::string detail) {
-    // A statement of 10^6 operators may hold as many errors (`$a * $a * ...`), each with a
-    // copy of its line: past what a LOAD reports (kMaxLoadErrors, the first ones of a line come
-    // first) they are only counted, so the report is the same and the memory linear.
-    if (line == line_ && unreported()) return;
-    report(line, column, std::move(detail));
-  }
-  void report(int line, int column, std::string detail) {
-    Diagnostic d;
-    d.message = "*Syntax error*";
-    d.detail = std::move(detail);
-    d.file = src_.file;
-    d.line = line;
-    d.column = column;
-    if (in_program_ && line > prog_.line) {
-      d.program = prog_.name;
-      d.step = line - prog_.line;
-    }
-    d.source_line = src_.text[static_cast<std::size_t>(line - 1)];
-    out_.errors.push_back(std::move(d));
-  }
-  // Counts an error of the current line; true when it is past what is reported (error_at).
-  bool unreported() {
-    if (line_errors_++ < kMaxLoadErrors) return false;
-    ++out_.unreported;
-    return true;
-  }
-  void error(std::string detail) { error_at(line_, column_, std::move(detail)); }
-  // The 1-based column of the first `name(` (case-insensitive, a whole word) of the current
-  // statement; the statement's column when it is not found.
-  int column_of(const std::string& name) const {
-    auto lower = [](std::string s) {
-      for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      return s;
-    };
-    const std::string hay = lower(src_.text[static_cast<std::size_t>(line_ - 1)]), needle = lower(name);
-    for (std::size_t at = hay.find(needle, static_cast<std::size_t>(column_ - 1)); at != std::string::npos;
-         at = hay.find(needle, at + 1)) {
-      std::size_t after = at + needle.size();
-      while (after < hay.size() && (hay[after] == ' ' || hay[after] == '\t')) ++after;
-      const char before = at == 0 ? ' ' : hay[at - 1];
-      const bool starts = !(std::isalnum(static_cast<unsigned char>(before)) || std::strchr("._$#", before));
-      if (starts && after < hay.size() && hay[after] == '(') return static_cast<int>(at) + 1;
-    }
-    return column_;
-  }
-
-  // A block error that a syntax error in the same program may have caused (a block opener
-  // or END the parser rejected) is not reported: the syntax error already is.
-  bool parse_error_between(int from, int to) const {
-    for (const Diagnostic& d : src_.errors)
-      if (d.line > from && d.line < to) return true;
-    return false;
-  }
-  void block_error(std::string detail) {
-    if (!parse_error_between(prog_.line, line_)) error(std::move(detail));
-  }
-
   // --- data sections (dialect §8) -------------------------------------------------------
   // Handles .LOCATIONS/.REALS/.STRINGS and the .END closing them; false for anything else.
   bool data_section(const ast::Line& l) {
@@ -180,23 +151,23 @@ class Checker {
       return true;
     }
     if (in->kw != Kw::dot_locations && in->kw != Kw::dot_reals && in->kw != Kw::dot_strings) return false;
-    if (in_program_) error("a data section cannot be inside a program");
+    if (in_program_) errors_.here("a data section cannot be inside a program");
     else if (l.label || in->args.size() > 1 || (in->args.size() == 1 && !ast::is_omitted(in->args[0]))
              || in->trailing != Kw::none)
-      error("unexpected text");
+      errors_.here("unexpected text");
     data_kind_ = in->kw;
-    data_start_ = line_;
+    data_start_ = errors_.line();
     return true;
   }
 
   void data_line(const ast::DataLine& d) {
     auto item = compile_data_line(d, data_kind_, joint_count_, symbols_);
-    if (!item) return error(item.error().message);
+    if (!item) return errors_.here(item.error().message);
     // The elements will be charged against the data limit when the load assigns them; past it
     // the load fails here, once, instead of first holding them all (docs/limits.md).
     if (item->subscripted && (out_.data_bytes += Elements::element_bytes(item->value)) > kMaxDataBytes) {
       if (data_full_) return;
-      error(fmt::format("the data sections exceed {} MiB of program data", kMaxDataBytes >> 20));
+      errors_.here(fmt::format("the data sections exceed {} MiB of program data", kMaxDataBytes >> 20));
       out_.errors.back().message = "*Out of memory*";
       data_full_ = true;
       return;
@@ -207,26 +178,26 @@ class Checker {
   // --- programs ------------------------------------------------------------------------
   void begin_program(const ast::ProgramHeader& h) {
     if (in_program_) {
-      error_at(prog_.line, 1, ".PROGRAM without .END");
+      errors_.at(prog_.line, 1, ".PROGRAM without .END");
       in_program_ = false;
     }
     prog_ = Program{};
     prog_.name = normalize_name(h.name);
     prog_.file = src_.file;
-    prog_.line = line_;
+    prog_.line = errors_.line();
     prog_.text = text_;
     for (const std::string& p : h.params) {
       Param param;
       param.array = p.size() > 2 && p.substr(p.size() - 2) == "[]";
       param.name = normalize_name(param.array ? p.substr(0, p.size() - 2) : p);
       for (const Param& other : prog_.params)
-        if (other.name == param.name) error(fmt::format("parameter {} twice", param.name));
+        if (other.name == param.name) errors_.here(fmt::format("parameter {} twice", param.name));
       prog_.params.push_back(param);
     }
     expr_.new_scope();
     for (const Param& p : prog_.params) expr_.note_shape(p.name, p.array);
     for (const Program& other : out_.programs)
-      if (other.name == prog_.name) error(fmt::format("program {} defined twice", prog_.name));
+      if (other.name == prog_.name) errors_.here(fmt::format("program {} defined twice", prog_.name));
     in_program_ = true;
     executable_seen_ = false;
     blocks_.clear();
@@ -237,16 +208,16 @@ class Checker {
 
   void end_program() {
     for (auto it = blocks_.rbegin(); it != blocks_.rend(); ++it)
-      if (!parse_error_between(it->line, line_))
-        error_at(it->line, it->column, fmt::format("{} without END", block_name(it->kind)));
+      if (!errors_.parse_error_between(it->line, errors_.line()))
+        errors_.at(it->line, it->column, fmt::format("{} without END", block_name(it->kind)));
     for (const Goto& g : gotos_) {
       auto found = labels_.find(g.label);
       if (found == labels_.end()) {
-        error_at(g.line, g.column, fmt::format("undefined label {}", g.label));
+        errors_.at(g.line, g.column, fmt::format("undefined label {}", g.label));
         continue;
       }
       if (!encloses(found->second.block, g.block)) {
-        error_at(g.line, g.column, fmt::format("GOTO {} jumps into a block", g.label));
+        errors_.at(g.line, g.column, fmt::format("GOTO {} jumps into a block", g.label));
         continue;
       }
       prog_.code[static_cast<std::size_t>(g.instr)].jump = found->second.instr;
@@ -255,17 +226,6 @@ class Checker {
       in.fast0 = in.args.empty() || !in.args[0].fast ? nullptr : in.args[0].fast->root();
     out_.programs.push_back(std::move(prog_));
     in_program_ = false;
-  }
-
-  static const char* block_name(Kw kind) {
-    switch (kind) {
-      case kIfBlock: return "IF";
-      case Kw::while_: return "WHILE";
-      case Kw::do_: return "DO";
-      case kForBlock: return "FOR";
-      case Kw::case_: return "CASE";
-      default: return "block";
-    }
   }
 
   // --- labels and blocks -----------------------------------------------------------------
@@ -287,21 +247,21 @@ class Checker {
 
   void define_label(unsigned label) {
     if (labels_.count(label)) {
-      error(fmt::format("duplicate label {}", label));
+      errors_.here(fmt::format("duplicate label {}", label));
       return;
     }
     labels_[label] = {here(), current_block()};
   }
 
   void add_goto(unsigned label) {
-    gotos_.push_back({label, here() - 1, current_block(), line_, column_});
+    gotos_.push_back({label, here() - 1, current_block(), errors_.line(), errors_.column()});
   }
 
   void open_block(Kw kind, int test, int start) {
     Block b;
     b.kind = kind;
-    b.line = line_;
-    b.column = column_;
+    b.line = errors_.line();
+    b.column = errors_.column();
     b.id = static_cast<int>(block_parent_.size());
     b.test = test;
     b.start = start;
@@ -320,7 +280,7 @@ class Checker {
   Instr& emit(Code code) {
     Instr in;
     in.code = code;
-    in.line = line_;
+    in.line = errors_.line();
     prog_.code.push_back(std::move(in));
     return prog_.code.back();
   }
@@ -328,38 +288,27 @@ class Checker {
 
   void declaration(const ast::Declaration& d) {
     if (executable_seen_) {
-      error("declarations must precede the first executable statement");
+      errors_.here("declarations must precede the first executable statement");
       return;
     }
     for (const ast::VarRef& v : d.names) {
       const std::string name = normalize_name(v.name);
       bool clash = false;
       for (const Param& p : prog_.params) clash = clash || p.name == name;
-      if (d.kw == Kw::auto_ && clash) error(fmt::format("{} is a parameter", name));
+      if (d.kw == Kw::auto_ && clash) errors_.here(fmt::format("{} is a parameter", name));
       expr_.note_shape(name, !v.subscript.empty());  // AUTO a then AUTO a[5]: one name, two shapes
       auto declared = [&](const std::vector<std::string>& names) {
         return std::find(names.begin(), names.end(), name) != names.end();
       };
       const bool in_auto = declared(prog_.autos), in_local = declared(prog_.locals);
       if ((d.kw != Kw::auto_ && in_auto) || (d.kw != Kw::local && in_local) || (d.kw == Kw::global && clash))
-        error(fmt::format("{} declared with another class", name));
+        errors_.here(fmt::format("{} declared with another class", name));
       else if (d.kw == Kw::auto_ && !in_auto && !clash) prog_.autos.push_back(name);
       else if (d.kw == Kw::local && !in_local) prog_.locals.push_back(name);
     }
   }
 
   // --- expressions (expressions.cpp) ------------------------------------------------------
-  Node expression(const ast::Expr& e) { return expr_.expression(e); }
-  Node variable(const ast::VarRef& v, bool whole_array_ok, bool shape_use = true) {
-    return expr_.variable(v, whole_array_ok, shape_use);
-  }
-  void format_items(const ast::TypeStmt& t, std::vector<ast::Format>& formats, std::vector<Node>& values) {
-    expr_.format_items(t, formats, values);
-  }
-  static const ast::VarRef* plain_variable(const ast::Expr& e, bool subscript_ok) {
-    return ExpressionCompiler::plain_variable(e, subscript_ok);
-  }
-  static Node setting_name(const ast::VarRef& v) { return ExpressionCompiler::setting_name(v); }
 
   // --- statements ------------------------------------------------------------------------
   void statement(const ast::Statement& s) {
@@ -376,17 +325,17 @@ class Checker {
       void operator()(const ast::Declaration& d) const { c.declaration(d); }
       void operator()(const ast::Unsupported& u) const { c.unsupported(u); }
       void operator()(const ast::AccelStmt& a) const {  // args: profile, acceleration, deceleration
-        if (a.values.size() > 2) return c.error("ACCEL expects at most an acceleration and a deceleration");
+        if (a.values.size() > 2) return c.errors_.here("ACCEL expects at most an acceleration and a deceleration");
         Instr& in = c.emit(Code::accel);
-        in.args.push_back(c.expression(a.profile));
-        for (const ast::Expr& v : a.values) in.args.push_back(c.expression(v));
+        in.args.push_back(c.expr_.expression(a.profile));
+        for (const ast::Expr& v : a.values) in.args.push_back(c.expr_.expression(v));
       }
       void operator()(const ast::IoStmt& io) const { c.io_statement(io); }
       void operator()(const ast::ExecuteStmt& e) const { c.execute_statement(e); }
       void operator()(const ast::TimerStmt& t) const {
         Instr& in = c.emit(Code::timer);
-        in.args.push_back(c.expression(t.number));
-        in.args.push_back(c.expression(t.value));
+        in.args.push_back(c.expr_.expression(t.number));
+        in.args.push_back(c.expr_.expression(t.value));
       }
     };
     if (!boost::get<ast::Declaration>(&s)) executable_seen_ = true;
@@ -402,10 +351,10 @@ class Checker {
       if (c != ' ' && c != '\t') rest += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     const std::string& k = in.target.text;
     const bool select_robot = k == "SELECT" && rest == "ROBOT=1";
-    in.always = ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0) || select_robot;
+    in.warn_only = ((k == "ATTACH" || k == "DETACH") && rest.rfind("()", 0) == 0) || select_robot;
     // A word of the inventory (dialect §13) says why; one with no effect only warns.
     if (const VplusWord* w = vplus_word(k, WordKind::instruction); w && !select_robot) {
-      in.always = in.always || w->support == Support::no_effect;
+      in.warn_only = in.warn_only || w->support == Support::no_effect;
       in.target.text = vplus_refusal(*w);
     }
   }
@@ -419,7 +368,7 @@ class Checker {
     if ((k == "ATTACH" || k == "DETACH") && unit.empty() && io.items.empty()) {  // the robot
       Instr& in = emit(Code::robot);
       in.target.text = k;
-      in.always = k == "ATTACH";
+      in.io = k == "ATTACH" ? IoOp::attach : IoOp::detach;
       return;
     }
     if (k == "ABORT" || k == "KILL" || k == "CYCLE.END" || k == "RELEASE") return task_statement(k, unit, io.items);
@@ -436,14 +385,14 @@ class Checker {
     for (const auto& [name, o] : kOps)
       if (k == name) op = o;
     if (unit.empty() || ast::is_omitted(unit[0])) {
-      error(fmt::format("{} needs a logical unit: {} (lun) ...", k, k));
+      errors_.here(fmt::format("{} needs a logical unit: {} (lun) ...", k, k));
       return;
     }
     const bool takes_path = op == IoOp::fopenr || op == IoOp::fopenw || op == IoOp::fopena || op == IoOp::fopend
         || op == IoOp::fempty || op == IoOp::fdelete;
     const std::size_t want_max = op == IoOp::read || op == IoOp::write ? kMaxIoItems : takes_path || op == IoOp::attach ? 1 : 0;
     if (io.items.size() > want_max || (takes_path && io.items.empty()) || (op == IoOp::read && io.items.empty())) {
-      error(fmt::format("{} expects {}", k, op == IoOp::read ? "variables after the unit"
+      errors_.here(fmt::format("{} expects {}", k, op == IoOp::read ? "variables after the unit"
                                                 : takes_path ? "a file name after the unit"
                                                 : want_max ? "at most a device name after the unit" : "only the unit"));
       return;
@@ -451,33 +400,33 @@ class Checker {
     Instr& in = emit(Code::io);
     in.io = op;
     in.target.text = k;
-    for (const ast::Expr& e : unit) in.args.push_back(ast::is_omitted(e) ? Node{} : expression(e));
-    in.temp = static_cast<int>(in.args.size());
+    for (const ast::Expr& e : unit) in.args.push_back(ast::is_omitted(e) ? Node{} : expr_.expression(e));
+    in.items = static_cast<int>(in.args.size());
     for (const ast::TypeItem& item : io.items) {
       if (const auto* f = boost::get<ast::Format>(&item)) {
         if (op != IoOp::write) {
-          error(fmt::format("{} takes no format", k));
+          errors_.here(fmt::format("{} takes no format", k));
           return;
         }
         ast::Format spec = *f;
         spec.code = static_cast<char>(std::toupper(static_cast<unsigned char>(spec.code)));
         if (spec.width > kMaxStringLength || spec.decimals > kMaxStringLength)
-          error(fmt::format("/{}{} is wider than {} characters", spec.code, std::max(spec.width, spec.decimals), kMaxStringLength));
+          errors_.here(fmt::format("/{}{} is wider than {} characters", spec.code, std::max(spec.width, spec.decimals), kMaxStringLength));
         in.formats.push_back(spec);
         continue;
       }
       const ast::Expr& e = boost::get<ast::Expr>(item);
       if (op == IoOp::read) {
-        const ast::VarRef* v = plain_variable(e, true);
+        const ast::VarRef* v = ExpressionCompiler::plain_variable(e, true);
         if (!v || ast::is_whole_array(*v) || v->name[0] == '#') {
-          error("READ expects real or string variables");
+          errors_.here("READ expects real or string variables");
           return;
         }
-        in.args.push_back(variable(*v, false));
+        in.args.push_back(expr_.variable(*v, false));
         continue;
       }
-      Node value = expression(e);
-      if (op != IoOp::write && static_kind(value) == StaticKind::real) error(fmt::format("{} expects a string", k));
+      Node value = expr_.expression(e);
+      if (op != IoOp::write && static_kind(value) == StaticKind::real) errors_.here(fmt::format("{} expects a string", k));
       in.formats.push_back(ast::Format{0, 0, 0});
       in.args.push_back(std::move(value));
     }
@@ -491,19 +440,19 @@ class Checker {
     for (const ast::TypeItem& item : items) {
       const auto* e = boost::get<ast::Expr>(&item);
       if (!e) {
-        error(fmt::format("{} takes no format", k));
+        errors_.here(fmt::format("{} takes no format", k));
         return;
       }
       args.push_back(e);
     }
     if ((op != IoOp::release && args.empty()) || args.size() > (op == IoOp::cycle_end ? 2u : 1u)) {
-      error(fmt::format("{} expects a task number", k));
+      errors_.here(fmt::format("{} expects a task number", k));
       return;
     }
     Instr& in = emit(Code::task);
     in.io = op;
     in.target.text = k;
-    for (const ast::Expr* e : args) in.args.push_back(expression(*e));
+    for (const ast::Expr* e : args) in.args.push_back(expr_.expression(*e));
   }
 
   // EXECUTE [task] prog(args): the program slot as for CALL; arguments go by value.
@@ -511,41 +460,41 @@ class Checker {
     Instr& in = emit(Code::execute);
     in.program = symbols_.program(normalize_name(e.head.program));
     in.target.text = normalize_name(e.head.program);
-    in.args.push_back(ast::is_omitted(e.head.task) ? Node{} : expression(e.head.task));
+    in.args.push_back(ast::is_omitted(e.head.task) ? Node{} : expr_.expression(e.head.task));
     std::size_t count = e.args.size();
     if (count == 1 && !e.args[0]) count = 0;
-    for (std::size_t i = 0; i < count; ++i) in.args.push_back(e.args[i] ? expression(*e.args[i]) : Node{});
+    for (std::size_t i = 0; i < count; ++i) in.args.push_back(e.args[i] ? expr_.expression(*e.args[i]) : Node{});
   }
 
   void binding(const ast::Binding& b) {
     if (b.kw == Kw::parameter) {  // PARAMETER name = value: the name is checked when it runs
       if (!b.target.subscript.empty() || b.target.name[0] == '$' || b.target.name[0] == '#')
-        error("PARAMETER expects a parameter name");
+        errors_.here("PARAMETER expects a parameter name");
       Instr& in = emit(Code::parameter);
-      in.target = setting_name(b.target);
+      in.target = ExpressionCompiler::setting_name(b.target);
       if (!known_parameter(in.target.text) && !vplus_setting(in.target.text, false))
-        error(fmt::format("unknown parameter {}", in.target.text));
-      in.args.push_back(expression(b.value));
+        errors_.here(fmt::format("unknown parameter {}", in.target.text));
+      in.args.push_back(expr_.expression(b.value));
       return;
     }
     // DECOMPOSE a[] = ... fills a[0], a[1] ... (V+); a whole array is no other target.
-    Node target = variable(b.target, b.kw == Kw::decompose, b.kw != Kw::decompose);
+    Node target = expr_.variable(b.target, b.kw == Kw::decompose, b.kw != Kw::decompose);
     if (b.kw == Kw::decompose) expr_.note_shape(target.text, true);  // DECOMPOSE x = ...: x[0] ...
     const Code code = b.kw == Kw::set ? Code::set : b.kw == Kw::decompose ? Code::decompose : Code::assign;
-    Node value = expression(b.value);
+    Node value = expr_.expression(b.value);
     if (code == Code::set) {  // what fails on first execution is reported now
       const char want = target.text[0] == '#' ? 'p' : 't';
       const char got = location_kind(value);
-      if (target.text[0] == '$') error("SET needs a location variable");
+      if (target.text[0] == '$') errors_.here("SET needs a location variable");
       else if (got && got != want)
-        error(fmt::format("{} cannot hold a {}", target.text, got == 'p' ? "precision point" : got == 't' ? "transformation"
+        errors_.here(fmt::format("{} cannot hold a {}", target.text, got == 'p' ? "precision point" : got == 't' ? "transformation"
                                                               : got == 's' ? "string" : "real"));
     }
     if (code == Code::assign) {
       const StaticKind k = static_kind(value);
       const bool string_target = target.text[0] == '$';
       if ((string_target && k == StaticKind::real) || (!string_target && k == StaticKind::string))
-        error(string_target ? "a number cannot be put into a string variable"
+        errors_.here(string_target ? "a number cannot be put into a string variable"
                             : "a string needs a $ variable");
     }
     Instr& in = emit(code);
@@ -554,30 +503,14 @@ class Checker {
     in.args.push_back(std::move(value));
   }
 
-  // What a value is when the syntax shows it: 'p' precision point, 't' transformation, 's'
-  // string, 'r' real; 0 when only the run tells (a variable without prefix, an operator).
-  static char location_kind(const Node& n) {
-    if (n.kind == NodeKind::variable && n.text[0] == '#') return 'p';
-    if (n.kind == NodeKind::chain && n.ops[0] == ast::Op::compound) return 't';
-    if (n.kind == NodeKind::function) switch (n.func) {
-        case Func::ppoint: case Func::pdest: return 'p';
-        case Func::trans: case Func::here: case Func::dest: case Func::null: case Func::inverse:
-        case Func::rx: case Func::ry: case Func::rz: case Func::shift: case Func::tool: case Func::base:
-        case Func::frame: return 't';
-        default: break;
-      }
-    const StaticKind k = static_kind(n);
-    return k == StaticKind::string ? 's' : k == StaticKind::real ? 'r' : 0;
-  }
-
   void for_statement(const ast::ForStmt& f) {
     if (!f.var.subscript.empty() || f.var.name[0] == '$' || f.var.name[0] == '#')
-      error("FOR needs a plain real variable");
+      errors_.here("FOR needs a plain real variable");
     Instr& in = emit(Code::for_init);
-    in.target = variable(f.var, false);
-    in.args.push_back(expression(f.from));
-    in.args.push_back(expression(f.to));
-    if (f.step) in.args.push_back(expression(*f.step));
+    in.target = expr_.variable(f.var, false);
+    in.args.push_back(expr_.expression(f.from));
+    in.args.push_back(expr_.expression(f.to));
+    if (f.step) in.args.push_back(expr_.expression(*f.step));
     in.temp = prog_.temps;
     prog_.temps += 2;
     open_block(kForBlock, here() - 1, here());
@@ -585,11 +518,11 @@ class Checker {
 
   void if_statement(const ast::IfStmt& i) {
     if (i.goto_label) {
-      emit(Code::jump_true).args.push_back(expression(i.cond));
+      emit(Code::jump_true).args.push_back(expr_.expression(i.cond));
       add_goto(*i.goto_label);
       return;
     }
-    emit(Code::jump_false).args.push_back(expression(i.cond));
+    emit(Code::jump_false).args.push_back(expr_.expression(i.cond));
     open_block(kIfBlock, here() - 1, -1);
   }
 
@@ -604,7 +537,7 @@ class Checker {
   void calls_statement(const ast::CallsStmt& calls) {
     ast::Expr name;
     name.first = calls.program;
-    Node program = expression(name);  // a string literal or variable (the parser takes no other)
+    Node program = expr_.expression(name);  // a string literal or variable (the parser takes no other)
     Instr& in = emit(Code::calls);
     in.target = std::move(program);
     call_arguments(in, calls.args);
@@ -615,13 +548,13 @@ class Checker {
     if (count == 1 && !args[0]) count = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const auto& a = args[i];
-      const ast::VarRef* v = a ? plain_variable(*a, true) : nullptr;
+      const ast::VarRef* v = a ? ExpressionCompiler::plain_variable(*a, true) : nullptr;
       // A plain variable or a whole array a[] goes by reference; anything else by value.
       if (v && (v->subscript.empty() || ast::is_whole_array(*v))) {
-        in.args.push_back(variable(*v, true, !v->subscript.empty()));  // a plain name may be either
+        in.args.push_back(expr_.variable(*v, true, !v->subscript.empty()));  // a plain name may be either
         in.by_ref.push_back(true);
       } else {
-        in.args.push_back(a ? expression(*a) : Node{});
+        in.args.push_back(a ? expr_.expression(*a) : Node{});
         in.by_ref.push_back(false);
       }
     }
@@ -629,13 +562,9 @@ class Checker {
 
   void type_statement(const ast::TypeStmt& t) {
     Instr& in = emit(Code::type);
-    format_items(t, in.formats, in.args);
+    expr_.format_items(t, in.formats, in.args);
   }
 
-
-  void expect_args(const ast::Instruction& i, std::size_t lo, std::size_t hi, const char* what) {
-    if (i.args.size() < lo || i.args.size() > hi) error(fmt::format("{} expects {}", what, lo == hi && lo == 0 ? "no argument" : "other arguments"));
-  }
 
   void instruction(const ast::Instruction& raw) {
     ast::Instruction i = raw;
@@ -644,17 +573,17 @@ class Checker {
       const bool ok = (i.kw == Kw::speed && (i.trailing == Kw::always || i.trailing == Kw::monitor))
           || (i.kw == Kw::duration && i.trailing == Kw::always) || (i.kw == Kw::while_ && i.trailing == Kw::do_)
           || (i.kw == Kw::elseif && i.trailing == Kw::then) || (i.kw == Kw::case_ && i.trailing == Kw::of);
-      if (!ok) error("unexpected word at the end of the statement");
+      if (!ok) errors_.here("unexpected word at the end of the statement");
     }
-    if (i.units != Kw::none && i.kw != Kw::speed) error("MMPS and IPS follow SPEED only");
+    if (i.units != Kw::none && i.kw != Kw::speed) errors_.here("MMPS and IPS follow SPEED only");
     if (const SimpleForm* form = simple_form(i.kw)) {
       if (static_cast<int>(i.args.size()) < form->min_args
           || (form->max_args >= 0 && static_cast<int>(i.args.size()) > form->max_args))
-        error(fmt::format("{} expects {}", form->name, form->max_args == 0 ? "no argument" : "other arguments"));
+        errors_.here(fmt::format("{} expects {}", form->name, form->max_args == 0 ? "no argument" : "other arguments"));
       simple(i, form->code);
       Instr& in = prog_.code.back();
       in.word = i.kw;
-      in.always = i.trailing == Kw::always;
+      in.scope = i.trailing == Kw::always ? SpeedScope::always : SpeedScope::next;
       if (i.kw == Kw::wait_event && !i.args.empty() && !ast::is_omitted(i.args[0]))
         in.code = Code::unsupported, in.target.text = "WAIT.EVENT";  // with a mask (dialect §7)
       return;
@@ -662,7 +591,7 @@ class Checker {
     switch (i.kw) {
       case Kw::elseif: return else_if(i);
       case Kw::case_: {
-        expect_args(i, 1, 1, "CASE");
+        expect_args(errors_, i, 1, 1, "CASE");
         simple(i, Code::case_init);
         prog_.code.back().temp = prog_.temps;
         open_block(Kw::case_, -1, -1);
@@ -673,28 +602,27 @@ class Checker {
       case Kw::enable: case Kw::disable: return switches(i);
       case Kw::prompt: return prompt(i);
       case Kw::here: {
-        const ast::VarRef* v = i.args.size() == 1 ? plain_variable(i.args[0], true) : nullptr;
+        const ast::VarRef* v = i.args.size() == 1 ? ExpressionCompiler::plain_variable(i.args[0], true) : nullptr;
         if (!v) {
-          error("HERE expects a location variable");
+          errors_.here("HERE expects a location variable");
           return;
         }
-        emit(Code::here).target = variable(*v, false);
+        emit(Code::here).target = expr_.variable(*v, false);
         return;
       }
       case Kw::speed: {
-        expect_args(i, 1, 2, "SPEED");
+        expect_args(errors_, i, 1, 2, "SPEED");
         simple(i, Code::speed);
         Instr& in = prog_.code.back();
-        in.always = i.trailing == Kw::always;
-        in.monitor = i.trailing == Kw::monitor;
+        in.scope = i.trailing == Kw::always ? SpeedScope::always : i.trailing == Kw::monitor ? SpeedScope::monitor : SpeedScope::next;
         if (i.units != Kw::none)  // SPEED ... MMPS / IPS (dialect §7)
-          in.code = Code::unsupported, in.always = false, in.target.text = i.units == Kw::mmps ? "SPEED MMPS" : "SPEED IPS";
+          in.code = Code::unsupported, in.target.text = i.units == Kw::mmps ? "SPEED MMPS" : "SPEED IPS";
         return;
       }
       case Kw::goto_: {
         const double* label = i.args.size() == 1 && i.args[0].rest.empty() ? boost::get<double>(&i.args[0].first) : nullptr;
         if (!label || *label < 0 || *label > kMaxLabel || *label != static_cast<unsigned>(*label)) {
-          error("GOTO expects a label (0 to 65535)");
+          errors_.here("GOTO expects a label (0 to 65535)");
           return;
         }
         emit(Code::jump);
@@ -702,22 +630,22 @@ class Checker {
         return;
       }
       case Kw::while_: {
-        expect_args(i, 1, 1, "WHILE");
+        expect_args(errors_, i, 1, 1, "WHILE");
         const int test = here();
         simple(i, Code::jump_false);
         open_block(Kw::while_, test, test);
         return;
       }
-      case Kw::do_: expect_args(i, 0, 0, "DO"); open_block(Kw::do_, -1, here()); return;
+      case Kw::do_: expect_args(errors_, i, 0, 0, "DO"); open_block(Kw::do_, -1, here()); return;
       case Kw::until: return until(i);
       case Kw::else_: return else_part(i);
       case Kw::end: return end_block(i);
       case Kw::exit:
       case Kw::next: {
-        expect_args(i, 0, 0, i.kw == Kw::exit ? "EXIT" : "NEXT");
+        expect_args(errors_, i, 0, 0, i.kw == Kw::exit ? "EXIT" : "NEXT");
         Block* loop = innermost_loop();
         if (!loop) {
-          block_error(fmt::format("{} outside a loop", i.kw == Kw::exit ? "EXIT" : "NEXT"));
+          errors_.in_block(fmt::format("{} outside a loop", i.kw == Kw::exit ? "EXIT" : "NEXT"));
           return;
         }
         (i.kw == Kw::exit ? loop->exits : loop->nexts).push_back(here());
@@ -725,8 +653,8 @@ class Checker {
         return;
       }
       case Kw::react: case Kw::reacti: case Kw::reacte: return reaction(i);
-      case Kw::dot_end: expect_args(i, 0, 0, ".END"); return end_program();
-      default: error("unexpected statement"); return;
+      case Kw::dot_end: expect_args(errors_, i, 0, 0, ".END"); return end_program();
+      default: errors_.here("unexpected statement"); return;
     }
   }
 
@@ -739,63 +667,63 @@ class Checker {
     const std::size_t at = trap ? 0 : 1;  // the program's argument
     const bool named = i.args.size() > at && !ast::is_omitted(i.args[at]);
     if (i.args.size() < lo || i.args.size() > hi || (i.kw == Kw::react && !named)) {
-      error(fmt::format("{} expects {}", what, trap ? "a program name or nothing" : "a signal, a program and a priority"));
+      errors_.here(fmt::format("{} expects {}", what, trap ? "a program name or nothing" : "a signal, a program and a priority"));
       return;
     }
     Instr& in = emit(trap ? Code::reacte : Code::react);
     in.word = i.kw;
-    if (!trap) in.args.push_back(expression(i.args[0]));
+    if (!trap) in.args.push_back(expr_.expression(i.args[0]));
     if (named) {
-      const ast::VarRef* v = plain_variable(i.args[at], false);
+      const ast::VarRef* v = ExpressionCompiler::plain_variable(i.args[at], false);
       if (!v || v->name[0] == '$' || v->name[0] == '#') {
-        error(fmt::format("{} expects a program name", what));
+        errors_.here(fmt::format("{} expects a program name", what));
         return;
       }
       in.program = symbols_.program(normalize_name(v->name));
     }
-    if (!trap) in.args.push_back(i.args.size() > 2 && !ast::is_omitted(i.args[2]) ? expression(i.args[2]) : Node{});
+    if (!trap) in.args.push_back(i.args.size() > 2 && !ast::is_omitted(i.args[2]) ? expr_.expression(i.args[2]) : Node{});
   }
 
   // ENABLE / DISABLE sw, ...: switch names, known ones only (dialect §6).
   void switches(const ast::Instruction& i) {
     Instr& in = emit(i.kw == Kw::enable ? Code::enable : Code::disable);
     for (const ast::Expr& e : i.args) {
-      const ast::VarRef* v = plain_variable(e, false);
+      const ast::VarRef* v = ExpressionCompiler::plain_variable(e, false);
       if (!v || v->name[0] == '$' || v->name[0] == '#') {
-        error(fmt::format("{} expects switch names", i.kw == Kw::enable ? "ENABLE" : "DISABLE"));
+        errors_.here(fmt::format("{} expects switch names", i.kw == Kw::enable ? "ENABLE" : "DISABLE"));
         return;
       }
-      in.args.push_back(setting_name(*v));
+      in.args.push_back(ExpressionCompiler::setting_name(*v));
       if (!known_switch(in.args.back().text) && !vplus_setting(in.args.back().text, true))
-        error(fmt::format("unknown switch {}", in.args.back().text));
+        errors_.here(fmt::format("unknown switch {}", in.args.back().text));
     }
-    if (in.args.empty()) error("a switch name is missing");
+    if (in.args.empty()) errors_.here("a switch name is missing");
   }
 
 
   // PROMPT text, variable
   void prompt(const ast::Instruction& i) {
-    const ast::VarRef* v = i.args.size() == 2 ? plain_variable(i.args[1], true) : nullptr;
+    const ast::VarRef* v = i.args.size() == 2 ? ExpressionCompiler::plain_variable(i.args[1], true) : nullptr;
     if (!v || ast::is_whole_array(*v) || v->name[0] == '#') {
-      error("PROMPT expects a text and a real or string variable");
+      errors_.here("PROMPT expects a text and a real or string variable");
       return;
     }
-    Node text = expression(i.args[0]);
-    if (static_kind(text) == StaticKind::real) error("PROMPT expects a text first");
+    Node text = expr_.expression(i.args[0]);
+    if (static_kind(text) == StaticKind::real) errors_.here("PROMPT expects a text first");
     Instr& in = emit(Code::prompt);
-    in.target = variable(*v, false);
+    in.target = expr_.variable(*v, false);
     in.args.push_back(std::move(text));
   }
 
   void simple(const ast::Instruction& i, Code code) {
     Instr& in = emit(code);
-    for (const ast::Expr& e : i.args) in.args.push_back(expression(e));
+    for (const ast::Expr& e : i.args) in.args.push_back(expr_.expression(e));
   }
 
   void until(const ast::Instruction& i) {
-    expect_args(i, 1, 1, "UNTIL");
+    expect_args(errors_, i, 1, 1, "UNTIL");
     if (blocks_.empty() || blocks_.back().kind != Kw::do_) {
-      block_error("UNTIL without DO");
+      errors_.in_block("UNTIL without DO");
       return;
     }
     Block b = std::move(blocks_.back());
@@ -815,9 +743,9 @@ class Checker {
   }
 
   void else_part(const ast::Instruction& i) {
-    expect_args(i, 0, 0, "ELSE");
+    expect_args(errors_, i, 0, 0, "ELSE");
     if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().has_else) {
-      block_error("ELSE without IF ... THEN");
+      errors_.in_block("ELSE without IF ... THEN");
       return;
     }
     close_part(blocks_.back());
@@ -826,9 +754,9 @@ class Checker {
 
   // ELSEIF / ELIF cond [THEN]   [ext]
   void else_if(const ast::Instruction& i) {
-    expect_args(i, 1, 1, "ELSEIF");
+    expect_args(errors_, i, 1, 1, "ELSEIF");
     if (blocks_.empty() || blocks_.back().kind != kIfBlock || blocks_.back().has_else) {
-      block_error("ELSEIF without IF ... THEN");
+      errors_.in_block("ELSEIF without IF ... THEN");
       return;
     }
     close_part(blocks_.back());
@@ -839,9 +767,9 @@ class Checker {
   // VALUE e1, e2:  /  ANY
   void case_part(const ast::Instruction& i) {
     const bool any = i.kw == Kw::any;
-    expect_args(i, any ? 0 : 1, any ? 0 : 1000, any ? "ANY" : "VALUE");
+    expect_args(errors_, i, any ? 0 : 1, any ? 0 : 1000, any ? "ANY" : "VALUE");
     if (blocks_.empty() || blocks_.back().kind != Kw::case_ || blocks_.back().has_else) {
-      block_error(fmt::format("{} outside CASE (or after ANY)", any ? "ANY" : "VALUE"));
+      errors_.in_block(fmt::format("{} outside CASE (or after ANY)", any ? "ANY" : "VALUE"));
       return;
     }
     Block& b = blocks_.back();
@@ -857,9 +785,9 @@ class Checker {
   }
 
   void end_block(const ast::Instruction& i) {
-    expect_args(i, 0, 0, "END");
+    expect_args(errors_, i, 0, 0, "END");
     if (blocks_.empty() || blocks_.back().kind == Kw::do_) {
-      block_error(blocks_.empty() ? "END without a block" : "DO ends with UNTIL, not END");
+      errors_.in_block(blocks_.empty() ? "END without a block" : "DO ends with UNTIL, not END");
       return;
     }
     Block b = std::move(blocks_.back());
@@ -891,8 +819,6 @@ class Checker {
   Symbols& symbols_;
   CheckResult out_;
   std::shared_ptr<const std::vector<std::string>> text_;
-  int line_ = 0, column_ = 1;
-  std::size_t line_errors_ = 0;         // errors of line_ so far
   int joint_count_ = 6;
   Kw data_kind_ = Kw::none;             // the open data section, if any
   int data_start_ = 0;                  // and its line
@@ -904,10 +830,9 @@ class Checker {
   std::vector<int> block_parent_;       // block id -> enclosing block id (0 = program level)
   std::map<unsigned, LabelInfo> labels_;
   std::vector<Goto> gotos_;
+  LoadErrors errors_{src_, out_, in_program_, prog_};
   ExpressionCompiler expr_{symbols_, prog_, [this](std::string detail, const std::string& near) {
-    // Counted before the column is looked for: column_of reads the whole line, and a line may
-    // hold 10^6 unknown functions.
-    if (!unreported()) report(line_, near.empty() ? column_ : column_of(near), std::move(detail));
+    errors_.near(std::move(detail), near);
   }};
 };
 

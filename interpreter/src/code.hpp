@@ -59,23 +59,30 @@ enum class IoOp : unsigned char {
   abort, kill, cycle_end, release
 };
 
+// SPEED and DURATION: for the next motion only, ALWAYS, or (SPEED) the monitor speed.
+enum class SpeedScope : unsigned char { next, always, monitor };
+
+// One instruction. Each field means one thing; the codes that use it are named.
 struct Instr {
   Code code = Code::jump;
   int line = 0;                    // file line
   bool real_target = false;        // assign: the target holds reals (no '$' or '#')
   const RNode* fast0 = nullptr;    // args[0].fast's root (owned by it), for the dispatch loop
-  Node target;                     // assign/set/here/decompose/for: the variable written
+  Node target;                     // assign/set/here/decompose/for/prompt: the variable written;
+                                   //   calls: the name expression; unsupported, execute: the
+                                   //   text for messages (target.text)
   std::vector<Node> args;          // operands in source order (FOR: from, to, step)
-  std::vector<ast::Format> formats;  // TYPE: one per item; code 0 = the next of `args`
-  int jump = -1;                   // jumps, FOR exit / FOR body start
+  std::vector<ast::Format> formats;  // TYPE, WRITE: one per item; code 0 = the next of `args`
+  int jump = -1;                   // jumps, FOR exit / FOR body start, CASE's next test
   int temp = -1;                   // FOR: two frame temporaries (limit, step); CASE: one
-  bool always = false;             // SPEED ... ALWAYS; unsupported: only warn
-  bool monitor = false;            // SPEED ... MONITOR
-  int program = -1;                // CALL, EXECUTE: program slot
+  int items = -1;                  // io: args[0, items) are the unit arguments, then the items
+  int program = -1;                // CALL, EXECUTE, REACT, REACTE: program slot
   std::vector<bool> by_ref;        // CALL: argument i passed by reference
-  ast::Kw word = ast::Kw::none;    // configure: RIGHTY, LEFTY, ABOVE, ... MULTIPLE; hand: OPEN...
-  IoOp io = IoOp::read;            // io: which; args = the unit arguments (temp of them), then
-                                   //   the items (formats: WRITE's, one per item)
+  SpeedScope scope = SpeedScope::next;  // SPEED, DURATION
+  bool warn_only = false;          // unsupported: a warning (robot ATTACH () ...), not an error
+  ast::Kw word = ast::Kw::none;    // the keyword of the simple forms (configure: RIGHTY ...;
+                                   //   hand: OPEN ...; REACT or REACTI)
+  IoOp io = IoOp::read;            // io, task and robot instructions: which
 };
 
 // Instructions that compile to one Instr holding their arguments (the ASIMOV_MOTION and

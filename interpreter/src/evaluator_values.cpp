@@ -45,8 +45,6 @@ static std::string element_name(const Node& n, const Index& idx) {
   return s + "]";
 }
 
-Value Evaluator::read(const Node& n) { return lookup(n); }
-
 const Value& Evaluator::lookup(const Node& n) {
   Variable& v = variable(n);
   if (!n.subscripted) {
@@ -92,11 +90,11 @@ bool Evaluator::defined(const Node& n) {
 }
 
 Value Evaluator::eval(const Node& n) {
-  if (double x; run_fast(n, x) || (n.plain && try_real(n, x))) return x;
+  if (double x; run_fast(n, ctx_, x) || (n.plain && try_real(n, x))) return x;
   switch (n.kind) {
     case NodeKind::number: return n.number;
     case NodeKind::string: return n.text;
-    case NodeKind::variable: return read(n);
+    case NodeKind::variable: return lookup(n);
     case NodeKind::unary: {
       const double x = to_real(eval(n.kids[0]), op_text(n.op));
       if (n.op == Op::neg) return -x + 0.0;
@@ -114,7 +112,10 @@ Value Evaluator::eval(const Node& n) {
     case NodeKind::function: return function(n);
     case NodeKind::encode: {
       bool newline = true;
-      std::string text = format_items(n.formats, eval_all(n.kids), newline);
+      std::vector<Value> values;
+      values.reserve(n.kids.size());
+      for (const Node& k : n.kids) values.push_back(eval(k));
+      std::string text = format_items(n.formats, values, newline);
       if (text.size() > kMaxStringLength) raise(Message::illegal_value, "string longer than 128 characters");
       return text;
     }
@@ -140,7 +141,7 @@ Value Evaluator::function(const Node& n) {
     bool all = true;
     for (const Node& k : n.kids) {
       const int s = signal_number(k, false);
-      all = all && signal_on(std::abs(s)) == (s > 0);
+      all = all && cell_.signal_on(std::abs(s)) == (s > 0);
     }
     return truth(all);
   }
@@ -154,10 +155,10 @@ Value Evaluator::function(const Node& n) {
     const VplusWord* w = vplus_word(n.text, WordKind::function);
     raise(Message::not_supported, w ? vplus_refusal(*w) : n.text);
   }
-  if (n.func == Func::pdest) return planned_destination();
-  if (n.func == Func::priority) return static_cast<double>(reactions().priority());
-  if (n.func == Func::state) return state(to_index(to_real(eval(n.kids[0]), "STATE selector")));
-  if (n.func == Func::speed) return speed_factor(to_index(to_real(eval(n.kids[0]), "SPEED selector")));
+  if (n.func == Func::pdest) return arm_.planned_destination();
+  if (n.func == Func::priority) return static_cast<double>(sched_.reactions().priority());
+  if (n.func == Func::state) return arm_.state(to_index(to_real(eval(n.kids[0]), "STATE selector")));
+  if (n.func == Func::speed) return arm_.speed_factor(to_index(to_real(eval(n.kids[0]), "SPEED selector")));
   if (n.func == Func::time_s) {  // $TIME(): the controller's clock; $TIME(date, time): packed values
     const bool given = !n.kids.empty() && n.kids[0].kind != NodeKind::absent;
     if (!given) return time_text(std::time(nullptr));
@@ -174,15 +175,12 @@ Value Evaluator::function(const Node& n) {
     return taken;
   }
   if (n.func == Func::task) {  // TASK(): this task; TASK(1, n): 4 while task n executes, else 0
-    if (n.kids.empty()) return static_cast<double>(task_number());
+    if (n.kids.empty()) return static_cast<double>(sched_.task_number());
     const int select = to_index(to_real(eval(n.kids[0]), "TASK selector"));
     const int task = n.kids.size() > 1 && n.kids[1].kind != NodeKind::absent
         ? to_index(to_real(eval(n.kids[1]), "task number")) : 0;
     if (select != 1) raise(Message::not_supported, fmt::format("TASK({}, ...)", select));
-    if (tasks_.empty()) return task == 0 ? 4.0 : 0.0;  // task 0 alone
-    for (const auto& t : tasks_)
-      if (t->number == task) return t->done ? 0.0 : 4.0;
-    return 0.0;
+    return sched_.task_state(task);
   }
   if (n.func == Func::error) {  // ERROR(task [, select]): the last error's code, 0 when none
     for (const Node& k : n.kids)
@@ -196,33 +194,20 @@ Value Evaluator::function(const Node& n) {
     const auto slot = memory_.symbols.program_slots.find(name);
     if (slot == memory_.symbols.program_slots.end() || !memory_.programs[static_cast<std::size_t>(slot->second)])
       return 0.0;
-    bool executing = tasks_.empty() && run_program_ == name;
-    for (const auto& t : tasks_) executing = executing || (!t->done && t->program == name);
-    return executing ? 2.0 : 1.0;
+    return sched_.executing(name, run_program_) ? 2.0 : 1.0;
   }
-  if (n.func == Func::iostat || n.func == Func::getc) {  // dialect §7a
-    const int lun = to_index(to_real(eval(n.kids[0]), "logical unit"));
-    const double mode = n.kids.size() > 1 && n.kids[1].kind != NodeKind::absent ? to_real(eval(n.kids[1]), "mode") : 0;
-    if (n.func == Func::iostat) {
-      if (mode != 0) raise(Message::not_supported, fmt::format("IOSTAT(lun, {})", format_number(mode)));
-      return static_cast<double>(files_.iostat(lun));
-    }
-    std::string error;
-    const int c = files_.get_byte(lun, error);
-    if (!error.empty()) raise(Message::illegal_value, "GETC: " + error);
-    return static_cast<double>(c);
-  }
+  if (n.func == Func::iostat || n.func == Func::getc) return files_.function(n);  // dialect §7a
   if (n.func == Func::tas) {  // the old value (0 when undefined), then the new one is set
-    const double old = defined(n.kids[0]) ? to_real(read(n.kids[0]), "TAS variable") : 0.0;
+    const double old = defined(n.kids[0]) ? to_real(lookup(n.kids[0]), "TAS variable") : 0.0;
     store(n.kids[0], to_real(eval(n.kids[1]), "TAS value"));
     return old;
   }
   if (n.func == Func::timer) {  // TIMER(0) and negative: the simulated clock [assumption]
     const int k = to_index(to_real(eval(n.kids[0]), "timer number"));
-    if (k <= 0) return clock();
+    if (k <= 0) return sched_.clock();
     if (k > 16) raise(Message::illegal_value, fmt::format("timer {}", k));
     const auto& [value, since] = memory_.timers[static_cast<std::size_t>(k)];
-    return value + (clock() - since);
+    return value + (sched_.clock() - since);
   }
   std::vector<std::optional<Value>> args;
   args.reserve(n.kids.size());
@@ -231,40 +216,6 @@ Value Evaluator::function(const Node& n) {
     else args.emplace_back(eval(k));
   }
   return call_function(n.func, args, sim_);
-}
-
-// #PDEST: the joints the motion in progress ends at, the arm's joints when none is. The
-// simulator plans (and, blending, carries out) motions ahead of the task clock: a task that runs
-// before the pending motion's start sees the motion before it, which ends where it starts.
-robots::JointVector Evaluator::planned_destination() const {
-  if (running_ && sim_.motion_pending() && now_ < earlier_until_) return earlier_destination_;
-  return sim_.planned_joints();
-}
-
-// STATE(select) as the simulated controller reports it (dialect §7): power on and calibrated,
-// under program control, no front-panel flag, automatic mode.
-double Evaluator::state(int select) const {
-  switch (select) {
-    case 1: return 7;  // robot under program control
-    case 2: return moving() ? 1 : motion_program_ ? 2 : 0;  // moving / at its target / no motion yet
-    case 3: return 5;  // the manual control mode: computer control enabled (no pendant)
-    case 4: return 0;  // no front-panel or hardware flag (the E-stop bit 4 is clear)
-    case 5: return 1;  // automatic mode
-    case 9: return moving() ? 1 : 0;  // a motion under way
-    default: raise(Message::not_supported, fmt::format("STATE({})", select));
-  }
-}
-
-// SPEED(select) [assumption: the selectors as recalled from the V+ reference, dialect §7]:
-// 1 the monitor speed, 2 the program speed set with ALWAYS, 3 the speed of the next motion (a
-// SPEED without ALWAYS not used yet, else 2's).
-double Evaluator::speed_factor(int select) const {
-  switch (select) {
-    case 1: return speed_monitor_;
-    case 2: return speed_always_;
-    case 3: return speed_next_.value_or(speed_always_);
-    default: raise(Message::not_supported, fmt::format("SPEED({})", select));
-  }
 }
 
 // --- the real fast path -------------------------------------------------------------------
@@ -310,7 +261,7 @@ bool Evaluator::try_real(const Node& n, double& out) {
 }
 
 double Evaluator::real(const Node& n, const char* what) {
-  if (double x; run_fast(n, x) || (n.plain && try_real(n, x))) return x;
+  if (double x; run_fast(n, ctx_, x) || (n.plain && try_real(n, x))) return x;
   return to_real(eval(n), what);
 }
 
@@ -326,7 +277,7 @@ bool Evaluator::store_in_place(const Node& target, double x) {
   }
   double i;
   int k;
-  if (target.kids.size() != 1 || v.scalar || !run_fast(target.kids[0], i) || !small_index(i, k)) return false;
+  if (target.kids.size() != 1 || v.scalar || !run_fast(target.kids[0], ctx_, i) || !small_index(i, k)) return false;
   Value* e = const_cast<Elements&>(v.elements).get(Index{k, 0, 0});
   double* d = e ? std::get_if<double>(e) : nullptr;  // an element of a real array
   if (d) *d = x;

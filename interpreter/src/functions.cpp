@@ -116,6 +116,11 @@ motion::Location finite_location(const motion::Location& t) {
   return t;
 }
 
+motion::Location as_transformation(const Value& v) {
+  if (const auto* t = std::get_if<motion::Location>(&v)) return *t;
+  raise(Message::illegal_value, fmt::format("transformation expected, not a {}", kind_name(kind_of(v))));
+}
+
 Value call_function(Func f, const std::vector<std::optional<Value>>& args,
                     const motion::Simulator& sim) {
   auto x = [&](std::size_t i) { return real_arg(args, i); };

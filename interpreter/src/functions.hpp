@@ -44,5 +44,7 @@ motion::Location as_pose(const Value& v, const motion::Simulator& sim);
 // A location result of an operation (`:`, INVERSE, SHIFT, FRAME, HERE, DEST): an overflow to
 // infinity or NaN is an *Illegal value*, so no location ever holds one (docs/stiff-cases.md).
 motion::Location finite_location(const motion::Location& t);
+// TOOL, BASE: a transformation, else *Illegal value*.
+motion::Location as_transformation(const Value& v);
 
 }  // namespace asimov::interpreter

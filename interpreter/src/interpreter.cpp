@@ -212,7 +212,7 @@ std::optional<std::string> Interpreter::not_executable_from(const std::string& n
   return std::nullopt;
 }
 
-std::optional<std::string> Interpreter::set_signal(int k) { return impl_->eval().monitor_signal(k); }
+std::optional<std::string> Interpreter::set_signal(int k) { return impl_->eval().cell().monitor_signal(k); }
 
 RunResult Interpreter::run(const std::string& name) {
   Memory& m = impl_->memory;
@@ -229,7 +229,7 @@ void Interpreter::set_input(std::istream& in, bool interactive) {
   if (impl_->evaluator) impl_->evaluator->set_input(&in, interactive);
 }
 
-const motion::CellRuntime* Interpreter::cell_state() { return impl_->eval().cell_state(); }
+const motion::CellRuntime* Interpreter::cell_state() { return impl_->eval().cell().state(); }
 
 bool Interpreter::can_resume() const { return impl_->evaluator && impl_->evaluator->can_resume(); }
 
@@ -254,16 +254,16 @@ RunResult Interpreter::run_detached(const std::string& name) {
   return impl_->eval().run(slot, false);
 }
 
-void Interpreter::set_step_hook(StepHook hook) { impl_->eval().set_step_hook(std::move(hook)); }
+void Interpreter::set_step_hook(StepHook hook) { impl_->eval().scheduler().set_step_hook(std::move(hook)); }
 
-double Interpreter::monitor_speed() const { return impl_->evaluator ? impl_->evaluator->monitor_speed() : 100.0; }
+double Interpreter::monitor_speed() const { return impl_->evaluator ? impl_->evaluator->arm().monitor_speed() : 100.0; }
 
-void Interpreter::set_monitor_speed(double percent) { impl_->eval().set_monitor_speed(percent); }
+void Interpreter::set_monitor_speed(double percent) { impl_->eval().arm().set_monitor_speed(percent); }
 
-double Interpreter::program_speed() const { return impl_->evaluator ? impl_->evaluator->program_speed() : 100.0; }
+double Interpreter::program_speed() const { return impl_->evaluator ? impl_->evaluator->arm().settings().speed_always : 100.0; }
 
 std::optional<double> Interpreter::next_program_speed() const {
-  return impl_->evaluator ? impl_->evaluator->next_speed() : std::nullopt;
+  return impl_->evaluator ? impl_->evaluator->arm().settings().speed_next : std::nullopt;
 }
 
 }  // namespace asimov::interpreter

@@ -1,18 +1,18 @@
-// The reacting cell seen from the program (docs/cell-format.md "Parts and devices"): SIGNAL,
-// SIG() and WAIT go through the devices' clock, the hand grasps and releases parts. Lazy: the
-// devices are advanced to the arm's clock whenever the program looks at or changes them, which
-// is exact because they are functions of time and of the signals the program set before.
-#include "evaluator.hpp"
+// Stage 3, the signals and the reacting cell (cell_signals.hpp).
+#include "cell_signals.hpp"
 
 #include "errors.hpp"
+#include "evaluator.hpp"
 
 #include "asimov/robots/robot.hpp"
 
 #include <fmt/format.h>
 
+#include <cstdlib>
+
 namespace asimov::interpreter {
 
-motion::CellRuntime* Evaluator::cell_runtime() {
+motion::CellRuntime* CellSignals::runtime() {
   motion::CellRuntime* c = sim_.cell_runtime();
   if (!c) return nullptr;
   try {
@@ -23,25 +23,36 @@ motion::CellRuntime* Evaluator::cell_runtime() {
   return c;
 }
 
-void Evaluator::set_signal(int k) {
+const motion::CellRuntime* CellSignals::state() {
+  motion::CellRuntime* c = sim_.cell_runtime();
+  if (!c) return nullptr;
+  try {
+    c->clock().advance_to(sim_.time_s());
+  } catch (const motion::DeviceError&) {
+    // the run already stopped on it (*Device logic loop*); the state is the one before
+  }
+  return c;
+}
+
+void CellSignals::set_signal(int k, int line) {
   if (k > 0) memory_.signals.insert(k);
   if (k < 0) memory_.signals.erase(-k);
-  if (auto* c = cell_runtime(); c && k != 0) {
+  if (auto* c = runtime(); c && k != 0) {
     try {
-      c->clock().set_signal(std::abs(k), k > 0, current_line_);
+      c->clock().set_signal(std::abs(k), k > 0, line);
     } catch (const motion::DeviceError& e) {
       raise_text("*Device logic loop*", e.what());
     }
   }
 }
 
-bool Evaluator::signal_on(int k) {
+bool CellSignals::signal_on(int k) {
   waited_.insert(k);
   return signal_state(k);
 }
 
-bool Evaluator::signal_state(int k) {
-  if (auto* c = cell_runtime()) {
+bool CellSignals::signal_state(int k) {
+  if (auto* c = runtime()) {
     // Inputs and device-set soft signals come from the devices; the program's own from memory.
     if (c->clock().signal(k)) return true;
     if (sim_.cell().workcell.drives(k)) return false;
@@ -49,7 +60,16 @@ bool Evaluator::signal_state(int k) {
   return memory_.signals.count(k) > 0;
 }
 
-std::string Evaluator::undriven_signals() const {
+bool CellSignals::signal_at(int k, double t) {
+  if (motion::CellRuntime* c = sim_.cell_runtime()) {
+    c->clock().advance_to(t);  // a device logic loop: the walk reports it (*Device logic loop*)
+    if (c->clock().signal(k)) return true;
+    if (sim_.cell().workcell.drives(k)) return false;
+  }
+  return memory_.signals.count(k) > 0;
+}
+
+std::string CellSignals::undriven_signals() const {
   std::string list;
   for (int k : waited_)
     if (!sim_.cell().workcell.drives(k) && (motion::is_input_signal(k) || motion::is_soft_signal(k)))
@@ -57,8 +77,8 @@ std::string Evaluator::undriven_signals() const {
   return list.empty() ? "" : fmt::format("; no device in the cell drives signal {}", list);
 }
 
-void Evaluator::hand_changed(motion::HandState h, int line) {
-  auto* c = cell_runtime();
+void CellSignals::hand_changed(motion::HandState h, int line) {
+  auto* c = runtime();
   if (!c) return;
   const motion::Location flange = sim_.cell().base * robots::flange_pose(sim_.robot(), sim_.joints());
   if (h == motion::HandState::closed) {
@@ -69,7 +89,7 @@ void Evaluator::hand_changed(motion::HandState h, int line) {
   if (const auto why = c->open(flange, line)) raise_text("*No support below the part*", *why);
 }
 
-std::optional<std::string> Evaluator::monitor_signal(int k) {
+std::optional<std::string> CellSignals::monitor_signal(int k) {
   if (k > 0) memory_.signals.insert(k);
   if (k < 0) memory_.signals.erase(-k);
   motion::CellRuntime* c = sim_.cell_runtime();
@@ -81,21 +101,6 @@ std::optional<std::string> Evaluator::monitor_signal(int k) {
     return std::string(e.what());
   }
   return std::nullopt;
-}
-
-}  // namespace asimov::interpreter
-
-namespace asimov::interpreter {
-
-const motion::CellRuntime* Evaluator::cell_state() {
-  motion::CellRuntime* c = sim_.cell_runtime();
-  if (!c) return nullptr;
-  try {
-    c->clock().advance_to(sim_.time_s());
-  } catch (const motion::DeviceError&) {
-    // the run already stopped on it (*Device logic loop*); the state is the one before
-  }
-  return c;
 }
 
 }  // namespace asimov::interpreter
