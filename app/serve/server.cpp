@@ -337,6 +337,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       if (server_->sessions.load() >= server_->options.limits.max_sessions)
         return respond(req, http::status::service_unavailable, "text/plain", "too many studio sessions\n", false);
       stream_.expires_never();
+      // Small messages (the arm's frames) go out at once, not held for the last one's ACK.
+      beast::error_code ignored;
+      stream_.socket().set_option(tcp::no_delay(true), ignored);
       std::make_shared<WsSession>(server_, stream_.release_socket())->start(std::move(req));
       return;
     }
