@@ -23,37 +23,19 @@ namespace {
 
 using namespace monitor_text;
 
-constexpr std::array<CommandInfo, 28> kCommands = {{
-    {"ABORT", "", "ends a stopped execution"},
-    {"BPT", "[[prog,] step]", "sets a breakpoint before a step, or lists them"},
-    {"CALIBRATE", "", "does nothing in simulation"},
-    {"DEBUG", "[prog[(args)]]", "starts a program stopped before its first step"},
-    {"DELETE", "name, ...", "deletes programs or globals (x, $s, #p, a[])"},
-    {"DIRECTORY", "", "lists the programs in memory"},
-    {"DO", "instruction", "runs one instruction with global names"},
-    {"EXECUTE", "[prog[(args)]]", "runs a program (default: the last one) from its start"},
-    {"HELP", "[command]", "lists the commands, or shows one"},
-    {"HERE", "name | #name", "stores the current tool pose or joints"},
-    {"LISTL", "[name, ...]", "lists locations"},
-    {"LISTP", "[prog, ...]", "lists programs with step numbers"},
-    {"LISTR", "[name, ...]", "lists reals"},
-    {"LISTS", "[name, ...]", "lists strings"},
-    {"LOAD", "file", "loads programs and data from file (.v2 by default)"},
-    {"NOBPT", "[prog[, step]]", "clears a breakpoint, a program's, or all"},
-    {"POINT", "name [= location]", "sets a location as SET does, and lists it"},
-    {"PROCEED", "", "continues a stopped execution"},
-    {"QUIT", "", "leaves the monitor"},
-    {"RETRY", "", "re-runs the failing step of a stopped execution"},
-    {"SPEED", "[n]", "sets or shows the monitor speed (0 < n <= 100)"},
-    {"SSTEP", "", "runs the next step of a stopped program (a CALL whole)"},
-    {"STATUS", "", "shows program, state, speeds, configuration, hand, tool, base"},
-    {"STORE", "file [prog, ...]", "writes programs and globals to file"},
-    {"STOREL", "file", "writes the locations to file"},
-    {"WHERE", "", "shows the tool's world pose and the joints"},
-    {"XSTEP", "", "runs the next step of a stopped program (into a CALL)"},
-    {"ZERO", "", "clears programs, variables and execution state"},
+// The VAL text of a message kind (errors.cpp holds the texts).
+std::string val(Message kind) { return std::string(message_text(kind)); }
+
+constexpr std::array<CommandInfo, static_cast<std::size_t>(Command::count)> kCommands = {{
+#define ASIMOV_COMMAND(id, name, usage, help) {name, usage, help},
+#include "asimov/interpreter/monitor_commands.def"
 }};
-static_assert(kCommands.size() == static_cast<std::size_t>(Command::count));
+constexpr bool alphabetical() {
+  for (std::size_t i = 1; i < kCommands.size(); ++i)
+    if (!(kCommands[i - 1].name < kCommands[i].name)) return false;
+  return true;
+}
+static_assert(alphabetical(), "monitor_commands.def: the rows in alphabetical order");
 
 constexpr const char* kDoProgram = "do.tmp";      // DO runs as this one-statement program
 constexpr const char* kExecProgram = "exec.tmp";  // EXECUTE prog(args) calls prog from this one
@@ -213,7 +195,7 @@ CommandStatus Monitor::execute(const std::string& line) {
     std::size_t full = end;
     while (full < text.size() && (std::isalnum(static_cast<unsigned char>(text[full])) || text[full] == '.')) ++full;
     if (const VplusWord* w = vplus_word(text.substr(0, full), WordKind::monitor))
-      return fail("*Not supported in simulation*", vplus_refusal(*w));
+      return fail(val(Message::not_supported), vplus_refusal(*w));
   }
   if (m.match == Match::unknown) return fail("*Unknown command*", word.empty() ? text : word);
   if (m.match == Match::ambiguous) return fail("*Ambiguous command*", word);
@@ -222,7 +204,7 @@ CommandStatus Monitor::execute(const std::string& line) {
 
 CommandStatus Monitor::dispatch(Command c, Args rest) {
   const bool no_args = command_info(c).usage.empty();  // the kCommands row shows no argument
-  if (no_args && !rest.empty()) return fail("*Syntax error*", fmt::format("{} takes no argument", command_info(c).name));
+  if (no_args && !rest.empty()) return fail(val(Message::syntax), fmt::format("{} takes no argument", command_info(c).name));
   switch (c) {
     case Command::abort:  // with nothing stopped: nothing to do
       interp_.abort();
@@ -241,7 +223,7 @@ CommandStatus Monitor::dispatch(Command c, Args rest) {
     case Command::xstep: return cmd_step(DebugMode::into);
     case Command::help: return cmd_help(rest);
     case Command::here:
-      if (rest.empty()) return fail("*Syntax error*", "HERE needs a variable name");
+      if (rest.empty()) return fail(val(Message::syntax), "HERE needs a variable name");
       return run_instruction("HERE " + rest);
     case Command::listl: case Command::listr: case Command::lists: return cmd_list(rest, c);
     case Command::listp: return cmd_listp(rest);
@@ -365,12 +347,12 @@ CommandStatus Monitor::run_instruction(const std::string& instruction) {
 }
 
 CommandStatus Monitor::cmd_do(Args rest) {
-  if (rest.empty()) return fail("*Syntax error*", "DO needs an instruction");
+  if (rest.empty()) return fail(val(Message::syntax), "DO needs an instruction");
   std::size_t end = 0;
   while (end < rest.size() && !std::isspace(static_cast<unsigned char>(rest[end])) && rest[end] != ';') ++end;
   const std::string first = lower(rest.substr(0, end));
   if (std::isdigit(static_cast<unsigned char>(rest[0])) || not_for_do(first))
-    return fail("*Syntax error*", "control flow and declarations are not allowed in DO");
+    return fail(val(Message::syntax), "control flow and declarations are not allowed in DO");
   if (first == "signal") {  // the monitor may also set inputs (dialect §6 [ext])
     std::vector<int> numbers;
     for (const std::string& a : split_list(rest.substr(end))) {
@@ -382,7 +364,7 @@ CommandStatus Monitor::cmd_do(Args rest) {
       }
       const long v = std::labs(k);
       if (k != 0 && !(v <= 512 || (v >= 1001 && v <= 1512) || (v >= 2001 && v <= 2512)))
-        return fail("*Illegal value*", fmt::format("signal {}", k));
+        return fail(val(Message::illegal_value), fmt::format("signal {}", k));
       numbers.push_back(static_cast<int>(k));
     }
     if (!numbers.empty()) {
@@ -397,15 +379,15 @@ CommandStatus Monitor::cmd_do(Args rest) {
 CommandStatus Monitor::cmd_execute(Args rest, bool debug) {
   std::string name = rest, args;
   if (const auto open = rest.find('('); open != std::string::npos) {
-    if (rest.back() != ')') return fail("*Syntax error*", "expected \")\"");
+    if (rest.back() != ')') return fail(val(Message::syntax), "expected \")\"");
     name = trim(rest.substr(0, open));
     args = rest.substr(open + 1, rest.size() - open - 2);
   }
   name = normalize_name(trim(name));
   if (name.empty()) name = last_program_;
-  if (name.empty()) return fail("*Undefined program or variable name*", "no program executed yet");
+  if (name.empty()) return fail(val(Message::undefined_name), "no program executed yet");
   if (!interp_.has_program(name) || name == kDoProgram || name == kExecProgram)
-    return fail("*Undefined program or variable name*", name);
+    return fail(val(Message::undefined_name), name);
   last_program_ = name;
   interp_.abort();  // a stopped execution is discarded
   // DEBUG stops before the first step; EXECUTE at a breakpoint, if one is set.
@@ -429,19 +411,19 @@ CommandStatus Monitor::cmd_point(Args rest) {
   const auto eq = rest.find('=');
   const NameSpec spec = parse_name(rest.substr(0, eq));
   if (!spec.valid || spec.whole_array || spec.base[0] == '$')
-    return fail("*Syntax error*", "POINT needs a location name");
+    return fail(val(Message::syntax), "POINT needs a location name");
   if (eq != std::string::npos) {
-    if (trim(rest.substr(eq + 1)).empty()) return fail("*Syntax error*", "POINT needs a location after \"=\"");
+    if (trim(rest.substr(eq + 1)).empty()) return fail(val(Message::syntax), "POINT needs a location after \"=\"");
     if (run_instruction("SET " + trim(rest.substr(0, eq)) + " = " + trim(rest.substr(eq + 1))) != CommandStatus::ok)
       return CommandStatus::failed;
   }
   for (const GlobalEntry& e : global_entries(interp_.memory())) {
     if (e.base != spec.base || (e.index != spec.index) || (spec.element != (e.name != e.base))) continue;
-    if (!is_location(*e.value)) return fail("*Illegal value*", e.name + " is not a location");
+    if (!is_location(*e.value)) return fail(val(Message::illegal_value), e.name + " is not a location");
     out_ << format_location_table({e});
     return CommandStatus::ok;
   }
-  return fail("*Undefined value*", trim(rest.substr(0, eq)));
+  return fail(val(Message::undefined_value), trim(rest.substr(0, eq)));
 }
 
 // LISTL, LISTR, LISTS: the named globals, or all of the command's kind.
@@ -459,15 +441,15 @@ CommandStatus Monitor::cmd_list(Args rest, Command which) {
   }
   for (const std::string& n : names) {
     const NameSpec spec = parse_name(n);
-    if (!spec.valid) return fail("*Syntax error*", "bad name " + n);
+    if (!spec.valid) return fail(val(Message::syntax), "bad name " + n);
     bool any = false;
     for (const auto& e : all) {
       if (e.base != spec.base || (spec.element && (e.index != spec.index || e.name == e.base))) continue;
-      if (!wanted(*e.value)) return fail("*Illegal value*", fmt::format("{} is a {}", e.name, kind_name(kind_of(*e.value))));
+      if (!wanted(*e.value)) return fail(val(Message::illegal_value), fmt::format("{} is a {}", e.name, kind_name(kind_of(*e.value))));
       shown.push_back(e);
       any = true;
     }
-    if (!any) return fail("*Undefined program or variable name*", n);
+    if (!any) return fail(val(Message::undefined_name), n);
   }
   if (which == Command::listl) {
     out_ << format_location_table(shown);
@@ -493,7 +475,7 @@ CommandStatus Monitor::cmd_listp(Args rest) {
   std::vector<std::string> names;
   for (const std::string& n : split_list(rest)) {
     const std::string name = normalize_name(n);
-    if (!interp_.has_program(name)) return fail("*Undefined program or variable name*", n);
+    if (!interp_.has_program(name)) return fail(val(Message::undefined_name), n);
     names.push_back(name);
   }
   if (names.empty()) names = sorted_programs();
@@ -521,7 +503,7 @@ CommandStatus Monitor::cmd_directory() {
 }
 
 CommandStatus Monitor::cmd_load(Args rest) {
-  if (rest.empty()) return fail("*Syntax error*", "LOAD needs a file name");
+  if (rest.empty()) return fail(val(Message::syntax), "LOAD needs a file name");
   std::string path = rest;
   if (std::filesystem::path(path).extension().empty()) path += ".v2";
   std::error_code ec;
@@ -534,7 +516,7 @@ CommandStatus Monitor::cmd_load(Args rest) {
       std::string name = trim(t.substr(8));
       name = normalize_name(name.substr(0, name.find_first_of("( \t;")));
       if (interp_.has_program(name))
-        return fail("*Illegal value*", fmt::format("{} would be replaced while an execution is stopped; ABORT first", name));
+        return fail(val(Message::illegal_value), fmt::format("{} would be replaced while an execution is stopped; ABORT first", name));
     }
   }
   Memory& m = interp_.memory();
@@ -557,15 +539,15 @@ CommandStatus Monitor::cmd_store(Args rest, bool locations_only) {
   std::size_t end = 0;
   while (end < rest.size() && rest[end] != ',' && !std::isspace(static_cast<unsigned char>(rest[end]))) ++end;
   std::string path = rest.substr(0, end);
-  if (path.empty()) return fail("*Syntax error*", fmt::format("{} needs a file name", locations_only ? "STOREL" : "STORE"));
+  if (path.empty()) return fail(val(Message::syntax), fmt::format("{} needs a file name", locations_only ? "STOREL" : "STORE"));
   if (std::filesystem::path(path).extension().empty()) path += ".v2";
   std::string tail = trim(rest.substr(end));
   if (!tail.empty() && tail[0] == ',') tail = trim(tail.substr(1));
   std::vector<std::string> programs;
-  if (locations_only && !tail.empty()) return fail("*Syntax error*", "STOREL takes only a file name");
+  if (locations_only && !tail.empty()) return fail(val(Message::syntax), "STOREL takes only a file name");
   for (const std::string& n : split_list(tail)) {
     const std::string name = normalize_name(n);
-    if (!interp_.has_program(name)) return fail("*Undefined program or variable name*", n);
+    if (!interp_.has_program(name)) return fail(val(Message::undefined_name), n);
     programs.push_back(name);
   }
   if (programs.empty()) programs = interp_.program_names();
@@ -578,7 +560,7 @@ CommandStatus Monitor::cmd_store(Args rest, bool locations_only) {
 
 CommandStatus Monitor::cmd_delete(Args rest) {
   const auto names = split_list(rest);
-  if (names.empty()) return fail("*Syntax error*", "DELETE needs a name");
+  if (names.empty()) return fail(val(Message::syntax), "DELETE needs a name");
   Memory& m = interp_.memory();
   struct Target {
     bool program = false;
@@ -587,7 +569,7 @@ CommandStatus Monitor::cmd_delete(Args rest) {
   std::vector<Target> targets;  // checked first: all or nothing
   for (const std::string& n : names) {
     const NameSpec spec = parse_name(n);
-    if (!spec.valid || spec.element) return fail("*Syntax error*", "bad name " + n);
+    if (!spec.valid || spec.element) return fail(val(Message::syntax), "bad name " + n);
     const bool plain = !spec.whole_array && spec.base[0] != '$' && spec.base[0] != '#';
     if (plain && interp_.has_program(spec.base) && spec.base != kDoProgram) {
       targets.push_back({true, m.symbols.program_slots.at(spec.base)});
@@ -597,7 +579,7 @@ CommandStatus Monitor::cmd_delete(Args rest) {
     const Variable* v = it == m.symbols.global_slots.end() || static_cast<std::size_t>(it->second) >= m.globals.size()
                             ? nullptr
                             : &m.globals[static_cast<std::size_t>(it->second)];
-    if (!v || (!v->scalar && v->elements.empty())) return fail("*Undefined program or variable name*", n);
+    if (!v || (!v->scalar && v->elements.empty())) return fail(val(Message::undefined_name), n);
     targets.push_back({false, it->second});
   }
   for (const Target& t : targets) {
@@ -618,8 +600,8 @@ CommandStatus Monitor::cmd_speed(Args rest) {
   }
   char* end = nullptr;
   const double s = std::strtod(rest.c_str(), &end);
-  if (end == rest.c_str() || !trim(end).empty()) return fail("*Syntax error*", "SPEED needs a number");
-  if (!(s > 0 && s <= 100)) return fail("*Illegal value*", "SPEED " + rest + " (0 < n <= 100)");
+  if (end == rest.c_str() || !trim(end).empty()) return fail(val(Message::syntax), "SPEED needs a number");
+  if (!(s > 0 && s <= 100)) return fail(val(Message::illegal_value), "SPEED " + rest + " (0 < n <= 100)");
   interp_.set_monitor_speed(s);
   return CommandStatus::ok;
 }
@@ -745,7 +727,7 @@ CommandStatus Monitor::cmd_bpt(Args rest, bool set) {
     return CommandStatus::ok;
   }
   const auto parts = split_list(rest);
-  if (parts.size() > 2) return fail("*Syntax error*", fmt::format("{} takes a program and a step", set ? "BPT" : "NOBPT"));
+  if (parts.size() > 2) return fail(val(Message::syntax), fmt::format("{} takes a program and a step", set ? "BPT" : "NOBPT"));
   auto number = [](const std::string& t, int& out) {
     char* end = nullptr;
     const long v = std::strtol(t.c_str(), &end, 10);
@@ -757,22 +739,22 @@ CommandStatus Monitor::cmd_bpt(Args rest, bool set) {
   std::string name;
   if (parts.size() == 1 && number(parts[0], step)) {
     name = interp_.can_resume() && !state_program_.empty() ? state_program_ : last_program_;
-    if (name.empty()) return fail("*Undefined program or variable name*", "no program executed yet; name one");
+    if (name.empty()) return fail(val(Message::undefined_name), "no program executed yet; name one");
   } else {
     name = normalize_name(parts[0]);
-    if (parts.size() == 2 && !number(parts[1], step)) return fail("*Syntax error*", "a step number expected");
+    if (parts.size() == 2 && !number(parts[1], step)) return fail(val(Message::syntax), "a step number expected");
   }
   const Program* p = name == kDoProgram || name == kExecProgram ? nullptr : program_of(name);
-  if (!p) return fail("*Undefined program or variable name*", name);
+  if (!p) return fail(val(Message::undefined_name), name);
   if (parts.size() == 1 && step == 0) {  // NOBPT prog: all of its breakpoints
-    if (set) return fail("*Syntax error*", "BPT needs a step number");
+    if (set) return fail(val(Message::syntax), "BPT needs a step number");
     debugger_.clear_breakpoints(name);
     return CommandStatus::ok;
   }
   const bool has_code = std::any_of(p->code.begin(), p->code.end(), [&](const Instr& in) { return in.line == p->line + step; });
-  if (set && !has_code) return fail("*Illegal value*", fmt::format("no instruction at step {} of {}", step, name));
+  if (set && !has_code) return fail(val(Message::illegal_value), fmt::format("no instruction at step {} of {}", step, name));
   if (set) debugger_.set_breakpoint({name, step});
-  else if (!debugger_.clear_breakpoint({name, step})) return fail("*Illegal value*", fmt::format("no breakpoint at step {} of {}", step, name));
+  else if (!debugger_.clear_breakpoint({name, step})) return fail(val(Message::illegal_value), fmt::format("no breakpoint at step {} of {}", step, name));
   return CommandStatus::ok;
 }
 

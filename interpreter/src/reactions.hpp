@@ -2,7 +2,7 @@
 // "Asynchronous Processing" and "Error Trapping"): the signals REACT and REACTI watch, the
 // transitions seen and not yet served, the program priority that LOCK sets and a reaction
 // raises, and the REACTE error trap. Plain data and its rules; the evaluator reads the signals
-// and calls the reaction programs (evaluator_reactions.cpp).
+// and calls the reaction programs (between_steps.cpp).
 #pragma once
 #include <functional>
 #include <optional>

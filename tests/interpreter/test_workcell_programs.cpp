@@ -1,5 +1,5 @@
 // Programs against a reacting cell: SIGNAL / SIG / WAIT through the devices' clock, CLOSEI /
-// OPENI grasping and releasing parts (interpreter/src/evaluator_cell.cpp).
+// OPENI grasping and releasing parts (interpreter/src/cell_signals.cpp).
 #include "interpreter_fixture.hpp"
 
 #include "asimov/motion/support.hpp"

@@ -15,10 +15,11 @@
 
 namespace asimov::interpreter {
 
-// ORDER: kCommands in monitor.cpp (alphabetical, tied by static_assert).
+// The commands: the rows of monitor_commands.def, in its (alphabetical) order.
 enum class Command : int {
-  abort, bpt, calibrate, debug, delete_, directory, do_, execute, help, here, listl, listp, listr, lists,
-  load, nobpt, point, proceed, quit, retry, speed, sstep, status, store, storel, where, xstep, zero, count
+#define ASIMOV_COMMAND(id, name, usage, help) id,
+#include "asimov/interpreter/monitor_commands.def"
+  count
 };
 
 struct CommandInfo {
