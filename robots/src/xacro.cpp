@@ -1561,6 +1561,13 @@ class Expander {
     // comments, declarations: dropped
   }
 
+  // A boolean attribute of an xacro element (remove=, lazy_eval=), as xacro:if reads its value.
+  bool is_true(const std::string& text, const XMLElement* e, const char* what) {
+    const Value x = value_of(text, e, global_);
+    if (x.kind == Value::boolean || x.kind == Value::number) return x.num != 0;
+    fail(e, std::string("<xacro:property ") + what + "=\"" + text + "\">: true or false is expected");
+  }
+
   // The scope a scope="parent" / "global" property goes to.
   Scope& target_scope(const XMLElement* e, Scope& scope) {
     const char* s = e->Attribute("scope");
@@ -1583,7 +1590,20 @@ class Expander {
     if (tag == "property") {
       const std::string name = attr(e, "name", scope);
       Scope& into = target_scope(e, scope);
-      const bool eager = &into != &scope;  // xacro evaluates a property for another scope at once
+      // remove="true" deletes the property (ros/xacro 1.14): the nearest one of that name seen
+      // from the target scope.
+      if (e->Attribute("remove")) {
+        if (!is_true(attr(e, "remove", scope), e, "remove")) return;
+        if (e->Attribute("value") || e->Attribute("default"))
+          fail(e, "<xacro:property name=\"" + name + "\" remove=\"true\">: takes no value");
+        for (Scope* s = &into; s; s = s->parent)
+          if (s->props.erase(name) + s->blocks.erase(name) > 0) break;
+        return;
+      }
+      // xacro evaluates a property for another scope at once, and one with lazy_eval="false"
+      // (so that `value="${x + 1}"` reads the x already defined instead of itself).
+      const bool eager = &into != &scope ||
+                         (e->Attribute("lazy_eval") && !is_true(attr(e, "lazy_eval", scope), e, "lazy_eval"));
       Prop p;
       p.file = files_.back();
       p.line = e->GetLineNum();

@@ -404,3 +404,29 @@ TEST_CASE("xacro: the xacro namespace's helpers: arg, abs_filename, dotify, erro
       "t.xacro:3: xacro: xacro.error: this arm needs a tip");
   has(error_of("<e v=\"${xacro.dotify(1)}\"/>"), "xacro.dotify() takes a dict");
 }
+
+TEST_CASE("xacro: properties with lazy_eval=\"false\" and remove=\"true\"", "[urdf][xacro]") {
+  // lazy_eval="false": evaluated where it is defined, so it may build on the property of the same
+  // name already visible (lazily that is a cycle) and keeps the value of that moment.
+  const std::string x = expand(
+      "<xacro:arg name=\"use_ir\" default=\"true\"/>"
+      "<xacro:property name=\"use_ir\" value=\"$(arg use_ir)\" lazy_eval=\"false\"/>"
+      "<xacro:property name=\"n\" value=\"1\"/>"
+      "<xacro:property name=\"m\" value=\"${n * 10}\" lazy_eval=\"false\"/>"
+      "<xacro:property name=\"l\" value=\"${n * 10}\"/>"
+      "<xacro:macro name=\"grow\" params=\"\"><xacro:property name=\"n\" value=\"${n + 1}\" lazy_eval=\"false\" scope=\"parent\"/></xacro:macro>"
+      "<xacro:grow/><xacro:grow/>"
+      "<xacro:property name=\"gone\" value=\"1\"/><xacro:property name=\"gone\" remove=\"true\"/>"
+      "<xacro:property name=\"kept\" value=\"2\"/><xacro:property name=\"kept\" remove=\"false\"/>"
+      "<e ir=\"${use_ir}\" n=\"${n}\" m=\"${m}\" l=\"${l}\" k=\"${kept}\"/>\n",
+      {{"use_ir", "false"}});
+  has(x, "ir=\"False\"");
+  has(x, "n=\"3\"");
+  has(x, "m=\"10\"");  // eager: n was 1
+  has(x, "l=\"30\"");  // lazy: n is 3 when used
+  has(x, "k=\"2\"");
+  has(error_of("<xacro:property name=\"gone\" value=\"1\"/><xacro:property name=\"gone\" remove=\"true\"/>\n<e v=\"${gone}\"/>"),
+      "unknown property 'gone'");
+  has(error_of("<xacro:property name=\"p\" value=\"${p + 1}\"/>\n<e v=\"${p}\"/>"), "cycle");
+  has(error_of("<xacro:property name=\"p\" remove=\"maybe\"/>"), "remove=\"maybe\"");
+}
