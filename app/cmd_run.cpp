@@ -1,5 +1,6 @@
 // `asimov run` and `asimov check`: load a .v2 file into the interpreter, check it, run it.
 #include "app/atomic_file.hpp"
+#include "asimov/collision/text_file.hpp"
 #include "asimov/core/output_file.hpp"
 #include "asimov/cell/cell_loader.hpp"
 #include "app/commands.hpp"
@@ -102,21 +103,10 @@ class RunProgress {
 }  // namespace
 
 bool require_file(const std::string& path, std::ostream& err) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (fs::is_regular_file(st)) return true;
-  // Something that is not a file is named as what it is (a FIFO would block a read, a device
-  // never end it); only a missing name is "not found".
-  const char* what = fs::is_directory(st)      ? "is a folder, not a file"
-                     : fs::is_fifo(st)          ? "is a FIFO, not a regular file"
-                     : fs::is_character_file(st) || fs::is_block_file(st) ? "is a device, not a regular file"
-                     : fs::is_socket(st)        ? "is a socket, not a regular file"
-                     : nullptr;
-  if (what) err << fmt::format("*Cannot read file*  {}: {}\n", path, what);
-  else if (ec && ec != std::errc::no_such_file_or_directory) err << fmt::format("*Cannot read file*  {}: {}\n", path, ec.message());
-  else err << fmt::format("*File not found*  {}\n", path);
-  return false;
+  const collision::InputFile f = collision::classify_input_file(path);
+  if (f.missing) err << fmt::format("*File not found*  {}\n", path);
+  else if (!f.not_regular.empty()) err << fmt::format("*Cannot read file*  {}: {}\n", path, f.not_regular);
+  return !f.missing && f.not_regular.empty();
 }
 
 int check_command(const std::string& file, std::ostream& out, std::ostream& err) {

@@ -47,6 +47,21 @@ std::string read_or_throw(const std::string& path, std::size_t max_bytes) {
 }
 }  // namespace
 
+InputFile classify_input_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT || errno == ENOTDIR) return {true, ""};
+    return {false, fmt::format("cannot open the file ({})", std::strerror(errno))};
+  }
+  if (S_ISREG(st.st_mode)) return {};
+  const char* what = S_ISDIR(st.st_mode)                            ? "is a folder, not a file"
+                     : S_ISFIFO(st.st_mode)                         ? "is a FIFO, not a regular file"
+                     : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)   ? "is a device, not a regular file"
+                     : S_ISSOCK(st.st_mode)                         ? "is a socket, not a regular file"
+                                                                    : "is not a regular file";
+  return {false, what};
+}
+
 Result<std::string> read_file_bounded(const std::string& path, std::size_t max_bytes) {
   try {
     return read_or_throw(path, max_bytes);

@@ -167,11 +167,11 @@ std::vector<Diagnostic> Interpreter::load_source(const std::string& text, const 
 }
 
 std::vector<Diagnostic> Interpreter::load_file(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) {
+  // A FIFO with no writer would block the read below forever: only regular files are read.
+  if (const collision::InputFile f = collision::classify_input_file(path); f.missing || !f.not_regular.empty()) {
     Diagnostic d;
-    d.message = "*File not found*";
-    d.detail = path;
+    d.message = f.missing ? "*File not found*" : "*Cannot read file*";
+    d.detail = f.missing ? path : path + ": " + f.not_regular;
     return {d};
   }
   const Result<std::string> text = collision::read_file_bounded(path, collision::kMaxTextFileBytes);  // a folder, /dev/zero: refused

@@ -1,6 +1,8 @@
 #include "asimov/interpreter/monitor.hpp"
 #include "vplus_words.hpp"
 
+#include "asimov/collision/text_file.hpp"
+
 #include "evaluator.hpp"
 #include "limits.hpp"
 #include "monitor_text.hpp"
@@ -506,8 +508,9 @@ CommandStatus Monitor::cmd_load(Args rest) {
   if (rest.empty()) return fail(val(Message::syntax), "LOAD needs a file name");
   std::string path = rest;
   if (std::filesystem::path(path).extension().empty()) path += ".v2";
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return fail("*File not found*", path);
+  const collision::InputFile f = collision::classify_input_file(path);
+  if (f.missing) return fail("*File not found*", path);
+  if (!f.not_regular.empty()) return fail("*Cannot read file*", path + ": " + f.not_regular);
   if (interp_.can_resume()) {  // programs of a stopped execution are not replaced (ABORT first)
     std::ifstream in(path);
     for (std::string l; std::getline(in, l);) {

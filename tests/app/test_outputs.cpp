@@ -110,6 +110,12 @@ TEST_CASE("a FIFO, a device or a link to one is never replaced", "[cli][outputs]
   r = run_cli("monitor", "LOAD " + program + "\nSTORE " + stored.string() + "\nQUIT\n");
   CHECK(r.out.find("is a FIFO") != std::string::npos);
   CHECK(is_fifo_node(stored));
+  // LOAD of that FIFO: named as what it is (was *File not found*), refused before any open (an
+  // open with no writer would block the monitor for ever), and the session goes on.
+  r = run_cli("monitor", "LOAD " + stored.string() + "\nLOAD " + (dir / "none.v2").string() + "\nQUIT\n");
+  CHECK(r.out.find("*Cannot read file*  " + stored.string() + ": is a FIFO, not a regular file") != std::string::npos);
+  CHECK(r.out.find("*File not found*  " + (dir / "none.v2").string()) != std::string::npos);
+  CHECK(is_fifo_node(stored));
 }
 
 TEST_CASE("an output through a link replaces the file it names and keeps the link", "[cli][outputs]") {

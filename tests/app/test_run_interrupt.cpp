@@ -4,6 +4,7 @@
 // Catch2 catches SIGINT itself, and a forked child keeps that until it execs, so the handler only
 // counts once /proc/PID/exe is asimov (exec resets caught signals to their default).
 #include "../support/run_cli.hpp"
+#include "app/sigint.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -148,4 +149,32 @@ TEST_CASE("a WAIT on a signal nothing drives, beside a blinking rule and a part,
   CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 30);
   CHECK(r.exit_code == 2);
   CHECK(r.err.find("*Wait limit exceeded*  still false after 3600 s") != std::string::npos);
+}
+
+// The second Ctrl-C of a batch run ends the process at once, whatever it is doing (a run that does
+// not reach its next check, such as a long cell load, can still be stopped); the monitor's handler
+// (once = false) stays, so each Ctrl-C only stops the command under way. Run in a forked child:
+// its exit status is the evidence (Catch2's own SIGINT handler is replaced there only).
+TEST_CASE("the first Ctrl-C sets the flag, a second one ends a batch run at once, the monitor keeps its handler") {
+  const auto child_status = [](bool once) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      asimov::app::install_sigint(once);
+      asimov::app::sigint_flag() = false;
+      ::raise(SIGINT);
+      if (!asimov::app::sigint_flag()) ::_exit(2);  // the first one must only set the flag
+      asimov::app::sigint_flag() = false;
+      ::raise(SIGINT);
+      ::_exit(asimov::app::sigint_flag() ? 0 : 3);  // reached only if the second one was caught
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return status;
+  };
+  const int batch = child_status(true);
+  CHECK(WIFSIGNALED(batch));
+  CHECK((WIFSIGNALED(batch) && WTERMSIG(batch) == SIGINT));
+  const int monitor = child_status(false);
+  CHECK(WIFEXITED(monitor));
+  CHECK((WIFEXITED(monitor) && WEXITSTATUS(monitor) == 0));
 }

@@ -1,10 +1,14 @@
 // The public API: LOAD as V+ does it (programs with errors marked not executable), diagnostics with program and step, names, replacing programs.
 #include "interpreter_fixture.hpp"
 #include "interpreter/src/errors.hpp"
+#include "../support/scratch.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <atomic>
+#include <filesystem>
+
+#include <sys/stat.h>
 
 using asimov::test::InterpreterFixture;
 using asimov::interpreter::RunStatus;
@@ -118,6 +122,22 @@ TEST_CASE("running an unknown program, a missing file", "[interpreter]") {
   const auto d = f.interp.load_file("/nonexistent/file.v2");
   REQUIRE(d.size() == 1);
   CHECK(d[0].message == "*File not found*");
+  // Not a regular file: named as what it is, and nothing is opened (a FIFO with no writer would
+  // block the read for ever: this test would hang).
+  const auto folder = f.interp.load_file("/");
+  REQUIRE(folder.size() == 1);
+  CHECK(folder[0].message == "*Cannot read file*");
+  CHECK(folder[0].detail == "/: is a folder, not a file");
+  const std::string fifo = (asimov::test::scratch_dir("load-fifo") / "p.v2").string();
+  std::filesystem::remove(fifo);
+  REQUIRE(::mkfifo(fifo.c_str(), 0644) == 0);
+  const auto pipe = f.interp.load_file(fifo);
+  REQUIRE(pipe.size() == 1);
+  CHECK(pipe[0].message == "*Cannot read file*");
+  CHECK(pipe[0].detail == fifo + ": is a FIFO, not a regular file");
+  const auto dev = f.interp.load_file("/dev/null");
+  REQUIRE(dev.size() == 1);
+  CHECK(dev[0].detail == "/dev/null: is a device, not a regular file");
 }
 
 TEST_CASE("a completed run reports the program and no step", "[interpreter]") {

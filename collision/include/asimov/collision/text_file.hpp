@@ -19,6 +19,16 @@ inline constexpr std::size_t kMaxMeshFileBytes = std::size_t{512} << 20;  // STL
 // callers put the path in front in their own words.
 Result<std::string> read_file_bounded(const std::string& path, std::size_t max_bytes);
 
+// What stands at `path` for a loader that wants a regular file. A missing name is `missing`; a
+// folder, FIFO, device or socket is named as what it is in `not_regular` ("is a FIFO, not a
+// regular file"): a FIFO with no writer would block the read forever and a device never end it,
+// so these are refused before any open. An empty `not_regular` and !missing: a regular file.
+struct InputFile {
+  bool missing = false;
+  std::string not_regular;  // the reason, without the path
+};
+InputFile classify_input_file(const std::string& path);
+
 // `text` safe to print on a terminal and in JSON: control characters (C0, DEL, C1: escape
 // sequences that would clear or recolour the screen) and bytes that are not valid UTF-8 become
 // '?', one per byte, so a caret under a column still lines up; tabs and valid UTF-8 stay.
