@@ -232,6 +232,9 @@ int run_command(const RunOptions& opt, std::ostream& out, std::ostream& err) {
     if (truncated)
       err << fmt::format("Warning: the {} holds its first {} samples only (docs/limits.md)\n", name,
                          motion::kMaxRecordedSamples);
+  if (const auto* cell = interp.cell_state(); cell && cell->clock().events_dropped() > 0)
+    err << fmt::format("Warning: the report's events hold the first {} only; {} later ones were counted, not kept "
+                       "(docs/limits.md)\n", motion::kMaxEvents, cell->clock().events_dropped());
   int rc = kExitCompleted;
   switch (summary.result.status) {
     case interpreter::RunStatus::completed:

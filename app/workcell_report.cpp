@@ -40,7 +40,10 @@ nlohmann::json workcell_json(const motion::CellRuntime& cell) {
   }
   // The signals on at the end of the run (outputs, inputs, soft signals), ascending.
   const std::vector<int> on(clock.signals().begin(), clock.signals().end());
-  return {{"events", std::move(events)}, {"parts", std::move(parts)}, {"signals_on", on}};
+  nlohmann::json j = {{"events", std::move(events)}, {"parts", std::move(parts)}, {"signals_on", on}};
+  // Past motion::kMaxEvents the events are counted, not kept (docs/limits.md).
+  if (clock.events_dropped() > 0) j["events_dropped"] = clock.events_dropped();
+  return j;
 }
 
 }  // namespace asimov::app

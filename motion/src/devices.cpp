@@ -233,11 +233,18 @@ void DeviceClock::record(CellEvent e) {
   if (mute_) return;
   // A copy restored from before (World::rewind_to) drops the events of the future it replaced.
   if (log_->events.size() > logged_) log_->events.resize(logged_);
+  last_event_s_ = std::max(last_event_s_, e.time_s);
+  if (logged_ >= kMaxEvents) {
+    ++dropped_;
+    return;
+  }
   log_->events.push_back(std::move(e));
   ++logged_;
 }
 
 void DeviceClock::note(CellEvent e) {
+  if (mute_) return;
+  if (logged_ >= kMaxEvents) return record(std::move(e));
   // An event of an instant before the last one recorded (a resting contact found between two
   // checked poses) goes before the later ones: the log stays in time order.
   std::size_t later = 0;
@@ -656,7 +663,7 @@ bool DeviceClock::rewind(double t) {
   if (!(t < now_)) return t == now_;
   // The last change: a holder, motion or presence (changed_s_), a timer set, or any event
   // (signals, feeders, grasps, releases all leave one).
-  const double last = std::max(changed_s_, logged_ == 0 ? -kInf : log_->events[logged_ - 1].time_s);
+  const double last = std::max(changed_s_, last_event_s_);
   if (t < last) return false;
   now_ = t;  // the parts move by their anchors and velocities, which held since `last`
   return true;

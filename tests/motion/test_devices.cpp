@@ -403,3 +403,30 @@ TEST_CASE("a gated sink removes what lies in it at its edge, with the parts rest
   CHECK(clock.parts()[1].holder == Holder::removed);  // rode on it
   CHECK(clock.parts()[2].holder == Holder::world);
 }
+
+TEST_CASE("the event log keeps its first kMaxEvents events and counts the rest (issue 29)") {
+  // A 0.1 s blink: 2001 switches every 0.05 s, one event per switch.
+  Workcell w;
+  w.logic.push_back({0, true, 0, 0, 2001, true, 1});           // at 0 s: on
+  w.logic.push_back({2001, true, -1, 0.05, 2001, false, 2});  // on -> 0.05 s later off
+  w.logic.push_back({2001, false, -1, 0.05, 2001, true, 3});  // off -> 0.05 s later on
+  DeviceClock clock(w);
+  const double end = 0.05 * static_cast<double>(motion::kMaxEvents + 1000) - 0.025;
+  clock.advance_to(end);
+  CHECK(clock.events().size() == motion::kMaxEvents);
+  CHECK(clock.events_dropped() == 1000);
+  CHECK(clock.events().front().time_s == 0);
+  CHECK(clock.events().back().time_s == Approx(0.05 * static_cast<double>(motion::kMaxEvents - 1)).margin(1e-6));
+  // The signal still blinks: the cap drops events, never changes.
+  const bool on = clock.signal(2001);
+  clock.advance_to(end + 0.05);
+  CHECK(clock.signal(2001) != on);
+  CHECK(clock.events_dropped() == 1001);
+  // Rewind still sees the last change, kept or not: back before it is refused.
+  CHECK_FALSE(clock.rewind(end + 0.01));
+  CHECK(clock.rewind(end + 0.04));
+  // A scratch copy records nothing, capped or not.
+  DeviceClock scratch = clock.scratch_copy();
+  scratch.advance_to(end + 1);
+  CHECK(scratch.events_dropped() == clock.events_dropped());
+}

@@ -52,6 +52,11 @@ struct CellEvent {
   int line = 0;         // program line when the program caused it; 0: a device
 };
 
+// The events a run keeps (docs/limits.md): the first ones; later ones are counted, not kept. An
+// event is ~110 bytes in the log and ~1 KB as report JSON: a 0.1 s blink over a 100,000 s wait
+// made two million of them.
+inline constexpr std::size_t kMaxEvents = 100000;
+
 // A logic loop (rules with no delay switching each other forever at one instant).
 struct DeviceError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -88,7 +93,9 @@ class DeviceClock {
   const std::vector<PartState>& parts() const { return parts_; }
   Location part_pose(std::size_t i) const { return parts_[i].pose_at(now_); }
   // The events up to now (a copy of the clock shares the log; its view ends where it was copied).
+  // At most kMaxEvents are kept, the first ones; events_dropped() counts the others.
   std::span<const CellEvent> events() const { return {log_->events.data(), logged_}; }
+  std::uint64_t events_dropped() const { return dropped_; }
   // The next instant > time_s() at which a part or signal changes by itself; +inf when none.
   double next_change() const;
 
@@ -158,6 +165,8 @@ class DeviceClock {
   std::shared_ptr<Shared> shared_;
   std::shared_ptr<Log> log_;
   std::size_t logged_ = 0;
+  std::uint64_t dropped_ = 0;       // events past kMaxEvents, not kept
+  double last_event_s_ = -std::numeric_limits<double>::infinity();  // of every event, kept or not (rewind)
   bool mute_ = false;               // a scratch copy: no events
   double now_ = 0;
   std::set<int> signals_;
