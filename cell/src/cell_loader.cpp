@@ -55,6 +55,11 @@ class Reader : public Fields {
     throw CellError{what, source_, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1};
   }
 
+  std::string where(const YAML::Node& node) const {
+    const auto mark = node.Mark();
+    return mark.is_null() ? source_ : fmt::format("{}:{}:{}", source_, mark.line + 1, mark.column + 1);
+  }
+
   double number(const YAML::Node& node, const std::string& what) const {
     if (!node.IsScalar()) fail(node, fmt::format("{} must be a number", what));
     double v = 0;

@@ -15,6 +15,8 @@ class Fields {
  public:
   virtual ~Fields() = default;
   [[noreturn]] virtual void fail(const YAML::Node& node, const std::string& what) const = 0;
+  // "file:line:column" of a node (for warnings and messages naming a second place).
+  virtual std::string where(const YAML::Node& node) const = 0;
   virtual double number(const YAML::Node& node, const std::string& what) const = 0;
   virtual double positive(const YAML::Node& node, const std::string& what) const = 0;
   virtual bool boolean(const YAML::Node& node, const std::string& what) const = 0;

@@ -29,20 +29,38 @@ Box world_box(const collision::Polyhedron& mesh, const collision::Pose& pose) {
 
 std::optional<Misplaced> first_misplaced_part(const motion::Cell& cell) {
   const auto& parts = cell.workcell.parts;
-  if (parts.empty()) return std::nullopt;
-  // Bodies: the objects (conveyors among them), then the parts; static among themselves.
+  const auto& feeders = cell.workcell.feeders;
+  if (parts.empty() && feeders.empty()) return std::nullopt;
+  // Bodies: the objects (conveyors among them), then the parts, then each feeder's part at its
+  // feed pose; static among themselves.
+  enum class Kind { object, part, feeder };
   struct Body {
     const collision::Polyhedron* mesh;
     collision::Pose pose;
     std::string what;
-    bool part;
+    Kind kind;
     std::size_t index;
   };
   std::vector<Body> bodies;
   for (std::size_t i = 0; i < cell.objects.size(); ++i)
-    bodies.push_back({&cell.objects[i].mesh, cell.objects[i].pose, "object '" + cell.objects[i].name + "'", false, i});
+    bodies.push_back({&cell.objects[i].mesh, cell.objects[i].pose, "object '" + cell.objects[i].name + "'", Kind::object, i});
   for (std::size_t i = 0; i < parts.size(); ++i)
-    bodies.push_back({&parts[i].mesh, parts[i].pose, "part '" + parts[i].name + "'", true, i});
+    bodies.push_back({&parts[i].mesh, parts[i].pose, "part '" + parts[i].name + "'", Kind::part, i});
+  for (std::size_t i = 0; i < feeders.size(); ++i)
+    if (feeders[i].count > 0)
+      bodies.push_back({&feeders[i].part.mesh, feeders[i].part.pose, "feeder '" + feeders[i].name + "'", Kind::feeder, i});
+  // A feeder's part never meets a part whose origin lies in its spot (the feeder waits until that
+  // one left), nor another feeder's whose feed pose lies in its spot or its own in the other's.
+  const auto waits = [&](const Body& a, const Body& b) {
+    if (a.kind != Kind::feeder && b.kind != Kind::feeder) return false;
+    // Objects (conveyors among them) never leave: only a part or a feeder's part is waited for.
+    const auto in_spot = [&](const Body& f, const Body& x) {
+      return f.kind == Kind::feeder && x.kind != Kind::object && feeders[f.index].spot.contains(x.pose.translation());
+    };
+    return in_spot(a, b) || in_spot(b, a);
+  };
+  // Order of report: parts in declaration order, then feeders; of a pair, the later one.
+  const auto rank = [&](const Body& b) { return b.kind == Kind::object ? 0 : b.kind == Kind::part ? 1 + b.index : 1 + parts.size() + b.index; };
 
   // Candidate pairs (a part with anything) from overlapping bounding boxes: sweep along x.
   std::vector<Box> boxes;
@@ -56,18 +74,19 @@ std::optional<Misplaced> first_misplaced_part(const motion::Cell& cell) {
   for (const std::size_t i : order) {
     std::erase_if(active, [&](std::size_t k) { return boxes[k].hi.x() < boxes[i].lo.x(); });
     for (const std::size_t k : active) {
-      if (!bodies[i].part && !bodies[k].part) continue;
+      if (bodies[i].kind == Kind::object && bodies[k].kind == Kind::object) continue;
       const bool overlap = (boxes[i].lo.array() <= boxes[k].hi.array()).all() && (boxes[k].lo.array() <= boxes[i].hi.array()).all();
-      if (!overlap) continue;
-      // The later declared part is the one reported (placed into what came before it).
-      const bool i_later = bodies[i].part && (!bodies[k].part || bodies[i].index > bodies[k].index);
+      if (!overlap || waits(bodies[i], bodies[k])) continue;
+      // The later declared part (or feeder) is the one reported (placed into what came before it).
+      const bool i_later = rank(bodies[i]) > rank(bodies[k]);
       candidates.emplace_back(i_later ? i : k, i_later ? k : i);
     }
     active.push_back(i);
   }
   if (candidates.empty()) return std::nullopt;
   std::sort(candidates.begin(), candidates.end(), [&](const auto& a, const auto& b) {
-    return bodies[a.first].index != bodies[b.first].index ? bodies[a.first].index < bodies[b.first].index : a.second < b.second;
+    const std::size_t ra = rank(bodies[a.first]), rb = rank(bodies[b.first]);
+    return ra != rb ? ra < rb : a.second < b.second;
   });
 
   collision::Engine engine;
@@ -98,7 +117,7 @@ std::optional<Misplaced> first_misplaced_part(const motion::Cell& cell) {
     engine.query({.clearance_mm = 0, .pairs = std::span(&pair, 1)}, r);
     if (!r.collided) continue;
     double tol = motion::resting_tolerance(*bodies[p].mesh);
-    if (bodies[o].part) tol = std::max(tol, motion::resting_tolerance(*bodies[o].mesh));
+    if (bodies[o].kind != Kind::object) tol = std::max(tol, motion::resting_tolerance(*bodies[o].mesh));
     // Touching side by side (a row of parts, a part against a fence): coplanar faces may be the
     // only contacts found, whose normals do not separate the pair, so the axes of the world and
     // of the part are tried first, then the contacts' normals as at run time.
@@ -119,12 +138,18 @@ std::optional<Misplaced> first_misplaced_part(const motion::Cell& cell) {
         }
     engine.set_pose(id[p], bodies[p].pose);
     if (apart || motion::resting_contact(engine, pair, id[p], bodies[p].pose, tol, r.contact, normal, scratch)) continue;
+    const bool feeder = bodies[p].kind == Kind::feeder;
     if (r.contact.kind == collision::ContactKind::containment)
-      return Misplaced{bodies[p].index, fmt::format("{} and {} lie one inside the other at the start; place the part on or "
-                                                    "beside it", bodies[p].what, bodies[o].what)};
-    return Misplaced{bodies[p].index,
-                     fmt::format("{} sinks into {} at the start (deeper than its resting tolerance of {:.3g} mm); place "
-                                 "it on or beside it", bodies[p].what, bodies[o].what, tol)};
+      return Misplaced{bodies[p].index, feeder,
+                       feeder ? fmt::format("{} places its parts inside {} (they lie one inside the other); move the "
+                                            "feeder's at: onto or beside it", bodies[p].what, bodies[o].what)
+                              : fmt::format("{} and {} lie one inside the other at the start; place the part on or beside it",
+                                            bodies[p].what, bodies[o].what)};
+    return Misplaced{bodies[p].index, feeder,
+                     feeder ? fmt::format("{} places its parts sunk into {} (deeper than their resting tolerance of {:.3g} "
+                                          "mm); move the feeder's at: onto or beside it", bodies[p].what, bodies[o].what, tol)
+                            : fmt::format("{} sinks into {} at the start (deeper than its resting tolerance of {:.3g} mm); "
+                                          "place it on or beside it", bodies[p].what, bodies[o].what, tol)};
   }
   return std::nullopt;
 }

@@ -165,6 +165,11 @@ void conveyor(const Fields& f, const YAML::Node& d, motion::Cell& cell, std::set
   if (c.speed_mm_s > kMaxConveyorSpeed)
     f.fail(d["speed_mm_s"], fmt::format("speed_mm_s must be at most {:g} mm/s, got {:g}", kMaxConveyorSpeed, c.speed_mm_s));
   if (d["signal"]) c.signal = signal(f, d["signal"], "conveyor signal");
+  // A still belt is a documented behaviour, not an error: its body is an object the parts on it
+  // rest on (a belt set up before its speed is known), but it is worth a word.
+  if (c.speed_mm_s == 0)
+    cell.warnings.push_back(fmt::format("{}: conveyor '{}' has speed_mm_s 0: it never moves the parts on it (they rest on "
+                                        "it as on a table)", f.where(d["speed_mm_s"]), c.name));
   add_name(f, d["conveyor"], c.name, names);
   cell.objects.push_back({c.name, collision::make_box(c.body.size), c.body.pose});
   cell.workcell.conveyors.push_back(std::move(c));
@@ -243,7 +248,7 @@ void sink(const Fields& f, const YAML::Node& d, motion::Cell& cell) {
 
 // {when: N, is: on|off, [after: T,] set: M, to: on|off} | {at: T, set: M, to: on|off} |
 // {follow: N, set: M[, after: T]} (M follows N both ways).
-void logic(const Fields& f, const YAML::Node& list, motion::Cell& cell) {
+void logic(const Fields& f, const YAML::Node& list, motion::Cell& cell, std::vector<YAML::Node>& nodes) {
   if (!list.IsSequence()) f.fail(list, "logic must be a list of rules");
   for (const auto& r : list) {
     f.expect_keys(r, {"when", "is", "at", "follow", "after", "set", "to"}, "a logic rule");
@@ -265,6 +270,7 @@ void logic(const Fields& f, const YAML::Node& list, motion::Cell& cell) {
       cell.workcell.logic.push_back(rule);
       rule.is_on = rule.to_on = false;
       cell.workcell.logic.push_back(rule);
+      nodes.push_back(r), nodes.push_back(r);
       continue;
     }
     rule.to_on = r["to"] ? on_off(f, r["to"], "logic to") : true;
@@ -278,6 +284,7 @@ void logic(const Fields& f, const YAML::Node& list, motion::Cell& cell) {
       rule.is_on = r["is"] ? on_off(f, r["is"], "logic is") : true;
     }
     cell.workcell.logic.push_back(rule);
+    nodes.push_back(r);
   }
 }
 }  // namespace
@@ -286,19 +293,82 @@ void logic(const Fields& f, const YAML::Node& list, motion::Cell& cell) {
 // appears and the next one fed at the same instant (a 10,000-part feeder ran 17 s into an
 // internal error). A gated sink (signal:) takes parts only at its edges and is allowed.
 void feeder_into_sink(const Fields& f, const YAML::Node& devices, const motion::Cell& cell) {
+  std::vector<YAML::Node> sinks;
+  for (const auto& dev : devices)
+    if (dev["sink"]) sinks.push_back(dev);
   std::size_t k = 0;
   for (const auto& dev : devices) {
     if (!dev["feeder"]) continue;
     const motion::Feeder& fd = cell.workcell.feeders[k++];
-    for (const auto& s : cell.workcell.sinks)
+    for (std::size_t i = 0; i < cell.workcell.sinks.size(); ++i) {
+      const auto& s = cell.workcell.sinks[i];
       if (s.signal == 0 && s.region.contains(fd.part.pose.translation()))
-        f.fail(dev, fmt::format("feeder '{}' feeds into sink '{}', which removes every part at once; move the feeder or "
-                                "gate the sink with signal:", fd.name, s.name));
+        f.fail(dev, fmt::format("feeder '{}' feeds into sink '{}' ({}), which removes every part at once; move the feeder "
+                                "or gate the sink with signal:", fd.name, s.name, f.where(sinks[i])));
+    }
+  }
+}
+
+// Contradictory devices and rules (docs/cell-format.md "Checked at load"):
+// - a logic rule setting a signal a sensor drives (the sensor sets it back at once: two drivers
+//   of one signal, other than sensors together, which are wired-OR);
+// - rules without delay that switch a signal on and off in a loop at one instant.
+void contradictions(const Fields& f, const motion::Cell& cell, const std::vector<YAML::Node>& sensor_nodes,
+                    const std::vector<YAML::Node>& rule_nodes) {
+  const auto& w = cell.workcell;
+  for (std::size_t r = 0; r < w.logic.size(); ++r)
+    for (std::size_t s = 0; s < w.sensors.size(); ++s)
+      if (w.sensors[s].signal == w.logic[r].set)
+        f.fail(rule_nodes[r]["set"] ? rule_nodes[r]["set"] : rule_nodes[r],
+               fmt::format("signal {} is driven by sensor '{}' ({}) and set by this logic rule: the sensor sets it back "
+                           "at once; let the rule set another signal", w.logic[r].set, w.sensors[s].name, f.where(sensor_nodes[s])));
+  // Zero-delay `when` rules as edges (signal, state) -> (signal, state). A signal that such rules
+  // lead from on to off and from off back to on switches forever once either edge happens.
+  const auto node = [](int k, bool on) { return 2 * k + (on ? 1 : 0); };
+  std::vector<std::vector<std::size_t>> out(2 * 2513);
+  for (std::size_t r = 0; r < w.logic.size(); ++r)
+    if (w.logic[r].at_s < 0 && w.logic[r].after_s == 0) out[static_cast<std::size_t>(node(w.logic[r].when, w.logic[r].is_on))].push_back(r);
+  // The rules of a shortest path from a to b (empty: none).
+  const auto path = [&](int a, int b) {
+    std::vector<int> from(out.size(), -2);  // rule that reached the node; -1: the start
+    std::vector<int> frontier{a};
+    from[static_cast<std::size_t>(a)] = -1;
+    for (std::size_t i = 0; i < frontier.size() && from[static_cast<std::size_t>(b)] == -2; ++i)
+      for (const std::size_t r : out[static_cast<std::size_t>(frontier[i])]) {
+        const int n = node(w.logic[r].set, w.logic[r].to_on);
+        if (from[static_cast<std::size_t>(n)] != -2) continue;
+        from[static_cast<std::size_t>(n)] = static_cast<int>(r);
+        frontier.push_back(n);
+      }
+    std::vector<std::size_t> rules;
+    if (from[static_cast<std::size_t>(b)] == -2 || a == b) return rules;
+    for (int n = b; n != a;) {
+      const auto r = static_cast<std::size_t>(from[static_cast<std::size_t>(n)]);
+      rules.insert(rules.begin(), r);
+      n = node(w.logic[r].when, w.logic[r].is_on);
+    }
+    return rules;
+  };
+  for (std::size_t r = 0; r < w.logic.size(); ++r) {
+    if (w.logic[r].at_s >= 0 || w.logic[r].after_s != 0) continue;
+    const int k = w.logic[r].when;
+    const auto up = path(node(k, false), node(k, true)), down = path(node(k, true), node(k, false));
+    if (up.empty() || down.empty()) continue;
+    std::string chain = fmt::format("{} on", k), lines;
+    for (const auto& leg : {down, up})
+      for (const std::size_t x : leg) {
+        chain += fmt::format(" -> {} {}", w.logic[x].set, w.logic[x].to_on ? "on" : "off");
+        lines += (lines.empty() ? "" : ", ") + f.where(rule_nodes[x]);
+      }
+    f.fail(rule_nodes[down.front()],
+           fmt::format("logic rules without delay switch signal {} on and off forever at one instant ({}; rules at {}); "
+                       "give one of them an after: delay", k, chain, lines));
   }
 }
 
 void read_workcell(const YAML::Node& root, const Fields& f, motion::Cell& cell, std::set<std::string>& names) {
   std::vector<YAML::Node> part_nodes;  // the entry that declared each part
+  std::vector<YAML::Node> sensor_nodes, feeder_nodes, rule_nodes;
   if (const auto p = root["parts"]) parts(f, p, cell, names, part_nodes);
   if (const auto g = root["gripper"]) gripper(f, g, cell);
   if (const auto d = root["devices"]) {
@@ -306,15 +376,16 @@ void read_workcell(const YAML::Node& root, const Fields& f, motion::Cell& cell, 
     for (const auto& dev : d) {
       if (!dev.IsMap()) f.fail(dev, "a device is a map starting with conveyor:, sensor:, feeder: or sink:");
       if (dev["conveyor"]) conveyor(f, dev, cell, names);
-      else if (dev["sensor"]) sensor(f, dev, cell);
-      else if (dev["feeder"]) feeder(f, dev, cell, names);
+      else if (dev["sensor"]) sensor(f, dev, cell), sensor_nodes.push_back(dev);
+      else if (dev["feeder"]) feeder(f, dev, cell, names), feeder_nodes.push_back(dev);
       else if (dev["sink"]) sink(f, dev, cell);
       else f.fail(dev, "a device is one of conveyor:, sensor:, feeder:, sink: (with its name)");
     }
   }
-  if (const auto l = root["logic"]) logic(f, l, cell);
+  if (const auto l = root["logic"]) logic(f, l, cell, rule_nodes);
   if (const auto d = root["devices"]) feeder_into_sink(f, d, cell);
-  if (const auto bad = first_misplaced_part(cell)) f.fail(part_nodes[bad->part], bad->message);
+  contradictions(f, cell, sensor_nodes, rule_nodes);
+  if (const auto bad = first_misplaced_part(cell)) f.fail(bad->feeder ? feeder_nodes[bad->part] : part_nodes[bad->part], bad->message);
 }
 
 }  // namespace asimov::cell

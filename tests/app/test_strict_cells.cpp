@@ -120,3 +120,106 @@ TEST_CASE("a feeder into an always-open sink is refused, a gated sink is allowed
                                        "ok.yaml");
   CHECK(ok.workcell.sinks.size() == 1);
 }
+
+TEST_CASE("a feeder placing its parts into an object or a part is refused at load (#32)", "[cell][strict]") {
+  // Resting on the table (top face at z = -400): accepted.
+  const auto ok = test::load_cell_text(kTable + "devices:\n  - {feeder: f, part: {box: [40, 40, 40]}, at: [600, 0, -380, 0, 0, 0]}\n",
+                                       "ok.yaml");
+  CHECK(ok.workcell.feeders.size() == 1);
+  // Sunk 10 mm into the table.
+  auto e = cell_error(kTable + "devices:\n  - {feeder: f, part: {box: [40, 40, 40]}, at: [600, 0, -390, 0, 0, 0]}\n");
+  CHECK(e.message.find("feeder 'f' places its parts sunk into object 'table'") != std::string::npos);
+  CHECK(e.line == 4);
+  // Wholly inside it.
+  e = cell_error(kTable + "devices:\n  - {feeder: f, part: {box: [10, 10, 10]}, at: [600, 0, -420, 0, 0, 0]}\n");
+  CHECK(e.message.find("feeder 'f' places its parts inside object 'table'") != std::string::npos);
+  // Into a long declared part whose origin lies outside the feeder's spot (it never waits for it).
+  const std::string bar = "parts:\n  - {name: bar, box: [200, 40, 40], at: [600, 0, -380, 0, 0, 0]}\n";  // x 500..700
+  e = cell_error(kTable + bar + "devices:\n  - {feeder: f, part: {box: [40, 40, 40]}, at: [690, 0, -380, 0, 0, 0]}\n");
+  CHECK(e.message.find("feeder 'f' places its parts sunk into part 'bar'") != std::string::npos);
+  CHECK(e.line == 6);
+  // A declared part waiting on the feeder's spot: the feeder feeds once it has left. Accepted.
+  const auto waiting = test::load_cell_text(
+      kTable + "parts:\n  - {name: first, box: [40, 40, 40], at: [600, 0, -380, 0, 0, 0]}\n" +
+          "devices:\n  - {feeder: f, part: {box: [40, 40, 40]}, at: [600, 0, -380, 0, 0, 0], count: 3}\n",
+      "ok.yaml");
+  CHECK(waiting.workcell.parts.size() == 1);
+  // Two feeders whose parts overlap and whose spots do not hold each other's feed pose.
+  e = cell_error(kTable + "devices:\n  - {feeder: f, part: {box: [40, 40, 40]}, at: [600, 0, -380, 0, 0, 0], spot: [10, 10, 10]}\n"
+                          "  - {feeder: g, part: {box: [40, 40, 40]}, at: [620, 0, -380, 0, 0, 0], spot: [10, 10, 10]}\n");
+  CHECK(e.message.find("feeder 'g' places its parts sunk into feeder 'f'") != std::string::npos);
+  CHECK(e.line == 5);
+  // A feeder into a conveyor's body (conveyors are objects).
+  e = cell_error("devices:\n  - {conveyor: belt, box: [800, 150, 40], at: [600, -300, -420, 0, 0, 0], speed_mm_s: 100}\n"
+                 "  - {feeder: f, part: {box: [40, 40, 40]}, at: [600, -300, -390, 0, 0, 0]}\n");
+  CHECK(e.message.find("feeder 'f' places its parts sunk into object 'belt'") != std::string::npos);
+  CHECK(e.line == 3);
+}
+
+TEST_CASE("degenerate belts: zero length refused, zero speed a warning with its place (#32)", "[cell][strict]") {
+  auto e = cell_error("devices:\n  - {conveyor: belt, box: [0, 150, 40], at: [600, -300, -420, 0, 0, 0], speed_mm_s: 100}\n");
+  CHECK(e.message.find("conveyor 'belt'.box sides must be > 0") != std::string::npos);
+  CHECK(e.line == 2);
+  const auto still = test::load_cell_text(
+      "devices:\n  - {conveyor: belt, box: [800, 150, 40], at: [600, -300, -420, 0, 0, 0], speed_mm_s: 0}\n", "still.yaml");
+  REQUIRE(still.warnings.size() == 1);
+  CHECK(still.warnings[0].find("still.yaml:2:") == 0);
+  CHECK(still.warnings[0].find("conveyor 'belt' has speed_mm_s 0") != std::string::npos);
+  CHECK(still.workcell.conveyors.at(0).speed_mm_s == 0);
+}
+
+TEST_CASE("a feeder into an always-open sink names both devices (#32)", "[cell][strict]") {
+  const auto e = cell_error(kTable +
+                            "devices:\n  - {feeder: f, part: {box: [20, 20, 20]}, at: [600, 0, -390, 0, 0, 0]}\n"
+                            "  - {sink: s, box: [200, 200, 200], at: [600, 0, -300, 0, 0, 0]}\n",
+                            "c.yaml");
+  CHECK(e.message.find("feeder 'f' feeds into sink 's' (c.yaml:5:") != std::string::npos);
+  CHECK(e.line == 4);
+}
+
+TEST_CASE("logic rules without delay that switch a signal on and off forever are refused at load (#32)", "[cell][strict]") {
+  // A ring of four rules: 2001 on -> 2002 on -> 2001 off -> 2002 off -> 2001 on.
+  const std::string ring = "logic:\n"
+                           "  - {when: 2001, is: on, set: 2002, to: on}\n"
+                           "  - {when: 2002, is: on, set: 2001, to: off}\n"
+                           "  - {when: 2001, is: off, set: 2002, to: off}\n"
+                           "  - {when: 2002, is: off, set: 2001, to: on}\n";
+  auto e = cell_error(ring, "ring.yaml");
+  CHECK(e.message.find("switch signal 2001 on and off forever") != std::string::npos);
+  CHECK(e.message.find("2001 on -> 2002 on -> 2001 off -> 2002 off -> 2001 on") != std::string::npos);
+  CHECK(e.message.find("ring.yaml:2:") != std::string::npos);
+  CHECK(e.message.find("ring.yaml:5:") != std::string::npos);
+  CHECK(e.line == 2);
+  // One rule that inverts its own signal at once.
+  e = cell_error("logic:\n  - {when: 2001, is: on, set: 2001, to: off}\n  - {when: 2001, is: off, set: 2001, to: on}\n");
+  CHECK(e.message.find("switch signal 2001 on and off forever") != std::string::npos);
+  // The same ring with a delay is a clock (a blinker): accepted.
+  const auto blink = test::load_cell_text("logic:\n"
+                                          "  - {when: 2001, is: on, set: 2002, to: on}\n"
+                                          "  - {when: 2002, is: on, after: 0.1, set: 2001, to: off}\n"
+                                          "  - {when: 2001, is: off, set: 2002, to: off}\n"
+                                          "  - {when: 2002, is: off, set: 2001, to: on}\n",
+                                          "ok.yaml");
+  CHECK(blink.workcell.logic.size() == 4);
+  // A pulse (on, then off at once) and signals following each other both ways end: accepted.
+  const auto pulse = test::load_cell_text("logic:\n"
+                                          "  - {when: 2001, is: on, set: 2002, to: on}\n"
+                                          "  - {when: 2002, is: on, set: 2001, to: off}\n"
+                                          "  - {follow: 2003, set: 2004}\n"
+                                          "  - {follow: 2004, set: 2003}\n",
+                                          "ok.yaml");
+  CHECK(pulse.workcell.logic.size() == 6);
+}
+
+TEST_CASE("a logic rule setting a signal a sensor drives names both (#32)", "[cell][strict]") {
+  const auto e = cell_error("devices:\n  - {sensor: eye, signal: 1001, box: [10, 10, 10], at: [0, 0, 0, 0, 0, 0]}\n"
+                            "logic:\n  - {when: 1, is: on, set: 1001, to: on}\n",
+                            "c.yaml");
+  CHECK(e.message.find("signal 1001 is driven by sensor 'eye' (c.yaml:2:") != std::string::npos);
+  CHECK(e.line == 4);
+  // Two sensors on one signal are wired-OR, not a contradiction.
+  const auto ok = test::load_cell_text("devices:\n  - {sensor: a, signal: 1001, box: [10, 10, 10], at: [0, 0, 0, 0, 0, 0]}\n"
+                                       "  - {sensor: b, signal: 1001, box: [10, 10, 10], at: [0, 50, 0, 0, 0, 0]}\n",
+                                       "ok.yaml");
+  CHECK(ok.workcell.sensors.size() == 2);
+}
