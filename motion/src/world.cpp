@@ -488,6 +488,7 @@ void World::rewind_to(double t) {
     if (!saved_ || saved_->time_s() > t) return;
     clock = *saved_;
     clock.advance_to(t);
+    live_of_ = nullptr;  // its revisions may repeat those of the future it replaced
   }
   saved_.reset();
   scratch_.reset();
@@ -498,8 +499,18 @@ void World::rewind_to(double t) {
 
 void World::pose_parts(const DeviceClock& clock, double t, bool all) {
   const auto& parts = clock.parts();
+  const auto moving = [](const PartState& p) { return p.holder == Holder::carried || (p.holder != Holder::removed && !p.velocity.isZero()); };
+  if (!all && (live_of_ != &clock || live_revision_ != clock.revision())) {
+    // Holders and velocities change only with the revision (DeviceClock::revision).
+    live_.clear();
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      if (moving(parts[i])) live_.push_back(i);
+    live_of_ = &clock, live_revision_ = clock.revision();
+  }
   bool left_tree = false;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
+  const std::size_t n = all ? parts.size() : live_.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = all ? k : live_[k];
     const PartState& p = parts[i];
     const collision::BodyId id = part_body(p);
     if (p.holder == Holder::carried) {

@@ -62,7 +62,7 @@ class World {
   const collision::Engine* engine() const { return engine_ ? &*engine_ : nullptr; }
 
   // The parts' states come from `runtime` (the simulator's; it must outlive the world).
-  void attach(CellRuntime& runtime) { runtime_ = &runtime; }
+  void attach(CellRuntime& runtime) { runtime_ = &runtime, live_of_ = nullptr; }
   // A cell with movable parts whose states come from a runtime (they can move without the arm).
   bool has_parts() const { return has_parts_ && runtime_ != nullptr; }
   // The joints and time of the last pose() (empty joints before the first).
@@ -225,6 +225,12 @@ class World {
   collision::BodyId first_object_ = 0;            // the cell's objects: BodyIds from here
   bool posed_earlier_ = false;  // the last pose() was at a state before the clock's (bisection)
   std::uint64_t seen_revision_ = ~std::uint64_t{0};
+  // pose_parts' moving parts (carried, or with a velocity), as clock indices, for the clock
+  // live_of_ at revision live_revision_: a pose re-poses only them (the others stay where they
+  // were; 50 resting parts made every pose walk them all). Invalid after rewind_to and attach.
+  std::vector<std::size_t> live_;
+  const DeviceClock* live_of_ = nullptr;
+  std::uint64_t live_revision_ = 0;
   std::uint64_t pairs_revision_ = 0;
   std::optional<DeviceClock> saved_, scratch_;   // the clock before the last advance; a copy at t
   collision::QueryResult scratch_result_;
